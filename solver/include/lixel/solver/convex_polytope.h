@@ -1,0 +1,56 @@
+// A small bounded convex polytope in world space, kept as its face polygons: what the extent
+// hull (Stamminger & Drettakis 2002, as used by Chong & Gortler §3) is cut from. Built from a
+// box and clipped by half-spaces one at a time; tolerances scale with the polytope's size, so
+// scenes at 1e-6 and at 1e6 world units behave alike.
+#pragma once
+
+#include <lixel/solver/types.h>
+
+#include <vector>
+
+namespace lixel {
+
+struct PolytopeFace {
+    std::vector<Vec3> polygon;  // convex, counter-clockwise seen from outside, >= 3 vertices
+    Vec4 outward_plane;         // (n, d) with |n| = 1; n . x + d > 0 outside the polytope
+};
+
+class ConvexPolytope {
+public:
+    ConvexPolytope() = default;  // the empty polytope
+
+    // The box as six faces. Empty when the box has no volume (min >= max on some axis) or a
+    // non-finite corner.
+    static ConvexPolytope FromBox(const Aabb& box);
+
+    // Keeps the part where plane . (x, 1) >= 0 (the convention of ClipPolygon and
+    // FrustumPlanes). A plane with a zero normal keeps everything when its d >= 0 and nothing
+    // otherwise. Points within Tolerance() of the plane count as on it; the cut adds a cap
+    // face. The result is empty when less than a sliver of volume remains.
+    ConvexPolytope Clipped(const Vec4& plane) const;
+
+    bool empty() const noexcept { return faces_.size() < 4; }
+    const std::vector<PolytopeFace>& faces() const noexcept { return faces_; }
+
+    // Distinct vertices (merged within Tolerance()).
+    std::vector<Vec3> vertices() const;
+
+    // Diagonal of the vertices' axis-aligned bounds, world units; 0 when empty.
+    double Size() const;
+
+    // Distance below which two points or a point and a plane are taken to coincide: a fixed
+    // fraction of Size(), widened by the rounding of the coordinates' magnitude.
+    double Tolerance() const;
+
+    // True when p lies inside or within `slack` (world units, >= 0) of every face plane.
+    bool Contains(const Vec3& p, double slack) const;
+
+    // Largest n . x + d of p over the face planes: <= 0 inside, the distance outside along
+    // the worst face.
+    double SignedDistance(const Vec3& p) const;
+
+private:
+    std::vector<PolytopeFace> faces_;
+};
+
+}  // namespace lixel

@@ -1,0 +1,27 @@
+// The free depth row of a light matrix (DESIGN §4.1): Chong & Gortler fix it arbitrarily
+// (paper 004, footnote to eq. 7-10); lixel chooses it so that depth is monotone along every
+// light ray and the given geometry fills [kClipDepthNear, kClipDepthFar] tightly.
+#pragma once
+
+#include <lixel/solver/result.h>
+#include <lixel/solver/types.h>
+
+#include <span>
+
+namespace lixel {
+
+// Smallest near/far ratio a point light's depth range may take (q_near >= kMinNearRatio *
+// q_far). Geometry nearer the light than that is clamped to depth 0 by the renderer's
+// depth clamp, which keeps it an occluder.
+inline constexpr double kMinNearRatio = 1e-4;
+
+// Given the w row r_w (r_w . light == 0, r_w . X > 0 for the points the map holds) returns
+// r_z = (z0 - near * r_w) / (far - near), with z0 = e_w for a point light and
+// (-l_xyz, 0) for a directional one, near/far the extreme values of z0.X / r_w.X over
+// `points` (those with r_w.X > 0). Depth grows along light propagation, so the light's side
+// maps to kClipDepthNear. `light` is a point (w != 0, either sign) or a direction (w == 0).
+// Errors when no point lies in front of the light (r_w . X > 0).
+Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light,
+                            std::span<const Vec4> points) noexcept;
+
+}  // namespace lixel

@@ -1,0 +1,32 @@
+// Homogeneous-coordinate helpers (DESIGN §3): points at or beyond infinity are ordinary
+// values here, so nothing divides by w before it has to.
+#pragma once
+
+#include <lixel/solver/types.h>
+
+#include <span>
+#include <vector>
+
+namespace lixel {
+
+// The 4-vector orthogonal to a, b and c (generalised cross product, signed by the
+// determinant [a b c e_i]). Joins three points into a plane or meets three planes in a point.
+Vec4 Cross4(const Vec4& a, const Vec4& b, const Vec4& c) noexcept;
+
+// Finite point as a homogeneous vector with w = 1.
+inline Vec4 Point(const Vec3& p) { return {p.x(), p.y(), p.z(), 1.0}; }
+
+// Direction (point at infinity) with w = 0.
+inline Vec4 Direction(const Vec3& d) { return {d.x(), d.y(), d.z(), 0.0}; }
+
+// The 2D image (x/w, y/w) of a homogeneous light- or viewer-image point.
+inline Vec2 ImageXy(const Vec4& p) { return {p.x() / p.w(), p.y() / p.w()}; }
+
+// The eight corners of a box as finite homogeneous points.
+std::vector<Vec4> BoxCorners(const Aabb& box);
+
+// True when every entry is finite.
+bool AllFinite(const Mat4& m) noexcept;
+bool AllFinite(const Vec4& v) noexcept;
+
+}  // namespace lixel

@@ -1,0 +1,59 @@
+// One plane-optimal shadow map end to end: closed-form solve, crop/twist/scale to the
+// needed rays, and the diagnostics every solve reports (DESIGN §4.1-4.4).
+#pragma once
+
+#include <lixel/solver/crop.h>
+#include <lixel/solver/plane_optimal.h>
+#include <lixel/solver/result.h>
+
+#include <vector>
+
+namespace lixel {
+
+struct SolveDiagnostics {
+    // Largest |lixel(X) - A_l * pixel(X)| over sampled needed points X on P, in lixels,
+    // with the double matrices. Sub-1e-6 for well-conditioned input.
+    double residual_lixels = 0.0;
+    // The same as a GL pass computes it: float vertices relative to GlOrigin() and the float
+    // projection of ToGl(map, origin), in float arithmetic. Grows like float epsilon x map
+    // side x the cancellation in the light rows: below 0.01 up to 512^2 when conditioning <= 2,
+    // up to ~0.05 at 4096^2 on random views, 5e-4 for the floor/wall room at 4096^2.
+    double residual_lixels_float = 0.0;
+    // How strongly errors in the light or plane are amplified: dist(l, samples)/|P.l| for a
+    // point light, 1/|sin elevation| for a directional one. 1 is ideal; 1e9 means a light
+    // 1e-9 above the plane relative to its distance.
+    double conditioning = 1.0;
+    bool horizon_in_view = false;  // the plane's vanishing line crosses the viewport
+    int sign = 1;                  // factor applied to the closed form so needed points have q > 0
+    // Worst world-space distance along a light ray between adjacent float32 depth values, at the
+    // sampled receivers on P (world units).
+    double depth_resolution = 0.0;
+    int samples = 0;  // needed plane points sampled for the figures above
+};
+
+struct PlaneMapRequest {
+    PlaneOptimalInput input;
+    // Vertices of the needed part of P (finite world points on P, convex, in order). Empty:
+    // P ∩ view frustum ∩ `bounds`.
+    std::vector<Vec3> needed_polygon;
+    Aabb bounds;  // scene bounds; used when needed_polygon is empty
+    CropOptions crop;
+};
+
+struct PlaneMap {
+    CropResult crop;                 // crop.map is the final matrix and size
+    PlaneOptimalMatrix uncropped;    // before A_l
+    std::vector<Vec3> needed_polygon;  // as used
+    SolveDiagnostics diagnostics;
+};
+
+Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept;
+
+// Where a GL pass should put its coordinate origin for a plane map: the foot of the viewer's eye
+// on P (or the needed polygon's centroid for an orthographic viewer).
+Vec3 GlOrigin(const Mat4& viewer, const Vec4& plane, const std::vector<Vec3>& needed_polygon);
+
+// P ∩ viewer frustum ∩ bounds as a convex polygon on P (empty when it is not in view).
+std::vector<Vec3> VisiblePlanePolygon(const Mat4& viewer, const Vec4& plane, const Aabb& bounds);
+
+}  // namespace lixel

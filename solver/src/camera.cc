@@ -1,0 +1,105 @@
+// Viewer cameras and their pixel rows.
+#include <lixel/solver/camera.h>
+#include <lixel/solver/homogeneous.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace lixel {
+
+Mat4 LookAt(const Vec3& eye, const Vec3& target, const Vec3& up) {
+    const Vec3 f = (target - eye).normalized();
+    const Vec3 s = f.cross(up).normalized();
+    const Vec3 u = s.cross(f);
+    Mat4 m = Mat4::Identity();
+    m.block<1, 3>(0, 0) = s.transpose();
+    m.block<1, 3>(1, 0) = u.transpose();
+    m.block<1, 3>(2, 0) = -f.transpose();
+    m(0, 3) = -s.dot(eye);
+    m(1, 3) = -u.dot(eye);
+    m(2, 3) = f.dot(eye);
+    return m;
+}
+
+Mat4 Perspective(double fovy_radians, double aspect, double near, double far) {
+    const double f = 1.0 / std::tan(0.5 * fovy_radians);
+    Mat4 m = Mat4::Zero();
+    m(0, 0) = f / aspect;
+    m(1, 1) = f;
+    m(3, 2) = -1.0;
+    if (std::isinf(far)) {
+        // z_ndc = 1 - near / z_eye_distance: tends to kClipDepthFar at infinity.
+        m(2, 2) = -1.0;
+        m(2, 3) = -near;
+    } else {
+        m(2, 2) = -far / (far - near);
+        m(2, 3) = -far * near / (far - near);
+    }
+    return m;
+}
+
+Mat4 ViewportMatrix(const Viewport& viewport) {
+    Mat4 m = Mat4::Identity();
+    m(0, 0) = 0.5 * viewport.width;
+    m(0, 3) = 0.5 * viewport.width;
+    m(1, 1) = 0.5 * viewport.height;
+    m(1, 3) = 0.5 * viewport.height;
+    return m;
+}
+
+Mat4 PixelMatrix(const Mat4& viewer, const Viewport& viewport) {
+    return ViewportMatrix(viewport) * viewer;
+}
+
+Result<Vec4> EyePoint(const Mat4& viewer) {
+    Vec4 eye = Cross4(viewer.row(0).transpose(), viewer.row(1).transpose(),
+                      viewer.row(3).transpose());
+    const double scale = viewer.row(0).norm() * viewer.row(1).norm() * viewer.row(3).norm();
+    if (!(eye.norm() > 1e-14 * scale)) {
+        return Error{"viewer", "rows x, y and w are linearly dependent: no centre of projection"};
+    }
+    eye /= eye.norm();
+    if (eye.w() < 0.0) eye = -eye;
+    return eye;
+}
+
+Result<bool> ValidateViewer(const Mat4& viewer, const Viewport& viewport, const char* field) {
+    const std::string name = field;
+    for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) {
+            if (!std::isfinite(viewer(r, c))) {
+                return Error{name + "[" + std::to_string(c) + "][" + std::to_string(r) + "]",
+                             "is not finite (" + std::to_string(viewer(r, c)) + ")"};
+            }
+        }
+    }
+    if (viewport.width < 1 || viewport.width > kMaxImageSide) {
+        return Error{"viewport.width", "must be in [1, " + std::to_string(kMaxImageSide) +
+                                           "], got " + std::to_string(viewport.width)};
+    }
+    if (viewport.height < 1 || viewport.height > kMaxImageSide) {
+        return Error{"viewport.height", "must be in [1, " + std::to_string(kMaxImageSide) +
+                                            "], got " + std::to_string(viewport.height)};
+    }
+    // Scale-free invertibility: singular values of the row-normalised matrix.
+    Mat4 normalized = viewer;
+    for (int r = 0; r < 4; ++r) {
+        const double n = viewer.row(r).norm();
+        if (!(n > 0.0)) {
+            return Error{name, "row " + std::to_string(r) + " is zero: the matrix is singular"};
+        }
+        normalized.row(r) /= n;
+    }
+    const Eigen::JacobiSVD<Mat4> svd(normalized);
+    const Vec4 s = svd.singularValues();
+    if (!(s(3) > 1e-12 * s(0))) {
+        return Error{name, "matrix is singular (smallest/largest singular value " +
+                               std::to_string(s(3) / s(0)) + ")"};
+    }
+    return true;
+}
+
+}  // namespace lixel

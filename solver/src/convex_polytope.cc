@@ -1,0 +1,200 @@
+// Convex polytope clipping: Sutherland-Hodgman on every face plus a cap polygon on the cut.
+#include <lixel/solver/convex_polytope.h>
+#include <lixel/solver/polygon.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lixel {
+
+namespace {
+
+// Coincidence tolerance as a fraction of the polytope's size. Far above the rounding of the
+// clip arithmetic (~1e-15 relative) and far below any feature a scene bound cares about.
+constexpr double kRelativeTolerance = 1e-9;
+
+// Rounding allowance for n . x + d when |x| is large relative to the polytope (a small box far
+// from the origin): a few hundred ulps of the coordinates' magnitude.
+constexpr double kMagnitudeUlps = 256.0 * std::numeric_limits<double>::epsilon();
+
+// Drops consecutive vertices closer than `tol` (cyclically); a polygon left with fewer than
+// three vertices is cleared.
+void MergeCloseVertices(std::vector<Vec3>& polygon, double tol) {
+    std::vector<Vec3> out;
+    out.reserve(polygon.size());
+    for (const Vec3& p : polygon) {
+        if (out.empty() || (p - out.back()).norm() > tol) out.push_back(p);
+    }
+    while (out.size() > 1 && (out.front() - out.back()).norm() <= tol) out.pop_back();
+    if (out.size() < 3) out.clear();
+    polygon = std::move(out);
+}
+
+// Orthonormal u, v with u x v = n (n unit).
+void PlaneBasis(const Vec3& n, Vec3& u, Vec3& v) {
+    const Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+    u = helper.cross(n).normalized();
+    v = n.cross(u);
+}
+
+}  // namespace
+
+ConvexPolytope ConvexPolytope::FromBox(const Aabb& box) {
+    ConvexPolytope out;
+    if (!box.min.allFinite() || !box.max.allFinite()) return out;
+    if (!(box.min.array() < box.max.array()).all()) return out;
+    for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3;
+        const int k = (i + 2) % 3;
+        for (int high = 0; high < 2; ++high) {
+            const double xi = high ? box.max(i) : box.min(i);
+            std::vector<Vec3> quad(4);
+            const double js[4] = {box.min(j), box.max(j), box.max(j), box.min(j)};
+            const double ks[4] = {box.min(k), box.min(k), box.max(k), box.max(k)};
+            for (int c = 0; c < 4; ++c) {
+                quad[c](i) = xi;
+                quad[c](j) = js[c];
+                quad[c](k) = ks[c];
+            }
+            // (e_j, e_k) turn counter-clockwise about +e_i; the low face looks along -e_i.
+            if (!high) std::reverse(quad.begin(), quad.end());
+            Vec4 plane = Vec4::Zero();
+            plane(i) = high ? 1.0 : -1.0;
+            plane.w() = high ? -box.max(i) : box.min(i);
+            out.faces_.push_back({std::move(quad), plane});
+        }
+    }
+    return out;
+}
+
+double ConvexPolytope::Size() const {
+    if (faces_.empty()) return 0.0;
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+    Vec3 hi = -lo;
+    for (const PolytopeFace& f : faces_) {
+        for (const Vec3& p : f.polygon) {
+            lo = lo.cwiseMin(p);
+            hi = hi.cwiseMax(p);
+        }
+    }
+    return (hi - lo).norm();
+}
+
+double ConvexPolytope::Tolerance() const {
+    double magnitude = 0.0;
+    for (const PolytopeFace& f : faces_) {
+        for (const Vec3& p : f.polygon) magnitude = std::max(magnitude, p.cwiseAbs().maxCoeff());
+    }
+    return kRelativeTolerance * Size() + kMagnitudeUlps * magnitude;
+}
+
+std::vector<Vec3> ConvexPolytope::vertices() const {
+    const double tol = Tolerance();
+    std::vector<Vec3> out;
+    for (const PolytopeFace& f : faces_) {
+        for (const Vec3& p : f.polygon) {
+            const bool seen = std::any_of(out.begin(), out.end(),
+                                          [&](const Vec3& q) { return (p - q).norm() <= tol; });
+            if (!seen) out.push_back(p);
+        }
+    }
+    return out;
+}
+
+double ConvexPolytope::SignedDistance(const Vec3& p) const {
+    double worst = -std::numeric_limits<double>::infinity();
+    for (const PolytopeFace& f : faces_) {
+        worst = std::max(worst, f.outward_plane.head<3>().dot(p) + f.outward_plane.w());
+    }
+    return worst;
+}
+
+bool ConvexPolytope::Contains(const Vec3& p, double slack) const {
+    return !empty() && SignedDistance(p) <= slack;
+}
+
+ConvexPolytope ConvexPolytope::Clipped(const Vec4& plane) const {
+    if (empty() || !plane.allFinite()) return {};
+    const double n_length = plane.head<3>().norm();
+    if (!(n_length > 1e-12 * plane.norm())) {
+        // A plane at infinity (e.g. the far plane of an infinite projection): its sign decides.
+        return plane.w() >= 0.0 ? *this : ConvexPolytope{};
+    }
+    const Vec4 p = plane / n_length;
+    const Vec3 n = p.head<3>();
+    const double tol = Tolerance();
+    auto distance = [&](const Vec3& x) { return n.dot(x) + p.w(); };
+
+    bool any_out = false;
+    bool any_in = false;
+    for (const PolytopeFace& f : faces_) {
+        for (const Vec3& x : f.polygon) {
+            const double d = distance(x);
+            any_out = any_out || d < -tol;
+            any_in = any_in || d > tol;
+        }
+    }
+    if (!any_out) return *this;
+    if (!any_in) return {};
+
+    ConvexPolytope out;
+    std::vector<Vec3> cap_points;
+    for (const PolytopeFace& f : faces_) {
+        const std::vector<Vec3>& poly = f.polygon;
+        const size_t count = poly.size();
+        std::vector<Vec3> kept;
+        bool all_on = true;
+        for (size_t i = 0; i < count; ++i) {
+            const Vec3& a = poly[i];
+            const Vec3& b = poly[(i + 1) % count];
+            const double da = distance(a);
+            const double db = distance(b);
+            const int sa = da > tol ? 1 : (da < -tol ? -1 : 0);
+            const int sb = db > tol ? 1 : (db < -tol ? -1 : 0);
+            all_on = all_on && sa == 0;
+            if (sa >= 0) kept.push_back(a);
+            if (sa == 0) cap_points.push_back(a);
+            if (sa * sb < 0) {
+                // Interpolate from the kept end so the face on the other side of this edge,
+                // which walks it the other way, computes the bitwise-same point.
+                const bool a_in = sa > 0;
+                const Vec3& in = a_in ? a : b;
+                const Vec3& outside = a_in ? b : a;
+                const double d_in = a_in ? da : db;
+                const double d_out = a_in ? db : da;
+                const Vec3 x = in + (d_in / (d_in - d_out)) * (outside - in);
+                kept.push_back(x);
+                cap_points.push_back(x);
+            }
+        }
+        if (all_on) continue;  // lies in the cut: the cap replaces it
+        MergeCloseVertices(kept, tol);
+        if (!kept.empty()) out.faces_.push_back({std::move(kept), f.outward_plane});
+    }
+
+    // The cap: the polytope's section by the plane, counter-clockwise about its outward
+    // normal -n.
+    const Vec3 outward = -n;
+    Vec3 u, v;
+    PlaneBasis(outward, u, v);
+    std::vector<Vec2> flat;
+    flat.reserve(cap_points.size());
+    for (const Vec3& x : cap_points) flat.emplace_back(u.dot(x), v.dot(x));
+    const std::vector<Vec2> hull = ConvexHull2d(flat);
+    std::vector<Vec3> cap;
+    for (const Vec2& h : hull) {
+        for (size_t i = 0; i < flat.size(); ++i) {
+            if (flat[i] == h) {
+                cap.push_back(cap_points[i]);
+                break;
+            }
+        }
+    }
+    MergeCloseVertices(cap, tol);
+    if (!cap.empty()) out.faces_.push_back({std::move(cap), Vec4(-p)});
+    if (out.empty()) return {};
+    return out;
+}
+
+}  // namespace lixel

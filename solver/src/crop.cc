@@ -1,0 +1,192 @@
+// Crop, twist and scale (Chong & Gortler §2 "Less of the plane", Fig. 6; §3 for the twist that
+// puts the floor/wall line horizontal).
+#include <lixel/solver/crop.h>
+#include <lixel/solver/polygon.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace lixel {
+
+namespace {
+
+struct Rectangle {
+    double x0 = 0.0, y0 = 0.0;  // integer lower-left corner after scaling
+    std::int64_t width = 0, height = 0;
+    std::int64_t Area() const { return width * height; }
+};
+
+struct Bounds2d {
+    double min_x, min_y, max_x, max_y;
+};
+
+Bounds2d RotatedBounds(const std::vector<Vec2>& points, double theta) {
+    const double c = std::cos(theta);
+    const double s = std::sin(theta);
+    Bounds2d b{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+               -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (const Vec2& p : points) {
+        const double x = c * p.x() - s * p.y();
+        const double y = s * p.x() + c * p.y();
+        b.min_x = std::min(b.min_x, x);
+        b.max_x = std::max(b.max_x, x);
+        b.min_y = std::min(b.min_y, y);
+        b.max_y = std::max(b.max_y, y);
+    }
+    return b;
+}
+
+// Images within this many lixels past an integer are taken as on it, so rounding noise in a
+// solve (1e-13 lixel) does not add a column of lixels no ray needs.
+constexpr double kSnapLixels = 1e-6;
+
+// The tightest rectangle with integer corners around the scaled bounds; at least 1 x 1.
+Rectangle IntegerRectangle(const Bounds2d& b, double scale) {
+    Rectangle r;
+    r.x0 = std::floor(scale * b.min_x + kSnapLixels);
+    r.y0 = std::floor(scale * b.min_y + kSnapLixels);
+    const double x1 = std::ceil(scale * b.max_x - kSnapLixels);
+    const double y1 = std::ceil(scale * b.max_y - kSnapLixels);
+    r.width = std::max<std::int64_t>(1, static_cast<std::int64_t>(x1 - r.x0));
+    r.height = std::max<std::int64_t>(1, static_cast<std::int64_t>(y1 - r.y0));
+    return r;
+}
+
+// Lowers `scale` until the rectangle fits the budget and the side limit. Rounding makes the
+// lixel count a step function of the scale, so it iterates from the continuous estimate.
+Result<Rectangle> FitScale(const Bounds2d& b, double& scale, const CropOptions& options) {
+    const double extent = std::max(b.max_x - b.min_x, b.max_y - b.min_y);
+    // Rectangles past kMaxImageSide cannot be represented; start inside the limit.
+    if (scale * extent > 4.0 * kMaxImageSide) scale = 4.0 * kMaxImageSide / extent;
+    for (int iteration = 0; iteration < 200; ++iteration) {
+        const Rectangle r = IntegerRectangle(b, scale);
+        double shrink = 1.0;
+        if (options.lixel_budget > 0 && r.Area() > options.lixel_budget) {
+            shrink = std::min(shrink, std::sqrt(static_cast<double>(options.lixel_budget) /
+                                                static_cast<double>(r.Area())));
+        }
+        const std::int64_t side = std::max(r.width, r.height);
+        if (side > options.max_side) {
+            shrink = std::min(shrink, static_cast<double>(options.max_side) / static_cast<double>(side));
+        }
+        if (shrink == 1.0) return r;
+        // Step a little past the estimate so a rectangle straddling integers still shrinks.
+        scale *= std::min(shrink, 1.0 - 1e-9) * (iteration < 8 ? 1.0 : 0.99);
+        if (!(scale > 0.0)) break;
+    }
+    return Error{"crop.lixel_budget",
+                 "too small to hold the needed rays in whole lixels (" +
+                     std::to_string(options.lixel_budget) + " lixels, max side " +
+                     std::to_string(options.max_side) + ")"};
+}
+
+}  // namespace
+
+Mat4 ApplyImageAffine(const Mat3& affine, const Mat4& matrix) noexcept {
+    Mat4 out = matrix;
+    const RowVec4 rx = matrix.row(0);
+    const RowVec4 ry = matrix.row(1);
+    const RowVec4 rw = matrix.row(3);
+    out.row(0) = affine(0, 0) * rx + affine(0, 1) * ry + affine(0, 2) * rw;
+    out.row(1) = affine(1, 0) * rx + affine(1, 1) * ry + affine(1, 2) * rw;
+    return out;
+}
+
+Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> needed_points,
+                                    const CropOptions& options) noexcept {
+    if (!(options.scale > 0.0 && options.scale <= 1.0)) {
+        return Error{"crop.scale", "must be in (0, 1], got " + std::to_string(options.scale)};
+    }
+    if (options.max_side < 1 || options.max_side > kMaxImageSide) {
+        return Error{"crop.max_side", "must be in [1, " + std::to_string(kMaxImageSide) + "]"};
+    }
+    if (options.lixel_budget < 0) {
+        return Error{"crop.lixel_budget", "must be >= 0 (0: no budget)"};
+    }
+    if (needed_points.empty()) return Error{"needed_points", "is empty: nothing to crop to"};
+    if (!matrix.allFinite()) return Error{"matrix", "has non-finite entries"};
+
+    std::vector<Vec2> image;
+    image.reserve(needed_points.size());
+    for (size_t i = 0; i < needed_points.size(); ++i) {
+        const Vec4 p = matrix * needed_points[i];
+        if (!(p.w() > 0.0)) {
+            return Error{"needed_points[" + std::to_string(i) + "]",
+                         "is not in front of the light image (q = " + std::to_string(p.w()) +
+                             ")"};
+        }
+        const Vec2 xy(p.x() / p.w(), p.y() / p.w());
+        if (!xy.allFinite()) {
+            return Error{"needed_points[" + std::to_string(i) + "]", "images at infinity"};
+        }
+        image.push_back(xy);
+    }
+
+    // Candidate twists. The minimal-area enclosing rectangle has a side along a hull edge, so
+    // the hull's edge directions (mod 90 degrees) plus "no twist" are enough; integer rounding
+    // is compared directly so a twist never costs lixels.
+    std::vector<double> twists = {0.0};
+    if (options.twist == Twist::kMinimizeArea) {
+        const std::vector<Vec2> hull = ConvexHull2d(image);
+        for (size_t i = 0; i < hull.size() && hull.size() >= 2; ++i) {
+            const Vec2 e = hull[(i + 1) % hull.size()] - hull[i];
+            if (e.squaredNorm() == 0.0) continue;
+            twists.push_back(-std::atan2(e.y(), e.x()));
+        }
+    } else if (options.twist == Twist::kLineHorizontal) {
+        // Image line through the two points, as homogeneous 2D: (A, B, C) = pa x pb.
+        const Vec4 a = matrix * options.line_a;
+        const Vec4 b = matrix * options.line_b;
+        const Eigen::Vector3d pa(a.x(), a.y(), a.w());
+        const Eigen::Vector3d pb(b.x(), b.y(), b.w());
+        const Eigen::Vector3d line = pa.cross(pb);
+        if (!line.allFinite() || !(line.head<2>().norm() > 1e-14 * line.norm())) {
+            return Error{"crop.line", "does not image to a line in the light image"};
+        }
+        // Rotate the direction (B, -A) onto +x; the normal (A, B) then points to +y, so the
+        // needed points must have A x + B y + C < 0 to lie below the line.
+        double theta = -std::atan2(-line.x(), line.y());
+        Vec2 centroid = Vec2::Zero();
+        for (const Vec2& p : image) centroid += p;
+        centroid /= static_cast<double>(image.size());
+        if (line.x() * centroid.x() + line.y() * centroid.y() + line.z() > 0.0) {
+            theta += std::numbers::pi;
+        }
+        twists = {theta};
+    }
+
+    double best_theta = twists.front();
+    std::int64_t best_area = std::numeric_limits<std::int64_t>::max();
+    for (double theta : twists) {
+        const Rectangle r = IntegerRectangle(RotatedBounds(image, theta), options.scale);
+        if (r.Area() < best_area) {
+            best_area = r.Area();
+            best_theta = theta;
+        }
+    }
+
+    const Bounds2d bounds = RotatedBounds(image, best_theta);
+    double scale = options.scale;
+    auto rect = FitScale(bounds, scale, options);
+    if (!rect) return rect.error();
+
+    CropResult out;
+    out.twist_radians = best_theta;
+    out.scale = scale;
+    out.origin = Vec2(rect->x0, rect->y0);
+    const double c = std::cos(best_theta);
+    const double s = std::sin(best_theta);
+    // A_l = renumber(-x0, -y0) * scale * rotate(theta).
+    out.affine << scale * c, -scale * s, -rect->x0, scale * s, scale * c, -rect->y0, 0.0, 0.0, 1.0;
+    out.map.matrix = ApplyImageAffine(out.affine, matrix);
+    out.map.width = static_cast<int>(rect->width);
+    out.map.height = static_cast<int>(rect->height);
+    if (!out.map.matrix.allFinite()) return Error{"matrix", "crop produced non-finite entries"};
+    return out;
+}
+
+}  // namespace lixel

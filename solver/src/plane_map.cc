@@ -1,0 +1,169 @@
+// One plane-optimal map end to end, with the diagnostics of DESIGN §4.4.
+#include <lixel/solver/camera.h>
+#include <lixel/solver/homogeneous.h>
+#include <lixel/solver/light_map.h>
+#include <lixel/solver/plane_map.h>
+#include <lixel/solver/polygon.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace lixel {
+
+namespace {
+
+// Points spread over a convex polygon: its vertices, centroid, and fixed barycentric patterns
+// in each fan triangle, so residuals are measured inside the needed region, not only on it.
+std::vector<Vec3> SamplePolygon(const std::vector<Vec3>& polygon) {
+    std::vector<Vec3> samples = polygon;
+    const Vec3 centroid = PolygonCentroid(polygon);
+    samples.push_back(centroid);
+    const double pattern[][2] = {{1.0 / 3, 1.0 / 3}, {0.05, 0.05}, {0.9, 0.05}, {0.05, 0.9},
+                                 {0.45, 0.45},       {0.7, 0.2},   {0.2, 0.7}};
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const Vec3 e0 = polygon[i] - centroid;
+        const Vec3 e1 = polygon[(i + 1) % polygon.size()] - centroid;
+        for (const auto& ab : pattern) samples.push_back(centroid + ab[0] * e0 + ab[1] * e1);
+    }
+    return samples;
+}
+
+}  // namespace
+
+Vec3 GlOrigin(const Mat4& viewer, const Vec4& plane, const std::vector<Vec3>& needed_polygon) {
+    // The light rows carry a large component along P's normal ((a_j.l) P) that cancels on P; with
+    // the origin on P near the view, local receiver coordinates are small and in-plane, so that
+    // cancellation costs the fewest float digits. Measured on random configurations this halves
+    // the float residual against eye-relative coordinates.
+    if (auto eye = EyePoint(viewer); eye.ok() && eye->w() > 0.0) {
+        const Vec3 e = eye->head<3>() / eye->w();
+        const Vec3 n = plane.head<3>() / plane.head<3>().norm();
+        const double distance = (plane.head<3>().dot(e) + plane.w()) / plane.head<3>().norm();
+        return e - distance * n;
+    }
+    return PolygonCentroid(needed_polygon);
+}
+
+namespace {
+
+// Distance between adjacent float32 values at z (the depth texture's storage format).
+double FloatStep(double z) {
+    const float f = static_cast<float>(std::clamp(z, 0.0, 1.0));
+    const float up = std::nextafter(f, 2.0f);
+    return static_cast<double>(up) - static_cast<double>(f);
+}
+
+SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatrix& solved,
+                          const CropResult& crop, const std::vector<Vec3>& polygon) {
+    SolveDiagnostics d;
+    d.sign = solved.sign;
+    const Mat4 pixel = PixelMatrix(request.input.viewer, request.input.viewport);
+    d.horizon_in_view = HorizonInView(pixel, solved.plane, request.input.viewport);
+
+    const LightMap& map = crop.map;
+    const Vec3 origin = GlOrigin(request.input.viewer, solved.plane, polygon);
+    const GlLightTransform gl = ToGl(map, origin);
+    const Vec4& l = solved.light;
+    const bool directional = l.w() == 0.0;
+    double worst_reach = 0.0;
+    for (const Vec3& s : SamplePolygon(polygon)) {
+        const Vec4 x = Point(s);
+        const Vec4 v = pixel * x;
+        const Vec3 expected = crop.affine * Eigen::Vector3d(v.x() / v.w(), v.y() / v.w(), 1.0);
+        const Vec4 p = map.matrix * x;
+        const Vec2 lixel(p.x() / p.w(), p.y() / p.w());
+        d.residual_lixels = std::max(d.residual_lixels, (lixel - expected.head<2>()).norm());
+
+        // What a GL pass computes: float vertex relative to the origin, float projection.
+        const Eigen::Vector3f local = (s - origin).cast<float>();
+        const Eigen::Vector4f clip = gl.projection * Eigen::Vector4f(local.x(), local.y(),
+                                                                     local.z(), 1.0f);
+        const Vec2 float_lixel((clip.x() / clip.w() + 1.0f) * 0.5f * static_cast<float>(gl.width),
+                               (clip.y() / clip.w() + 1.0f) * 0.5f * static_cast<float>(gl.height));
+        d.residual_lixels_float =
+            std::max(d.residual_lixels_float, (float_lixel - expected.head<2>()).norm());
+
+        worst_reach = std::max(worst_reach, (s - l.head<3>()).norm());
+        // Depth step along the light ray at this receiver: ulp(z) / |dz/ds|.
+        const Vec3 dir3 = directional ? Vec3(-l.head<3>()) : Vec3((s - l.head<3>()).normalized());
+        const Vec4 dir(dir3.x(), dir3.y(), dir3.z(), 0.0);
+        const RowVec4 r_z = map.matrix.row(2);
+        const RowVec4 r_w = map.matrix.row(3);
+        const double q = r_w.dot(x);
+        const double dz = (r_z.dot(dir) * q - r_z.dot(x) * r_w.dot(dir)) / (q * q);
+        if (dz != 0.0 && std::isfinite(dz)) {
+            d.depth_resolution =
+                std::max(d.depth_resolution, FloatStep(r_z.dot(x) / q) / std::abs(dz));
+        }
+        ++d.samples;
+    }
+    const double height = std::abs(solved.light_height);
+    d.conditioning = directional ? 1.0 / height : worst_reach / height;
+    return d;
+}
+
+}  // namespace
+
+std::vector<Vec3> VisiblePlanePolygon(const Mat4& viewer, const Vec4& plane, const Aabb& bounds) {
+    std::vector<Vec3> polygon = PlaneBoxPolygon(plane, bounds);
+    for (const Vec4& half_space : FrustumPlanes(viewer)) {
+        polygon = ClipPolygon(polygon, half_space);
+    }
+    return polygon;
+}
+
+Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept {
+    const PlaneOptimalInput& input = request.input;
+    if (auto valid = ValidatePlaneOptimalInput(input); !valid) return valid.error();
+    const bool bounds_finite = request.bounds.min.allFinite() && request.bounds.max.allFinite();
+    if (!bounds_finite) return Error{"bounds", "is not finite"};
+    if (!(request.bounds.min.array() <= request.bounds.max.array()).all()) {
+        return Error{"bounds", "min exceeds max"};
+    }
+
+    PlaneMap out;
+    out.needed_polygon = request.needed_polygon;
+    if (out.needed_polygon.empty()) {
+        out.needed_polygon = VisiblePlanePolygon(input.viewer, input.plane, request.bounds);
+        if (out.needed_polygon.empty()) {
+            return Error{"plane", "is not in view: it does not meet the view frustum inside the "
+                                  "scene bounds"};
+        }
+    }
+    for (size_t i = 0; i < out.needed_polygon.size(); ++i) {
+        if (!out.needed_polygon[i].allFinite()) {
+            return Error{"needed_polygon[" + std::to_string(i) + "]", "is not finite"};
+        }
+    }
+
+    std::vector<Vec4> needed;
+    needed.reserve(out.needed_polygon.size());
+    for (const Vec3& p : out.needed_polygon) needed.push_back(Point(p));
+
+    // Depth must hold the receivers and every caster the scene bounds allow.
+    std::vector<Vec4> depth_points;
+    PlaneOptimalInput solve_input = input;
+    if (input.depth_points.empty()) {
+        depth_points = needed;
+        for (const Vec4& c : BoxCorners(request.bounds)) depth_points.push_back(c);
+        solve_input.depth_points = depth_points;
+    }
+    auto solved = SolvePlaneOptimal(solve_input);
+    if (!solved) return solved.error();
+    out.uncropped = *solved;
+
+    auto crop = CropToNeededRays(solved->matrix, needed, request.crop);
+    if (!crop) return crop.error();
+    out.crop = *crop;
+    out.diagnostics = Diagnose(request, out.uncropped, out.crop, out.needed_polygon);
+    const SolveDiagnostics& d = out.diagnostics;
+    if (!std::isfinite(d.residual_lixels) || !std::isfinite(d.conditioning) ||
+        !std::isfinite(d.depth_resolution)) {
+        return Error{"plane", "diagnostics are not finite: the configuration is degenerate"};
+    }
+    return out;
+}
+
+}  // namespace lixel

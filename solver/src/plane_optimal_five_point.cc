@@ -1,0 +1,143 @@
+// The paper's own construction of the plane-optimal matrix (Chong & Gortler §2, eq. 1 and
+// 3-6), kept as an independent derivation to cross-check the closed form.
+#include <lixel/solver/camera.h>
+#include <lixel/solver/depth_row.h>
+#include <lixel/solver/plane_optimal.h>
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace lixel {
+
+namespace {
+
+using Matrix11x12 = Eigen::Matrix<double, 11, 12>;
+
+// Hartley normalisation of homogeneous world points: translate the finite ones' centroid to
+// the origin, scale their mean distance to sqrt(3), then give every point unit norm (each
+// point's equations are homogeneous in it, so its scale is free).
+Mat4 WorldNormalization(const std::array<Vec4, 5>& points) {
+    Vec3 centroid = Vec3::Zero();
+    int finite = 0;
+    for (const Vec4& p : points) {
+        if (std::abs(p.w()) > 1e-3 * p.head<3>().norm()) {
+            centroid += p.head<3>() / p.w();
+            ++finite;
+        }
+    }
+    if (finite == 0) return Mat4::Identity();
+    centroid /= finite;
+    double mean_distance = 0.0;
+    for (const Vec4& p : points) {
+        if (std::abs(p.w()) > 1e-3 * p.head<3>().norm()) {
+            mean_distance += (p.head<3>() / p.w() - centroid).norm();
+        }
+    }
+    mean_distance /= finite;
+    const double s = mean_distance > 0.0 ? std::sqrt(3.0) / mean_distance : 1.0;
+    Mat4 t = Mat4::Identity() * s;
+    t(3, 3) = 1.0;
+    t.block<3, 1>(0, 3) = -s * centroid;
+    return t;
+}
+
+}  // namespace
+
+Result<PlaneOptimalMatrix> SolvePlaneOptimalFivePoint(const PlaneOptimalInput& input) noexcept {
+    auto normalized = ValidatePlaneOptimalInput(input);
+    if (!normalized) return normalized.error();
+    const Vec4& l = normalized->light;
+    const Vec4& plane = normalized->plane;
+    const Mat4 pixel = PixelMatrix(input.viewer, input.viewport);
+    const double g = input.viewport.width;
+    const double h = input.viewport.height;
+
+    // Eq. 3-6: the four viewport corners' rays meet P in p^i (homogeneous: the quad Q may
+    // straddle infinity, Fig. 5), and must keep their pixel (x, y) in the light image.
+    const double corners[4][2] = {{0, 0}, {0, h}, {g, h}, {g, 0}};
+    std::array<Vec4, 5> world;  // p^1..p^4, then l (eq. 1)
+    for (int i = 0; i < 4; ++i) {
+        world[i] = PlanePointAtPixel(pixel, plane, corners[i][0], corners[i][1]);
+    }
+    world[4] = l;
+
+    const Mat4 t_world = WorldNormalization(world);
+    // Image normalisation: centre the viewport, corners at distance sqrt(2).
+    const double s_img = std::sqrt(2.0) / std::hypot(0.5 * g, 0.5 * h);
+    Mat3 t_img = Mat3::Identity();
+    t_img(0, 0) = s_img;
+    t_img(1, 1) = s_img;
+    t_img(0, 2) = -s_img * 0.5 * g;
+    t_img(1, 2) = -s_img * 0.5 * h;
+
+    // Unknowns: the x, y, w rows of the normalised matrix, 12 numbers. Each corner gives
+    // m_x.X - u m_w.X = 0 and m_y.X - v m_w.X = 0; the light gives m_j.l = 0 (eq. 1).
+    Matrix11x12 a = Matrix11x12::Zero();
+    int row = 0;
+    for (int i = 0; i < 4; ++i) {
+        Vec4 x = t_world * world[i];
+        x /= x.norm();
+        const Eigen::Vector3d uv = t_img * Eigen::Vector3d(corners[i][0], corners[i][1], 1.0);
+        a.block<1, 4>(row, 0) = x.transpose();
+        a.block<1, 4>(row, 8) = -uv.x() * x.transpose();
+        ++row;
+        a.block<1, 4>(row, 4) = x.transpose();
+        a.block<1, 4>(row, 8) = -uv.y() * x.transpose();
+        ++row;
+    }
+    Vec4 light = t_world * l;
+    light /= light.norm();
+    for (int j = 0; j < 3; ++j) a.block<1, 4>(row++, 4 * j) = light.transpose();
+
+    const Eigen::JacobiSVD<Matrix11x12> svd(a, Eigen::ComputeFullV);
+    const Eigen::Matrix<double, 12, 1> null = svd.matrixV().col(11);
+    const auto& sigma = svd.singularValues();
+    if (!(sigma(10) > 1e-13 * sigma(0))) {
+        return Error{"plane", "five-point system is rank deficient (corner rays degenerate)"};
+    }
+
+    Eigen::Matrix<double, 3, 4> normalized_rows;
+    for (int j = 0; j < 3; ++j) normalized_rows.row(j) = null.segment<4>(4 * j).transpose();
+    const Eigen::Matrix<double, 3, 4> rows = t_img.inverse() * normalized_rows * t_world;
+
+    Mat4 m = Mat4::Zero();
+    m.row(0) = rows.row(0);
+    m.row(1) = rows.row(1);
+    m.row(3) = rows.row(2);
+    const double row_scale = std::max({m.row(0).norm(), m.row(1).norm(), m.row(3).norm()});
+    m /= row_scale;
+
+    // Sign (paper §2, Fig. 5): needed points in front of the viewer must get q > 0. The null
+    // vector's sign is arbitrary, so test it on the plane point under the viewport centre,
+    // or, when that lies beyond the horizon, with the closed form's rule q ~ (P.l) a_w.X.
+    PlaneOptimalMatrix out;
+    const Vec4 centre = PlanePointAtPixel(pixel, plane, 0.5 * g, 0.5 * h);
+    double q_sign = 0.0;
+    if (pixel.row(3).dot(centre) * centre.w() > 0.0) {
+        q_sign = m.row(3).dot(centre) * centre.w();
+    }
+    const bool flip = q_sign != 0.0 ? q_sign < 0.0 : plane.dot(l) < 0.0;
+    out.sign = flip ? -1 : 1;
+    if (flip) m = -m;
+
+    std::array<Vec4, 5> probes;
+    std::span<const Vec4> depth_points = input.depth_points;
+    if (depth_points.empty()) {
+        const int count = VisiblePlaneProbes(pixel, plane, input.viewport, probes);
+        depth_points = std::span<const Vec4>(probes.data(), count);
+    }
+    auto r_z = FitDepthRow(m.row(3), l, depth_points);
+    if (!r_z) return r_z.error();
+    m.row(2) = *r_z;
+    if (!m.allFinite()) return Error{"light", "five-point solve produced non-finite entries"};
+
+    out.matrix = m;
+    out.light = l;
+    out.plane = plane;
+    out.light_height = plane.dot(l);
+    return out;
+}
+
+}  // namespace lixel

@@ -1,0 +1,76 @@
+// Tests for plane_map.h: the paper's floor/wall configuration end to end, diagnostics, and the
+// floor map's twist that puts the floor/wall line horizontal (Chong & Gortler §3).
+#include <gtest/gtest.h>
+#include <lixel/solver/plane_map.h>
+#include <lixel/solver/polygon.h>
+
+#include "test_scenes.h"
+
+namespace lixel {
+namespace {
+
+using testing::Configuration;
+using testing::FloorWallConfiguration;
+
+TEST(PlaneMap, FloorOfTheFloorWallRoomHasOneLixelPerPixel) {
+    const Configuration c = FloorWallConfiguration();
+    PlaneMapRequest request;
+    request.input = c.Input();
+    request.bounds = c.bounds;
+    const auto map = SolvePlaneMap(request);
+    ASSERT_TRUE(map.ok()) << map.error().Message();
+    EXPECT_LE(map->diagnostics.residual_lixels, 1e-9);
+    EXPECT_LE(map->diagnostics.residual_lixels_float, 0.01);
+    EXPECT_TRUE(map->diagnostics.horizon_in_view);  // the view's top edge is 16° above level
+    EXPECT_EQ(map->diagnostics.sign, 1);
+    EXPECT_GT(map->diagnostics.depth_resolution, 0.0);
+    EXPECT_LT(map->diagnostics.depth_resolution, 1e-4);  // world units; the room is 20 wide
+    // The floor fills part of the 1024^2 view, so its map is no larger than the view.
+    EXPECT_LE(map->crop.map.width, 1024);
+    EXPECT_LE(map->crop.map.height, 1024);
+}
+
+TEST(PlaneMap, FloorTwistPutsTheFloorWallLineHorizontalAndTheWallAboveTheMap) {
+    const Configuration c = FloorWallConfiguration();
+    PlaneMapRequest request;
+    request.input = c.Input();
+    request.bounds = c.bounds;
+    // The floor below the floor/wall line z = -5 (paper §3): the polygon stops at the wall.
+    const Vec4 wall(0, 0, 1, 5);  // z >= -5 is the room's side
+    request.needed_polygon = ClipPolygon(VisiblePlanePolygon(c.viewer, c.plane, c.bounds), wall);
+    request.crop.twist = Twist::kLineHorizontal;
+    request.crop.line_a = Vec4(-10, 0, -5, 1);
+    request.crop.line_b = Vec4(10, 0, -5, 1);
+    const auto map = SolvePlaneMap(request);
+    ASSERT_TRUE(map.ok()) << map.error().Message();
+    EXPECT_LE(map->diagnostics.residual_lixels, 1e-9);
+    const LightMap& m = map->crop.map;
+    // Points on the line share y, and lie on or above the map's top edge.
+    const Vec2 a = LixelOf(m, request.crop.line_a);
+    const Vec2 b = LixelOf(m, Vec4(3, 0, -5, 1));
+    EXPECT_NEAR(a.y(), b.y(), 1e-9);
+    EXPECT_GE(a.y(), m.height - 1.0);
+    // Any point of the wall above the floor images above the line: out of the floor map's bounds.
+    for (double y : {0.5, 2.0, 6.0}) {
+        for (double x : {-4.0, 0.0, 4.0}) {
+            EXPECT_GT(LixelOf(m, Vec4(x, y, -5, 1)).y(), a.y()) << x << ", " << y;
+        }
+    }
+}
+
+TEST(PlaneMap, BudgetBelowOnePerPixelGivesOneReportedScale) {
+    const Configuration c = FloorWallConfiguration();
+    PlaneMapRequest request;
+    request.input = c.Input();
+    request.bounds = c.bounds;
+    request.crop.lixel_budget = 350 * 350;  // the paper's per-plane allocation
+    const auto map = SolvePlaneMap(request);
+    ASSERT_TRUE(map.ok()) << map.error().Message();
+    EXPECT_LE(static_cast<long>(map->crop.map.width) * map->crop.map.height, 350L * 350L);
+    EXPECT_LT(map->crop.scale, 1.0);
+    // The residual is measured against A_l * pixel, so it stays exact at any scale.
+    EXPECT_LE(map->diagnostics.residual_lixels, 1e-9);
+}
+
+}  // namespace
+}  // namespace lixel
