@@ -3,7 +3,7 @@
 #include <lixel/solver/homogeneous.h>
 
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
+#include <Eigen/LU>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -84,20 +84,34 @@ Result<bool> ValidateViewer(const Mat4& viewer, const Viewport& viewport, const 
         return Error{"viewport.height", "must be in [1, " + std::to_string(kMaxImageSide) +
                                             "], got " + std::to_string(viewport.height)};
     }
-    // Scale-free invertibility: singular values of the row-normalised matrix.
+    // Scale- and position-free invertibility: move the eye to the origin (the determinant does
+    // not change, the entries' sizes do), equilibrate columns (undoes a world scale) and rows,
+    // then the determinant is the volume of unit rows: 1 when orthogonal, 0 when dependent.
     Mat4 normalized = viewer;
-    for (int r = 0; r < 4; ++r) {
-        const double n = viewer.row(r).norm();
-        if (!(n > 0.0)) {
-            return Error{name, "row " + std::to_string(r) + " is zero: the matrix is singular"};
-        }
-        normalized.row(r) /= n;
+    const Vec4 eye = Cross4(viewer.row(0).transpose(), viewer.row(1).transpose(),
+                            viewer.row(3).transpose());
+    if (eye.allFinite() && eye.w() != 0.0) {
+        Mat4 to_eye = Mat4::Identity();
+        to_eye.block<3, 1>(0, 3) = eye.head<3>() / eye.w();
+        if (to_eye.allFinite()) normalized = viewer * to_eye;
     }
-    const Eigen::JacobiSVD<Mat4> svd(normalized);
-    const Vec4 s = svd.singularValues();
-    if (!(s(3) > 1e-12 * s(0))) {
-        return Error{name, "matrix is singular (smallest/largest singular value " +
-                               std::to_string(s(3) / s(0)) + ")"};
+    for (int pass = 0; pass < 2; ++pass) {
+        for (int c = 0; c < 4; ++c) {
+            const double n = normalized.col(c).norm();
+            if (n > 0.0) normalized.col(c) /= n;
+        }
+        for (int r = 0; r < 4; ++r) {
+            const double n = normalized.row(r).norm();
+            if (!(n > 0.0)) {
+                return Error{name, "row " + std::to_string(r) + " is zero: the matrix is singular"};
+            }
+            normalized.row(r) /= n;
+        }
+    }
+    const double volume = std::abs(normalized.determinant());
+    if (!(volume > kSingularViewerVolume)) {
+        return Error{name, "matrix is singular (normalised determinant " +
+                               std::to_string(volume) + ")"};
     }
     return true;
 }

@@ -26,53 +26,6 @@ constexpr double kCoincidentRelative = 1e-14;
 
 std::string PointField(size_t i) { return "points[" + std::to_string(i) + "]"; }
 
-struct Circle {
-    Vec2 centre = Vec2::Zero();
-    double radius = 0.0;
-    bool Holds(const Vec2& p) const {
-        return (p - centre).norm() <= radius * (1.0 + 1e-12) + 1e-300;
-    }
-};
-
-Circle CircleOf(const Vec2& a, const Vec2& b) { return {0.5 * (a + b), 0.5 * (a - b).norm()}; }
-
-Circle CircleOf(const Vec2& a, const Vec2& b, const Vec2& c) {
-    const Vec2 ab = b - a;
-    const Vec2 ac = c - a;
-    const double det = 2.0 * (ab.x() * ac.y() - ab.y() * ac.x());
-    if (std::abs(det) <= 1e-14 * ab.norm() * ac.norm()) {
-        // Collinear: the circle on the farthest pair holds the third.
-        Circle best = CircleOf(a, b);
-        for (const Circle& other : {CircleOf(a, c), CircleOf(b, c)}) {
-            if (other.radius > best.radius) best = other;
-        }
-        return best;
-    }
-    const double ab2 = ab.squaredNorm();
-    const double ac2 = ac.squaredNorm();
-    const Vec2 offset((ac.y() * ab2 - ab.y() * ac2) / det, (ab.x() * ac2 - ac.x() * ab2) / det);
-    return {a + offset, offset.norm()};
-}
-
-// Welzl's minimal enclosing circle, iterative form, on a deterministically shuffled copy.
-Circle MinimalEnclosingCircle(std::vector<Vec2> p) {
-    std::mt19937_64 rng(0x11C5E1);
-    std::shuffle(p.begin(), p.end(), rng);
-    Circle c{p[0], 0.0};
-    for (size_t i = 1; i < p.size(); ++i) {
-        if (c.Holds(p[i])) continue;
-        c = {p[i], 0.0};
-        for (size_t j = 0; j < i; ++j) {
-            if (c.Holds(p[j])) continue;
-            c = CircleOf(p[i], p[j]);
-            for (size_t k = 0; k < j; ++k) {
-                if (!c.Holds(p[k])) c = CircleOf(p[i], p[j], p[k]);
-            }
-        }
-    }
-    return c;
-}
-
 // Unit u, v with u = a x v, so (u, v) is the image's (x, y) for a camera looking along a.
 void ImageAxes(const Vec3& a, const Vec3& up_hint, Vec3& u, Vec3& v) {
     Vec3 up = up_hint - up_hint.dot(a) * a;
@@ -84,45 +37,62 @@ void ImageAxes(const Vec3& a, const Vec3& up_hint, Vec3& u, Vec3& v) {
     u = a.cross(v);
 }
 
-double MinCosine(const Vec3& a, const std::vector<Vec3>& units) {
-    double m = std::numeric_limits<double>::infinity();
-    for (const Vec3& d : units) m = std::min(m, a.dot(d));
-    return m;
+// A spherical cap: the unit directions d with axis . d >= cos_radius.
+struct Cap {
+    Vec3 axis = Vec3::UnitZ();
+    double cos_radius = 1.0;
+    bool Holds(const Vec3& d) const { return axis.dot(d) >= cos_radius - 1e-14; }
+};
+
+Cap CapOf(const Vec3& a) { return {a, 1.0}; }
+
+Cap CapOf(const Vec3& a, const Vec3& b) {
+    const Vec3 mid = a + b;
+    if (!(mid.norm() > 1e-15)) return {a, -1.0};  // antipodal: only a hemisphere or more
+    const Vec3 axis = mid.normalized();
+    return {axis, std::min(axis.dot(a), axis.dot(b))};
 }
 
-// An axis with a . d > 0 for every unit direction, near the minimal enclosing cone's.
-Result<Vec3> ConeAxis(const std::vector<Vec3>& units) {
-    Vec3 a = Vec3::Zero();
-    for (const Vec3& d : units) a += d;
-    a = a.norm() > 1e-12 * static_cast<double>(units.size()) ? a.normalized() : units[0];
-    // Perceptron steps: they reach a separating axis whenever one exists with some margin.
-    for (int iteration = 0; iteration < 4096 && !(MinCosine(a, units) > kMinAxisCosine);
-         ++iteration) {
-        const Vec3* worst = &units[0];
-        for (const Vec3& d : units) {
-            if (a.dot(d) < a.dot(*worst)) worst = &d;
+Cap CapOf(const Vec3& a, const Vec3& b, const Vec3& c) {
+    // The small circle through three directions lies in the plane through them; its axis is
+    // that plane's normal, on the side of the directions.
+    Vec3 n = (b - a).cross(c - a);
+    if (!(n.norm() > 1e-15 * (b - a).norm() * (c - a).norm()) || !(std::abs(n.dot(a)) > 0.0)) {
+        Cap best = CapOf(a, b);  // collinear on the sphere: the widest pair's cap holds all three
+        for (const Cap& other : {CapOf(a, c), CapOf(b, c)}) {
+            if (other.cos_radius < best.cos_radius) best = other;
         }
-        const Vec3 next = a + *worst;
-        if (!(next.norm() > 0.0)) break;
-        a = next.normalized();
+        return best;
     }
-    if (!(MinCosine(a, units) > kMinAxisCosine)) {
+    n.normalize();
+    if (n.dot(a) < 0.0) n = -n;
+    return {n, std::min({n.dot(a), n.dot(b), n.dot(c)})};
+}
+
+// The minimal enclosing cone of unit directions: Welzl's algorithm on the sphere (caps
+// through one, two or three directions; correct while the directions fit in an open
+// hemisphere, which is exactly when a frustum can hold them), on a deterministic shuffle.
+Result<Vec3> ConeAxis(std::vector<Vec3> units) {
+    std::mt19937_64 rng(0x11C5E1);
+    std::shuffle(units.begin(), units.end(), rng);
+    Cap cap = CapOf(units[0]);
+    for (size_t i = 1; i < units.size(); ++i) {
+        if (cap.Holds(units[i])) continue;
+        cap = CapOf(units[i]);
+        for (size_t j = 0; j < i; ++j) {
+            if (cap.Holds(units[j])) continue;
+            cap = CapOf(units[i], units[j]);
+            for (size_t k = 0; k < j; ++k) {
+                if (!cap.Holds(units[k])) cap = CapOf(units[i], units[j], units[k]);
+            }
+        }
+    }
+    double min_cosine = std::numeric_limits<double>::infinity();
+    for (const Vec3& d : units) min_cosine = std::min(min_cosine, cap.axis.dot(d));
+    if (!(min_cosine > kMinAxisCosine) || !cap.axis.allFinite()) {
         return Error{"light", "light inside the points' hull: no single frustum holds them"};
     }
-    // Re-centre on the minimal enclosing circle of the gnomonic images while that narrows the
-    // cone (its half-angle is acos of the smallest cosine).
-    for (int iteration = 0; iteration < 16; ++iteration) {
-        Vec3 u, v;
-        ImageAxes(a, Vec3::Zero(), u, v);
-        std::vector<Vec2> flat;
-        flat.reserve(units.size());
-        for (const Vec3& d : units) flat.emplace_back(u.dot(d) / a.dot(d), v.dot(d) / a.dot(d));
-        const Circle c = MinimalEnclosingCircle(std::move(flat));
-        const Vec3 next = (a + c.centre.x() * u + c.centre.y() * v).normalized();
-        if (!next.allFinite() || !(MinCosine(next, units) > MinCosine(a, units))) break;
-        a = next;
-    }
-    return a;
+    return cap.axis;
 }
 
 // Rotation of (u, v) about their normal that gives the images' minimal-area bounding

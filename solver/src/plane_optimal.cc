@@ -128,6 +128,19 @@ Result<NormalizedLightPlane> ValidatePlaneOptimalInput(const PlaneOptimalInput& 
     return out;
 }
 
+Mat4 PlaneOptimalRows(const Mat4& pixel_matrix, const Vec4& light, const Vec4& plane) noexcept {
+    // r_j = (P.l) a_j - (a_j.l) P: agrees with a_j on P (P.X = 0) and vanishes on l, so every
+    // point of a light ray images where the ray meets P (DESIGN §4.1).
+    const RowVec4 p = plane.transpose();
+    const double pl = p.dot(light);
+    Mat4 m = Mat4::Zero();
+    for (int j : {0, 1, 3}) {
+        const RowVec4 a = pixel_matrix.row(j);
+        m.row(j) = pl * a - a.dot(light) * p;
+    }
+    return m;
+}
+
 Result<PlaneOptimalMatrix> SolvePlaneOptimal(const PlaneOptimalInput& input) noexcept {
     auto normalized = ValidatePlaneOptimalInput(input);
     if (!normalized) return normalized.error();
@@ -137,13 +150,7 @@ Result<PlaneOptimalMatrix> SolvePlaneOptimal(const PlaneOptimalInput& input) noe
 
     const Mat4 pixel = PixelMatrix(input.viewer, input.viewport);
     const double pl = p.dot(l);
-    // r_j = (P.l) a_j - (a_j.l) P: agrees with a_j on P (P.X = 0) and vanishes on l, so every
-    // point of a light ray images where the ray meets P (DESIGN §4.1).
-    Mat4 m = Mat4::Zero();
-    for (int j : {0, 1, 3}) {
-        const RowVec4 a = pixel.row(j);
-        m.row(j) = pl * a - a.dot(l) * p;
-    }
+    Mat4 m = PlaneOptimalRows(pixel, l, plane);
     // Needed points on P have viewer w > 0, so q = (P.l) a_w.X has the sign of P.l.
     PlaneOptimalMatrix out;
     out.sign = pl > 0.0 ? 1 : -1;

@@ -52,8 +52,9 @@ Aabb UnitBounds() { return {Vec3(-1, -1, -1), Vec3(1, 1, 1)}; }
 
 // Independent membership test for hull(V ∪ {l}) (point light) or V swept toward the light
 // (directional): x belongs iff the ray from x pointing away from the light meets V
-// (Cyrus-Beck against V's face planes, `slack` world units of tolerance).
+// (Cyrus-Beck against V's face planes, `slack` world units of tolerance), or x is l.
 bool InLightHull(const ConvexPolytope& v, const Vec4& light, const Vec3& x, double slack) {
+    if (light.w() != 0.0 && (x - light.head<3>() / light.w()).norm() <= slack) return true;
     const Vec3 dir = light.w() != 0.0 ? Vec3(x - light.head<3>() / light.w())
                                       : Vec3(-light.head<3>());
     double t0 = 0.0;
@@ -239,7 +240,9 @@ TEST(ExtentHull, RandomConfigurationsGiveExactlyTheLightHullWithinTheBounds) {
         const bool light_in_bounds = h->light.w() != 0.0 &&
                                      (l.array() >= c.bounds.min.array()).all() &&
                                      (l.array() <= c.bounds.max.array()).all();
-        if (light_in_bounds) EXPECT_TRUE(hull.Contains(l, slack)) << "config " << i;
+        if (light_in_bounds) {
+            EXPECT_TRUE(hull.Contains(l, slack)) << "config " << i;
+        }
         // Every vertex of H is inside the bounds and inside the light hull of V; H is convex
         // (every vertex on the inner side of every face).
         for (const Vec4& x : h->vertices) {

@@ -45,22 +45,11 @@ FitCase RandomFitCase(std::mt19937_64& rng) {
     return c;
 }
 
-// The oriented propagation direction, as the header defines it.
-Vec3 Propagation(const Vec4& light, const Vec4& x) {
-    return light.w() * x.head<3>() - x.w() * light.head<3>();
-}
-
 TEST(FitFrustum, HoldsEveryPointWithinTheBudget) {
     std::mt19937_64 rng(777001);
     for (int i = 0; i < 3000; ++i) {
-        FitCase c = RandomFitCase(rng);
+        const FitCase c = RandomFitCase(rng);
         const std::int64_t budget = static_cast<std::int64_t>(std::pow(10.0, Uniform(rng, 0, 9)));
-        // A light with w < 0 propagates the other way (oriented projective geometry): the cloud
-        // has to lie on its far side, which is the mirror image through the light.
-        if (c.light.w() < 0.0) {
-            const Vec3 l = c.light.head<3>() / c.light.w();
-            for (Vec4& p : c.points) p = Point(2.0 * l - p.head<3>());
-        }
         const auto map = FitFrustum(c.light, c.points, MapSize{0, 0, budget});
         ASSERT_TRUE(map.ok()) << "case " << i << ": " << map.error().Message();
         ASSERT_TRUE(testing::MapHoldsPoints(*map, c.points)) << "case " << i;

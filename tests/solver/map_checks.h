@@ -56,11 +56,13 @@ inline ::testing::AssertionResult LightAtInfinity(const LightMap& map, const Vec
     return ::testing::AssertionSuccess();
 }
 
-// Depth grows strictly along the light ray through `target` (a finite point the map holds),
-// sampled from halfway between light and target (or one unit before it, for a directional
-// light) to the target.
+// Depth grows strictly along light propagation on the ray through `target` (a finite point
+// the map holds), sampled from halfway between light and target (or 2 step_scale before it,
+// for a directional light) to the target. A light with w < 0 is inverted (oriented projective
+// geometry): its rays run toward it, so there depth must fall along the same samples.
 inline ::testing::AssertionResult DepthGrowsAlongRay(const LightMap& map, const Vec4& light,
                                                      const Vec3& target, double step_scale) {
+    const double sign = light.w() < 0.0 ? -1.0 : 1.0;
     double previous = -std::numeric_limits<double>::infinity();
     for (int k = 0; k <= 8; ++k) {
         const double t = 0.5 + k / 16.0;  // 0.5 .. 1
@@ -73,7 +75,7 @@ inline ::testing::AssertionResult DepthGrowsAlongRay(const LightMap& map, const 
         }
         const Vec4 h = map.matrix * Vec4(p.x(), p.y(), p.z(), 1.0);
         if (!(h.w() > 0.0)) continue;  // before the map's near side
-        const double z = h.z() / h.w();
+        const double z = sign * h.z() / h.w();
         if (!(z > previous)) {
             return ::testing::AssertionFailure()
                    << "depth " << z << " after " << previous << " at t = " << t;

@@ -26,6 +26,10 @@ Mat4 PixelMatrix(const Mat4& viewer, const Viewport& viewport);
 // viewer), oriented so that w >= 0. Errors when the rows a_x, a_y, a_w are dependent.
 Result<Vec4> EyePoint(const Mat4& viewer);
 
+// A viewer whose row-normalised determinant is below this is refused as singular. A perspective
+// matrix with near/far = 1e-6 still has a normalised determinant near 1e-6.
+inline constexpr double kSingularViewerVolume = 1e-12;
+
 // Checks a world->clip viewer matrix and viewport: finite entries, sizes in range,
 // rows a_x, a_y, a_w independent and the matrix invertible. `field` prefixes messages.
 Result<bool> ValidateViewer(const Mat4& viewer, const Viewport& viewport,

@@ -35,8 +35,8 @@ Result<LightMap> FitImageRectangle(const Mat4& prelim, const Vec4& light,
 // A light frustum around `points` (homogeneous; the map must hold each), before the rectangle
 // fit: rows 0, 1, 3 are planes through the light with row(3) . X > 0 for every point, row 2
 // makes the matrix invertible (e_w for a point light, (-d, 0) for a directional one).
-// Point light: image coordinates are tangents about an axis a chosen as the centre of a
-// near-minimal cone around the oriented propagation directions
+// Point light: image coordinates are tangents about the axis a of the minimal cone around the
+// oriented propagation directions
 // d_i = L_w X_xyz - X_w L_xyz, which needs a . d_i > 0 for all i ("light" error: the light lies
 // inside the points' hull). Directional light: orthographic along -d; points need w > 0.
 // A non-zero `up_hint` sets the image's y axis (its projection perpendicular to the axis);

@@ -43,6 +43,10 @@ struct NormalizedLightPlane {
 };
 Result<NormalizedLightPlane> ValidatePlaneOptimalInput(const PlaneOptimalInput& input) noexcept;
 
+// The bare closed form of DESIGN §4.1 on the viewer's pixel rows: rows x, y, w of the light
+// matrix (row z zero), unscaled and unsigned. No validation; for callers that validated already.
+Mat4 PlaneOptimalRows(const Mat4& pixel_matrix, const Vec4& light, const Vec4& plane) noexcept;
+
 // Fast path: the closed form of DESIGN §4.1, r_j = (P.l) a_j - (a_j.l) P for j in {x, y, w},
 // with the depth row from FitDepthRow over `depth_points` (or over the plane's points in
 // the view when `depth_points` is empty).

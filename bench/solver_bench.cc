@@ -1,0 +1,176 @@
+// Benchmarks for lixel::solver: the plane-optimal closed form with crop against the paper's
+// five-point construction and a dense 11 x 11 partial-pivot solve of the same constraints (what
+// Ogre's PlaneOptimalShadowCameraSetup does), plus the baselines' fits. Ratios are printed
+// against the dense solve measured in the same run.
+#include <benchmark/benchmark.h>
+#include <lixel/solver/baselines.h>
+#include <lixel/solver/camera.h>
+#include <lixel/solver/crop.h>
+#include <lixel/solver/extent_hull.h>
+#include <lixel/solver/homogeneous.h>
+#include <lixel/solver/plane_map.h>
+#include <lixel/solver/plane_optimal.h>
+
+#include <Eigen/LU>
+#include <numbers>
+#include <vector>
+
+#include "ratio_reporter.h"
+
+namespace lixel {
+namespace {
+
+// The paper's floor/wall room, floor as the plane of interest, with everything a per-frame
+// solve would have at hand: the needed polygon and the depth points.
+struct FloorCase {
+    PlaneOptimalInput input;
+    Aabb bounds{Vec3(-10, 0, -5), Vec3(10, 8, 10)};
+    std::vector<Vec4> needed;
+    std::vector<Vec4> depth_points;
+    ExtentHull hull;
+
+    FloorCase() {
+        input.viewer = Perspective(60.0 * std::numbers::pi / 180.0, 1.0, 0.1, 100.0) *
+                       LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY());
+        input.viewport = {1024, 1024};
+        input.light = Point(Vec3(4, 9, 3));
+        input.plane = Vec4(0, 1, 0, 0);
+        for (const Vec3& p : VisiblePlanePolygon(input.viewer, input.plane, bounds)) {
+            needed.push_back(Point(p));
+        }
+        depth_points = needed;
+        for (const Vec4& c : BoxCorners(bounds)) depth_points.push_back(c);
+        input.depth_points = depth_points;
+        hull = *ComputeExtentHull(input.viewer, input.light, bounds);
+    }
+};
+
+const FloorCase& Case() {
+    static const FloorCase c;
+    return c;
+}
+
+void BM_ClosedFormWithCrop(benchmark::State& state) {
+    const FloorCase& c = Case();
+    for (auto _ : state) {
+        auto solved = SolvePlaneOptimal(c.input);
+        auto crop = CropToNeededRays(solved->matrix, c.needed, CropOptions{});
+        benchmark::DoNotOptimize(crop);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ClosedFormWithCrop);
+
+void BM_ClosedForm(benchmark::State& state) {
+    const FloorCase& c = Case();
+    for (auto _ : state) {
+        auto solved = SolvePlaneOptimal(c.input);
+        benchmark::DoNotOptimize(solved);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ClosedForm);
+
+// The rows alone, as a dense solve yields them: the cost of the closed form proper.
+void BM_ClosedFormRows(benchmark::State& state) {
+    const FloorCase& c = Case();
+    for (auto _ : state) {
+        const Mat4 pixel = PixelMatrix(c.input.viewer, c.input.viewport);
+        Mat4 rows = PlaneOptimalRows(pixel, c.input.light, c.input.plane);
+        benchmark::DoNotOptimize(rows);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ClosedFormRows);
+
+void BM_FivePointSvd(benchmark::State& state) {
+    const FloorCase& c = Case();
+    for (auto _ : state) {
+        auto solved = SolvePlaneOptimalFivePoint(c.input);
+        benchmark::DoNotOptimize(solved);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_FivePointSvd);
+
+// The same constraints as the five-point construction with the last entry fixed to 1 and an
+// 11 x 11 partial-pivot LU: the dense approach to the rows, the baseline of every ratio.
+void BM_DenseSolve11x11(benchmark::State& state) {
+    const FloorCase& c = Case();
+    for (auto _ : state) {
+        const Mat4 pixel = PixelMatrix(c.input.viewer, c.input.viewport);
+        const double g = c.input.viewport.width;
+        const double h = c.input.viewport.height;
+        const double corners[4][2] = {{0, 0}, {0, h}, {g, h}, {g, 0}};
+        Eigen::Matrix<double, 11, 12> a = Eigen::Matrix<double, 11, 12>::Zero();
+        int row = 0;
+        for (const auto& uv : corners) {
+            const Vec4 x = PlanePointAtPixel(pixel, c.input.plane, uv[0], uv[1]);
+            a.block<1, 4>(row, 0) = x.transpose();
+            a.block<1, 4>(row++, 8) = -uv[0] * x.transpose();
+            a.block<1, 4>(row, 4) = x.transpose();
+            a.block<1, 4>(row++, 8) = -uv[1] * x.transpose();
+        }
+        for (int j = 0; j < 3; ++j) a.block<1, 4>(row++, 4 * j) = c.input.light.transpose();
+        const Eigen::Matrix<double, 11, 11> lhs = a.leftCols<11>();
+        const Eigen::Matrix<double, 11, 1> rhs = -a.col(11);
+        const Eigen::Matrix<double, 11, 1> u = lhs.partialPivLu().solve(rhs);
+        Mat4 m = Mat4::Zero();
+        m.row(0) = u.segment<4>(0).transpose();
+        m.row(1) = u.segment<4>(4).transpose();
+        m.row(3) << u(8), u(9), u(10), 1.0;
+        benchmark::DoNotOptimize(m);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_DenseSolve11x11);
+
+void BM_SolvePlaneMapWithDiagnostics(benchmark::State& state) {
+    const FloorCase& c = Case();
+    PlaneMapRequest request;
+    request.input = c.input;
+    request.bounds = c.bounds;
+    for (auto _ : state) {
+        auto map = SolvePlaneMap(request);
+        benchmark::DoNotOptimize(map);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_SolvePlaneMapWithDiagnostics);
+
+void BM_ExtentHull(benchmark::State& state) {
+    const FloorCase& c = Case();
+    for (auto _ : state) {
+        auto hull = ComputeExtentHull(c.input.viewer, c.input.light, c.bounds);
+        benchmark::DoNotOptimize(hull);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ExtentHull);
+
+void BM_Baseline(benchmark::State& state) {
+    const FloorCase& c = Case();
+    const auto method = static_cast<BaselineMethod>(state.range(0));
+    BaselineInput input;
+    input.viewer = c.input.viewer;
+    input.viewport = c.input.viewport;
+    input.light = c.input.light;
+    input.lixel_budget = 512 * 512;
+    for (auto _ : state) {
+        auto map = FitBaseline(method, input, c.hull);
+        benchmark::DoNotOptimize(map);
+    }
+    state.SetLabel(BaselineName(method));
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_Baseline)
+    ->Arg(static_cast<int>(BaselineMethod::kUniform))
+    ->Arg(static_cast<int>(BaselineMethod::kPsm))
+    ->Arg(static_cast<int>(BaselineMethod::kLispsm));
+
+}  // namespace
+}  // namespace lixel
+
+int main(int argc, char** argv) {
+    return lixel::bench::RunWithRatios(argc, argv, "BM_DenseSolve11x11");
+}
