@@ -11,6 +11,26 @@ if(LIXEL_BUILD_BENCH)
     find_package(benchmark REQUIRED)           # libbenchmark-dev
 endif()
 
+# --- server/render: headless OpenGL (EGL surfaceless or OSMesa), images -------------------
+# GL entry points are loaded at run time through eglGetProcAddress / OSMesaGetProcAddress into a
+# per-context table (server/render/src/gl_api.cc), so neither libGL nor libOpenGL is linked:
+# OSMesa exports its own gl* symbols, and a process that links both dispatches by link order.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(LIXEL_EGL REQUIRED IMPORTED_TARGET egl)        # libegl-dev
+pkg_check_modules(LIXEL_OSMESA REQUIRED IMPORTED_TARGET osmesa)  # libosmesa6-dev
+find_path(LIXEL_GLCOREARB_DIR GL/glcorearb.h REQUIRED)           # libgl-dev (headers only)
+find_package(PNG REQUIRED)                                       # libpng-dev
+find_package(OpenEXR 3 REQUIRED CONFIG)                          # libopenexr-dev
+
+# --- server/eval: exact visibility, scenes ----------------------------------------------
+
+find_package(embree 3 REQUIRED)               # libembree-dev: ground-truth ray casting
+find_package(tinyobjloader REQUIRED)          # libtinyobjloader-dev: OBJ scenes
+find_package(TinyGLTF REQUIRED)               # libtinygltf-dev: glTF 2.0 scenes
+find_package(PNG REQUIRED)                    # libpng-dev: mask and difference images
+find_program(LIXEL_GNUPLOT gnuplot)           # gnuplot-nox: error_vs_time.png
+find_package(Threads REQUIRED)                # ground truth traces tiles on std::thread
+
 # Warnings shared by every lixel target.
 add_library(lixel_warnings INTERFACE)
 target_compile_options(lixel_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wconversion

@@ -8,6 +8,10 @@ packages=(
     libeigen3-dev
     libgtest-dev libgmock-dev
     libbenchmark-dev
+    libegl-dev libgl-dev libosmesa6-dev libgl1-mesa-dri libegl-mesa0
+    libembree-dev libglm-dev libpng-dev libopenexr-dev
+    libtinyobjloader-dev libtinygltf-dev
+    gnuplot-nox
 )
 
 missing=()

@@ -4,6 +4,7 @@
 // the budget rule and the depth convention.
 #include <lixel/solver/baselines.h>
 #include <lixel/solver/camera.h>
+#include <lixel/solver/depth_row.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/light_frustum.h>
 
@@ -23,6 +24,10 @@ constexpr double kSameLightTolerance = 1e-9;
 // |w| of the light in post-perspective space, relative to |l'|, below which PSM reports the
 // light as directional there (the formulas need no special case).
 constexpr double kDirectionalRelative = 1e-12;
+
+// Smallest q_min / q_max over H a PSM or LiSPSM warp may produce: ten times FitDepthRow's floor,
+// so every vertex of H keeps a depth in [0, 1].
+constexpr double kWarpMinNearRatio = 10.0 * kMinNearRatio;
 
 Vec4 NormalizedLight(const Vec4& light) {
     if (light.w() != 0.0) return light / light.w();
@@ -46,8 +51,9 @@ Result<bool> ValidateInput(const BaselineInput& input, const ExtentHull& hull) {
         return Error{"hull", "was computed for a different light"};
     }
     if (hull.light_inside) {
-        return Error{"hull", "the light lies inside the extent hull: no single map holds C_tot "
-                             "(use cube faces)"};
+        return Error{"hull",
+                     "the light lies inside the extent hull: no single map holds C_tot "
+                     "(use cube faces)"};
     }
     if (hull.ray_points.empty()) return Error{"hull", "has no vertices"};
     return true;
@@ -60,19 +66,30 @@ BaselineInfo Info(BaselineMethod method) {
     return info;
 }
 
-Result<BaselineMap> Uniform(const BaselineInput& input, const ExtentHull& hull,
-                            BaselineInfo info) {
+Result<BaselineMap> Uniform(const BaselineInput& input, const ExtentHull& hull, BaselineInfo info) {
     Result<LightMap> map =
         FitFrustum(hull.light, hull.ray_points, MapSize{0, 0, input.lixel_budget});
     if (!map) return map.error();
     return BaselineMap{*map, std::move(info)};
 }
 
-Result<BaselineMap> FallBack(const BaselineInput& input, const ExtentHull& hull,
-                             BaselineInfo info, std::string reason) {
+Result<BaselineMap> FallBack(const BaselineInput& input, const ExtentHull& hull, BaselineInfo info,
+                             std::string reason) {
     info.used = BaselineMethod::kUniform;
     info.fallback_reason = std::move(reason);
     return Uniform(input, hull, std::move(info));
+}
+
+// q_min / q_max of a preliminary matrix over finite points (w = 1).
+double QRatio(const Mat4& m, const std::vector<Vec4>& points) {
+    double lo = std::numeric_limits<double>::infinity();
+    double hi = 0.0;
+    for (const Vec4& p : points) {
+        const double q = m.row(3).dot(p);
+        lo = std::min(lo, q);
+        hi = std::max(hi, q);
+    }
+    return lo / hi;
 }
 
 // The viewer's centre of projection (finite, w = 1) and unit view direction f, with the w row
@@ -116,25 +133,28 @@ Result<BaselineMap> FitPsmMap(const BaselineInput& input, const ExtentHull& hull
     // its far plane to H's farthest (the distribution in post-perspective z depends on their
     // ratio). An orthographic viewer's post-perspective space is an affine image of the world:
     // there PSM is a uniform map in that space, and Mv is used as it is.
-    Mat4 virtual_viewer = input.viewer;
     Vec3 eye, forward;
     double scale = 1.0;
-    if (ViewerAxis(input.viewer, eye, forward, scale)) {
-        double t_min = std::numeric_limits<double>::infinity();
-        double t_max = -t_min;
-        for (const Vec4& h : hull.ray_points) {
+    const bool perspective = ViewerAxis(input.viewer, eye, forward, scale);
+    double t_min = std::numeric_limits<double>::infinity();
+    double t_max = -t_min;
+    double v_near = std::numeric_limits<double>::infinity();
+    if (perspective) {
+        // All of H, the light too when it is one of H's vertices: its neighbourhood casts.
+        for (const Vec4& h : hull.vertices) {
             const double t = forward.dot(h.head<3>() - eye);
             t_min = std::min(t_min, t);
             t_max = std::max(t_max, t);
         }
-        double v_near = std::numeric_limits<double>::infinity();
         for (const Vec3& v : hull.view_volume.vertices()) {
             v_near = std::min(v_near, forward.dot(v - eye));
         }
-        // Slide back until H's nearest point is as far from the virtual eye as V's nearest is
-        // from the real one.
-        const double delta = std::max(0.0, v_near - t_min);
-        info.slide_back = delta;
+    }
+    // The virtual camera slid back by delta, and the post-perspective light frustum fitted in
+    // it, composed back to world (rows x, y, w only).
+    auto virtual_camera = [&](double delta) {
+        Mat4 virtual_viewer = input.viewer;
+        if (!perspective) return virtual_viewer;
         double near = t_min + delta;
         double far = t_max + delta;
         if (!(near > 0.0)) near = std::max(v_near, 1e-9 * std::abs(far));
@@ -148,33 +168,65 @@ Result<BaselineMap> FitPsmMap(const BaselineInput& input, const ExtentHull& hull
         // [0, 1] clip depth from near to far along the virtual view direction.
         virtual_viewer.row(2) =
             (far / (far - near)) * (moved.row(3) - near * RowVec4(0.0, 0.0, 0.0, 1.0));
-    }
-    if (!AllFinite(virtual_viewer)) return Error{"viewer", "PSM virtual camera is not finite"};
+        return virtual_viewer;
+    };
+    auto fit_in_post_perspective = [&](const Mat4& virtual_viewer) -> Result<Mat4> {
+        if (!AllFinite(virtual_viewer)) {
+            return Error{"viewer", "PSM virtual camera is not finite"};
+        }
+        std::vector<Vec4> hull_post;
+        hull_post.reserve(hull.ray_points.size());
+        for (const Vec4& h : hull.ray_points) {
+            const Vec4 p = virtual_viewer * h;
+            if (!(p.w() > 0.0)) {
+                return Error{"hull", "PSM: a hull vertex is not in front of the virtual camera"};
+            }
+            hull_post.push_back(p / p.w());
+        }
+        // The oriented frustum formulas take the light as it lands: a point of either w sign
+        // (an inverted light has w < 0 and its rays converge) or, on the eye plane, a
+        // direction.
+        const Vec4 light_post = virtual_viewer * hull.light;
+        Result<Mat4> basis = LightFrustumBasis(light_post / light_post.norm(), hull_post);
+        if (!basis) {
+            return Error{"hull", "PSM: in the viewer's post-perspective space " +
+                                     basis.error().field + " " + basis.error().reason};
+        }
+        return Mat4(*basis * virtual_viewer);
+    };
 
+    // Slide back until H's nearest point is as far from the virtual eye as V's nearest is from
+    // the real one (SD02's condition that all casters lie in front). Where the warp would then
+    // squeeze H's q range past the depth row's near/far limit, slide further (doubling): the
+    // warp weakens toward the uniform map.
+    double delta = perspective ? std::max(0.0, v_near - t_min) : 0.0;
+    Mat4 virtual_viewer = virtual_camera(delta);
+    Result<Mat4> prelim = fit_in_post_perspective(virtual_viewer);
+    if (!prelim) return prelim.error();
+    double ratio = QRatio(*prelim, hull.ray_points);
+    double step = std::max(delta, v_near);
+    for (int doubling = 0; perspective && doubling < 64 && !(ratio >= kWarpMinNearRatio);
+         ++doubling) {
+        const Mat4 further_viewer = virtual_camera(delta + step);
+        Result<Mat4> further = fit_in_post_perspective(further_viewer);
+        if (!further) break;
+        const double further_ratio = QRatio(*further, hull.ray_points);
+        if (!(further_ratio > ratio)) break;
+        delta += step;
+        step *= 2.0;
+        virtual_viewer = further_viewer;
+        prelim = std::move(further);
+        ratio = further_ratio;
+    }
+    info.slide_back = delta;
     Vec4 light_post = virtual_viewer * hull.light;
     light_post /= light_post.norm();
     info.light_directional_in_post_perspective =
         std::abs(light_post.w()) <= kDirectionalRelative * light_post.norm();
     info.light_inverted_in_post_perspective =
         !info.light_directional_in_post_perspective && light_post.w() < 0.0;
-    std::vector<Vec4> hull_post;
-    hull_post.reserve(hull.ray_points.size());
-    for (const Vec4& h : hull.ray_points) {
-        Vec4 p = virtual_viewer * h;
-        if (!(p.w() > 0.0)) {
-            return Error{"hull", "PSM: a hull vertex is not in front of the virtual camera"};
-        }
-        hull_post.push_back(p / p.w());
-    }
-    // The oriented frustum formulas take the light as it lands: a point of either w sign
-    // (an inverted light has w < 0 and its rays converge) or, on the eye plane, a direction.
-    Result<Mat4> basis = LightFrustumBasis(light_post, hull_post);
-    if (!basis) {
-        return Error{"hull", "PSM: in the viewer's post-perspective space " + basis.error().field +
-                                 " " + basis.error().reason};
-    }
-    Result<LightMap> map = FitImageRectangle(*basis * virtual_viewer, hull.light,
-                                             hull.ray_points, MapSize{0, 0, input.lixel_budget});
+    Result<LightMap> map =
+        FitImageRectangle(*prelim, hull.light, hull.ray_points, MapSize{0, 0, input.lixel_budget});
     if (!map) return map.error();
     return BaselineMap{*map, std::move(info)};
 }
@@ -267,19 +319,37 @@ Result<BaselineMap> FitLispsmMap(const BaselineInput& input, const ExtentHull& h
         const Vec4 p = space * h;
         y_min = std::min(y_min, y_axis.dot(p.head<3>() / p.w()));
     }
-    // The warp's projection centre: in line with the eye across the light, n_opt before the
-    // near face of H's light-space bounds, so H spans depths [n_opt, n_opt + extent].
-    const Vec3 centre = x_axis.dot(eye_s) * x_axis + (y_min - info.n_opt) * y_axis +
-                        z_axis.dot(eye_s) * z_axis;
-    // The warp P followed by the orthographic projection along the light: image x is the
-    // warp's x / depth, image y its depth coordinate, -n_opt / depth (the scale that makes the
-    // lixels square at the near face; the rectangle fit renormalises).
-    Mat4 warp = Mat4::Zero();
-    warp.row(0) << x_axis.x(), x_axis.y(), x_axis.z(), -x_axis.dot(centre);
-    warp.row(1) << 0.0, 0.0, 0.0, -info.n_opt;
-    warp.row(3) << y_axis.x(), y_axis.y(), y_axis.z(), -y_axis.dot(centre);
-    Result<LightMap> map = FitImageRectangle(warp * space, hull.light, hull.ray_points,
-                                             MapSize{0, 0, input.lixel_budget});
+    // The warp P followed by the orthographic projection along the light, for a near distance
+    // n: the projection centre sits in line with the eye across the light, n before the near
+    // face of H's light-space bounds, so H spans warp depths [n, n + extent]. Image x is the
+    // warp's x / depth, image y its depth coordinate -n / depth (the scale that makes lixels
+    // square at the near face; the rectangle fit renormalises).
+    auto warp_for = [&](double n) {
+        const Vec3 centre =
+            x_axis.dot(eye_s) * x_axis + (y_min - n) * y_axis + z_axis.dot(eye_s) * z_axis;
+        Mat4 warp = Mat4::Zero();
+        warp.row(0) << x_axis.x(), x_axis.y(), x_axis.z(), -x_axis.dot(centre);
+        warp.row(1) << 0.0, 0.0, 0.0, -n;
+        warp.row(3) << y_axis.x(), y_axis.y(), y_axis.z(), -y_axis.dot(centre);
+        return Mat4(warp * space);
+    };
+    // FitDepthRow keeps q_near >= kMinNearRatio q_far and lets the renderer clamp what is
+    // nearer; the warp must not push receivers of H there. Where n_opt would, the warp is
+    // weakened by doubling n until H's q range fits (it tends to the unwarped range).
+    double n = info.n_opt;
+    Mat4 prelim = warp_for(n);
+    double ratio = QRatio(prelim, hull.ray_points);
+    for (int doubling = 0; doubling < 64 && !(ratio >= kWarpMinNearRatio); ++doubling) {
+        n *= 2.0;
+        const Mat4 weaker = warp_for(n);
+        const double weaker_ratio = QRatio(weaker, hull.ray_points);
+        if (!(weaker_ratio > ratio)) break;  // at the unwarped limit
+        prelim = weaker;
+        ratio = weaker_ratio;
+    }
+    info.warp_near = n;
+    Result<LightMap> map =
+        FitImageRectangle(prelim, hull.light, hull.ray_points, MapSize{0, 0, input.lixel_budget});
     if (!map) return map.error();
     return BaselineMap{*map, std::move(info)};
 }

@@ -50,7 +50,9 @@ Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light,
         const Vec4 x = normalized(raw);
         const double q = r_w.dot(x);
         if (!(q >= q_floor)) {
-            clamped = clamped || q > 0.0;
+            // Below the floor, or behind the light: the region reaches toward the light, so
+            // the range must too.
+            clamped = true;
             continue;
         }
         if (!directional && x.w() == 0.0) continue;  // at infinity: depth 1 by continuity
@@ -81,8 +83,14 @@ Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light,
 
     double span = u_max - u_min;
     const double magnitude = std::max(std::abs(u_max), std::abs(u_min));
-    if (!(span > 1e-9 * magnitude) || !(span > 0.0)) {
-        span = std::max(1e-9 * magnitude, std::numeric_limits<double>::min() * 1e6);
+    if (!(span > 1e-6 * magnitude)) {
+        // One depth (a single point, or all on one light-facing plane): a slab of +-0.1% around
+        // it keeps the row's entries within a few orders of z0's and r_w's.
+        const double centre = 0.5 * (u_max + u_min);
+        const double half = magnitude > 0.0 ? 1e-3 * magnitude : 1.0;
+        u_min = centre - half;
+        u_max = centre + half;
+        span = u_max - u_min;
     }
     u_min -= kDepthMargin * span;
     u_max += kDepthMargin * span;

@@ -29,8 +29,9 @@ Result<Vec4> NormalizeLight(const Vec4& light) {
     if (light.w() != 0.0) {
         const Vec4 point = light / light.w();
         if (!point.allFinite()) {
-            return Error{"light", "point is too far away to represent; pass it as a direction "
-                                  "(w = 0)"};
+            return Error{"light",
+                         "point is too far away to represent; pass it as a direction "
+                         "(w = 0)"};
         }
         return point;
     }
@@ -96,8 +97,8 @@ Result<ExtentHull> ComputeExtentHull(const Mat4& viewer, const Vec4& light,
                 const Vec3& b = corners[j];
                 Vec4 plane = Cross4(Point(a), Point(b), out.light);
                 const double n_length = plane.head<3>().norm();
-                const double reference = directional ? (b - a).norm()
-                                                     : (a - l3).norm() * (b - l3).norm();
+                const double reference =
+                    directional ? (b - a).norm() : (a - l3).norm() * (b - l3).norm();
                 if (!(n_length > kMinPlaneSine * reference)) continue;
                 plane /= n_length;
                 double lo = 0.0;

@@ -24,6 +24,10 @@ constexpr double kMinAxisCosine = 1e-9;
 // the point coincides with the light.
 constexpr double kCoincidentRelative = 1e-14;
 
+// Narrowest image rectangle side, relative to the scale of the image coordinates' rounding
+// (sum |r_x,k X_k| / q): a map of a single ray is this wide.
+constexpr double kMinImageExtent = 1e-6;
+
 std::string PointField(size_t i) { return "points[" + std::to_string(i) + "]"; }
 
 // Unit u, v with u = a x v, so (u, v) is the image's (x, y) for a camera looking along a.
@@ -187,8 +191,8 @@ Result<std::array<int, 2>> ChooseSize(const MapSize& size, double aspect) {
     return std::array<int, 2>{static_cast<int>(width), static_cast<int>(height)};
 }
 
-const Vec3 kCubeMajor[kCubeFaces] = {Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(),
-                                     -Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitZ()};
+const Vec3 kCubeMajor[kCubeFaces] = {Vec3::UnitX(),  -Vec3::UnitX(), Vec3::UnitY(),
+                                     -Vec3::UnitY(), Vec3::UnitZ(),  -Vec3::UnitZ()};
 const Vec3 kCubeS[kCubeFaces] = {-Vec3::UnitZ(), Vec3::UnitZ(), Vec3::UnitX(),
                                  Vec3::UnitX(),  Vec3::UnitX(), -Vec3::UnitX()};
 const Vec3 kCubeT[kCubeFaces] = {-Vec3::UnitY(), -Vec3::UnitY(), Vec3::UnitZ(),
@@ -223,12 +227,13 @@ Result<LightMap> FitImageRectangle(const Mat4& prelim, const Vec4& light,
     const RowVec4 r_y = prelim.row(1);
     const RowVec4 r_w = prelim.row(3);
     double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+    double rounding_scale = 0.0;
     for (size_t i = 0; i < points.size(); ++i) {
         const Vec4 p = points[i] / points[i].norm();
         const double q = r_w.dot(p);
         if (!(q > 0.0)) {
-            return Error{PointField(i), "is not in front of the light frustum (q = " +
-                                            std::to_string(q) + ")"};
+            return Error{PointField(i),
+                         "is not in front of the light frustum (q = " + std::to_string(q) + ")"};
         }
         const double x = r_x.dot(p) / q;
         const double y = r_y.dot(p) / q;
@@ -239,10 +244,17 @@ Result<LightMap> FitImageRectangle(const Mat4& prelim, const Vec4& light,
         x1 = std::max(x1, x);
         y0 = std::min(y0, y);
         y1 = std::max(y1, y);
+        // Rounding in x and y is ~1e-16 of this; the rectangle must stay far wider than that.
+        // (the classic dot-product error bound: the sum of the terms' magnitudes).
+        const Vec4 magnitude = p.cwiseAbs();
+        rounding_scale =
+            std::max(rounding_scale, std::max(r_x.cwiseAbs().dot(magnitude.transpose()),
+                                              r_y.cwiseAbs().dot(magnitude.transpose())) /
+                                         q);
     }
-    // A rectangle that is a segment or a point (one ray) still needs an extent to map.
-    const double magnitude = std::max({std::abs(x0), std::abs(x1), std::abs(y0), std::abs(y1)});
-    double least = std::max(1e-9 * std::max(x1 - x0, y1 - y0), 1e-12 * magnitude);
+    // A rectangle that is a segment or a point (one ray) still needs an extent to map:
+    // kMinImageExtent of the coordinates' rounding scale keeps rounding below 1e-10 of a side.
+    double least = std::max(1e-9 * std::max(x1 - x0, y1 - y0), kMinImageExtent * rounding_scale);
     if (!(least > 0.0)) least = 1.0;
     if (x1 - x0 < least) {
         const double mid = 0.5 * (x0 + x1);
@@ -290,8 +302,9 @@ Result<Mat4> LightFrustumBasis(const Vec4& light, std::span<const Vec4> points,
         a = -light.head<3>().normalized();  // propagation
         for (size_t i = 0; i < points.size(); ++i) {
             if (!(points[i].w() > 0.0)) {
-                return Error{PointField(i), "is at or beyond infinity: an orthographic light "
-                                            "map cannot hold it"};
+                return Error{PointField(i),
+                             "is at or beyond infinity: an orthographic light "
+                             "map cannot hold it"};
             }
         }
         ImageAxes(a, up_hint, u, v);

@@ -1,9 +1,12 @@
 // One plane-optimal map end to end, with the diagnostics of DESIGN §4.4.
 #include <lixel/solver/camera.h>
+#include <lixel/solver/convex_polytope.h>
+#include <lixel/solver/depth_row.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/light_map.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/polygon.h>
+#include <lixel/solver/ray_cone.h>
 
 #include <algorithm>
 #include <cmath>
@@ -142,14 +145,11 @@ Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept {
     needed.reserve(out.needed_polygon.size());
     for (const Vec3& p : out.needed_polygon) needed.push_back(Point(p));
 
-    // Depth must hold the receivers and every caster the scene bounds allow.
-    std::vector<Vec4> depth_points;
+    // Depth first spans the receivers alone; once the crop fixes which rays the map holds, it is
+    // refitted to the scene bounds inside those rays (the casters' room), unless the caller gave
+    // its own depth points.
     PlaneOptimalInput solve_input = input;
-    if (input.depth_points.empty()) {
-        depth_points = needed;
-        for (const Vec4& c : BoxCorners(request.bounds)) depth_points.push_back(c);
-        solve_input.depth_points = depth_points;
-    }
+    if (input.depth_points.empty()) solve_input.depth_points = needed;
     auto solved = SolvePlaneOptimal(solve_input);
     if (!solved) return solved.error();
     out.uncropped = *solved;
@@ -157,6 +157,19 @@ Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept {
     auto crop = CropToNeededRays(solved->matrix, needed, request.crop);
     if (!crop) return crop.error();
     out.crop = *crop;
+    if (input.depth_points.empty()) {
+        ConvexPolytope held = ConvexPolytope::FromBox(request.bounds);
+        for (const Vec4& plane : AcceptedCone(out.crop.map, {}).planes) {
+            if (held.empty()) break;
+            held = held.Clipped(plane);
+        }
+        std::vector<Vec4> depth_points = needed;
+        for (const Vec3& v : held.vertices()) depth_points.push_back(Point(v));
+        auto r_z = FitDepthRow(out.uncropped.matrix.row(3), out.uncropped.light, depth_points);
+        if (!r_z) return r_z.error();
+        out.uncropped.matrix.row(2) = *r_z;
+        out.crop.map.matrix.row(2) = *r_z;
+    }
     out.diagnostics = Diagnose(request, out.uncropped, out.crop, out.needed_polygon);
     const SolveDiagnostics& d = out.diagnostics;
     if (!std::isfinite(d.residual_lixels) || !std::isfinite(d.conditioning) ||

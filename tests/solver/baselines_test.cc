@@ -92,7 +92,7 @@ TEST(Baselines, EveryMethodHoldsTheHullWithinTheBudget) {
     }
     EXPECT_GE(configurations, 1000);
     EXPECT_GE(lispsm_warped, configurations / 2);  // fallbacks are the exception
-    EXPECT_GT(psm_inverted, 0);                     // lights behind the viewer were exercised
+    EXPECT_GT(psm_inverted, 0);                    // lights behind the viewer were exercised
 }
 
 // The paper's floor/wall room (test_scenes) with a directional light.
@@ -144,6 +144,7 @@ TEST(Baselines, LispsmUsesTheOptimalNearDistance) {
     EXPECT_NEAR(fit->info.z_near, z_n, 1e-9);
     EXPECT_NEAR(fit->info.z_far, z_f, 1e-9);
     EXPECT_NEAR(fit->info.n_opt, (z_n + std::sqrt(z_n * z_f)) / fit->info.sin_gamma, 1e-9);
+    EXPECT_EQ(fit->info.warp_near, fit->info.n_opt);
     // The warp puts more lixels near the viewer than far away, unlike the uniform map: compare
     // lixels per world unit on the floor near and far along the view direction.
     const auto uniform = FitUniformMap(InputOf(c, 1 << 20), *hull);
@@ -154,18 +155,18 @@ TEST(Baselines, LispsmUsesTheOptimalNearDistance) {
     };
     const Vec3 near_floor(0.0, 0.0, 6.0);
     const Vec3 far_floor(0.0, 0.0, -4.0);
-    const double lispsm_ratio =
-        density(fit->map, near_floor) / density(fit->map, far_floor);
+    const double lispsm_ratio = density(fit->map, near_floor) / density(fit->map, far_floor);
     const double uniform_ratio =
         density(uniform->map, near_floor) / density(uniform->map, far_floor);
     EXPECT_GT(lispsm_ratio, 1.5 * uniform_ratio);
 }
 
 TEST(Baselines, PsmSlidesBackForCastersBehindTheViewer) {
-    // Light behind and above the viewer: H reaches behind the eye, so the virtual camera must
-    // slide back; the light lands behind the virtual eye in post-perspective space.
+    // Light behind and above the viewer, outside the bounds: H reaches behind the eye up to
+    // the bounds, so the virtual camera must slide back, and the light lands behind the
+    // virtual eye in post-perspective space.
     testing::Configuration c = testing::FloorWallConfiguration();
-    c.light = Point(Vec3(0.0, 7.0, 9.5));
+    c.light = Point(Vec3(0.0, 7.0, 14.0));
     const auto hull = ComputeExtentHull(c.viewer, c.light, c.bounds);
     ASSERT_TRUE(hull.ok()) << hull.error().Message();
     ASSERT_FALSE(hull->light_inside);
@@ -181,6 +182,7 @@ TEST(Baselines, PsmSlidesBackForCastersBehindTheViewer) {
     const auto front = FitPsmMap(InputOf(c, 1 << 20), *front_hull);
     ASSERT_TRUE(front.ok()) << front.error().Message();
     EXPECT_FALSE(front->info.light_inverted_in_post_perspective);
+    EXPECT_EQ(front->info.slide_back, 0.0);
     EXPECT_TRUE(testing::MapHoldsPoints(front->map, front_hull->ray_points));
 }
 

@@ -55,8 +55,8 @@ Aabb UnitBounds() { return {Vec3(-1, -1, -1), Vec3(1, 1, 1)}; }
 // (Cyrus-Beck against V's face planes, `slack` world units of tolerance), or x is l.
 bool InLightHull(const ConvexPolytope& v, const Vec4& light, const Vec3& x, double slack) {
     if (light.w() != 0.0 && (x - light.head<3>() / light.w()).norm() <= slack) return true;
-    const Vec3 dir = light.w() != 0.0 ? Vec3(x - light.head<3>() / light.w())
-                                      : Vec3(-light.head<3>());
+    const Vec3 dir =
+        light.w() != 0.0 ? Vec3(x - light.head<3>() / light.w()) : Vec3(-light.head<3>());
     double t0 = 0.0;
     double t1 = std::numeric_limits<double>::infinity();
     for (const PolytopeFace& f : v.faces()) {
@@ -99,16 +99,16 @@ TEST(ConvexPolytope, BoxClippedByDiagonalPlaneKeepsAPrism) {
         }
     }
     EXPECT_TRUE(box.Clipped(Vec4(1, 0, 0, 5)).faces().size() == 6u);  // misses: unchanged
-    EXPECT_TRUE(box.Clipped(Vec4(1, 0, 0, -5)).empty());            // removes all
-    EXPECT_TRUE(box.Clipped(Vec4(0, 0, 0, -1)).empty());            // plane at infinity, outside
-    EXPECT_EQ(box.Clipped(Vec4(0, 0, 0, 1)).faces().size(), 6u);     // plane at infinity, inside
+    EXPECT_TRUE(box.Clipped(Vec4(1, 0, 0, -5)).empty());              // removes all
+    EXPECT_TRUE(box.Clipped(Vec4(0, 0, 0, -1)).empty());              // plane at infinity, outside
+    EXPECT_EQ(box.Clipped(Vec4(0, 0, 0, 1)).faces().size(), 6u);      // plane at infinity, inside
     EXPECT_TRUE(ConvexPolytope::FromBox({Vec3(0, 0, 0), Vec3(1, 0, 1)}).empty());
 }
 
 TEST(ConvexPolytope, ClipThroughAVertexAddsNoSliver) {
     const ConvexPolytope box = ConvexPolytope::FromBox(UnitBounds());
-    // x + y + z <= 1 passes through three corners' neighbourhood exactly at (1,1,-1) etc.:
-    // cuts the corner (1, 1, 1) off through (1, 1, -1), (1, -1, 1), (-1, 1, 1).
+    // x + y + z <= 1 passes exactly through the corners (1, 1, -1), (1, -1, 1), (-1, 1, 1) and
+    // cuts (1, 1, 1) off: no new vertex, no sliver face, a triangular cap.
     const ConvexPolytope cut = box.Clipped(Vec4(-1, -1, -1, 1));
     EXPECT_EQ(cut.vertices().size(), 7u);
     EXPECT_EQ(cut.faces().size(), 7u);
@@ -185,8 +185,7 @@ TEST(ExtentHull, WorldScalesFrom1em6To1e6GiveTheScaledHull) {
             const auto h = ComputeExtentHull(OrthoViewer() * unscale, light, bounds);
             ASSERT_TRUE(h.ok()) << "scale " << s << ": " << h.error().Message();
             const auto at_one = ComputeExtentHull(
-                OrthoViewer(), light.w() != 0.0 ? Point(light.head<3>() / s) : light,
-                UnitBounds());
+                OrthoViewer(), light.w() != 0.0 ? Point(light.head<3>() / s) : light, UnitBounds());
             ASSERT_TRUE(at_one.ok());
             std::vector<Vec3> expected;
             for (const Vec4& v : at_one->vertices) expected.push_back(v.head<3>() * s);
@@ -296,8 +295,8 @@ TEST(ExtentHull, BadInputIsRefusedNamingTheField) {
     ASSERT_FALSE(missed.ok());
     EXPECT_EQ(missed.error().Message(), "viewer: view frustum does not meet scene bounds");
     // A perspective viewer looking away from the bounds.
-    const Mat4 away = Perspective(1.0, 1.0, 0.1, 100.0) *
-                      LookAt(Vec3(0, 0, 5), Vec3(0, 0, 10), Vec3::UnitY());
+    const Mat4 away =
+        Perspective(1.0, 1.0, 0.1, 100.0) * LookAt(Vec3(0, 0, 5), Vec3(0, 0, 10), Vec3::UnitY());
     EXPECT_FALSE(ComputeExtentHull(away, Point(Vec3(0, 3, 0)), UnitBounds()).ok());
     // A negative w is the same point light.
     const auto negative = ComputeExtentHull(viewer, Vec4(0, -3, 0, -1), UnitBounds());

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <lixel/solver/depth_row.h>
 #include <lixel/solver/light_map.h>
 #include <lixel/solver/types.h>
 
@@ -14,7 +15,9 @@
 namespace lixel::testing {
 
 // Images of every point lie in [-tol, W + tol] x [-tol, H + tol] lixels with
-// tol = kFitLixels * max(W, H), q > 0, and depth z/q in [-kDepthSlack, 1 + kDepthSlack].
+// tol = kFitLixels * max(W, H), q > 0, and depth z/q in [-kDepthSlack, 1 + kDepthSlack];
+// points nearer than FitDepthRow's floor (q < kMinNearRatio q_max, for finite points with
+// w = 1) may lie before depth 0, where the renderer's depth clamp keeps them (depth_row.h).
 inline constexpr double kFitLixels = 1e-8;
 inline constexpr double kDepthSlack = 1e-9;
 
@@ -26,6 +29,10 @@ inline ::testing::AssertionResult MapHoldsPoints(const LightMap& map,
     }
     if (!map.matrix.allFinite()) return ::testing::AssertionFailure() << "non-finite matrix";
     const double tol = kFitLixels * std::max(map.width, map.height);
+    double q_max = 0.0;
+    for (const Vec4& p : points) {
+        if (p.w() > 0.0) q_max = std::max(q_max, map.matrix.row(3).dot(p / p.w()));
+    }
     for (size_t i = 0; i < points.size(); ++i) {
         const Vec4 h = map.matrix * points[i];
         std::ostringstream where;
@@ -38,7 +45,11 @@ inline ::testing::AssertionResult MapHoldsPoints(const LightMap& map,
         if (!(x >= -tol && x <= map.width + tol && y >= -tol && y <= map.height + tol)) {
             return ::testing::AssertionFailure() << "outside the map at " << where.str();
         }
-        if (!(z >= kClipDepthNear - kDepthSlack && z <= kClipDepthFar + kDepthSlack)) {
+        const bool clamped =
+            points[i].w() > 0.0 && h.w() / points[i].w() < kMinNearRatio * q_max * (1.0 + 1e-9);
+        const double z_min =
+            clamped ? -std::numeric_limits<double>::infinity() : kClipDepthNear - kDepthSlack;
+        if (!(z >= z_min && z <= kClipDepthFar + kDepthSlack)) {
             return ::testing::AssertionFailure() << "depth " << z << " at " << where.str();
         }
     }

@@ -37,10 +37,11 @@ inline constexpr double kLispsmMinSinGamma = 0.01;
 struct BaselineInfo {
     BaselineMethod requested = BaselineMethod::kUniform;
     BaselineMethod used = BaselineMethod::kUniform;  // kUniform after a fallback
-    std::string fallback_reason;                      // empty when `used == requested`
+    std::string fallback_reason;                     // empty when `used == requested`
 
     // PSM: how far the virtual camera slid back along the view direction so all of H is in
-    // front of it (world units, >= 0), and the light's kind in post-perspective space.
+    // front of it (world units, >= 0; slid further where the warp would squeeze H's depth
+    // range past FitDepthRow's kMinNearRatio), and the light's kind in post-perspective space.
     double slide_back = 0.0;
     bool light_directional_in_post_perspective = false;  // on the virtual eye plane
     bool light_inverted_in_post_perspective = false;     // behind the virtual eye (w < 0)
@@ -52,6 +53,9 @@ struct BaselineInfo {
     double z_near = 0.0;
     double z_far = 0.0;
     double n_opt = 0.0;
+    // The near distance the warp was built with: n_opt, or larger where n_opt would squeeze
+    // H's depth range past the depth row's near/far limit (kMinNearRatio).
+    double warp_near = 0.0;
 };
 
 struct BaselineMap {

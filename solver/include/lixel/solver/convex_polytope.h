@@ -16,7 +16,7 @@ struct PolytopeFace {
 };
 
 class ConvexPolytope {
-public:
+  public:
     ConvexPolytope() = default;  // the empty polytope
 
     // The box as six faces. Empty when the box has no volume (min >= max on some axis) or a
@@ -49,7 +49,7 @@ public:
     // the worst face.
     double SignedDistance(const Vec3& p) const;
 
-private:
+  private:
     std::vector<PolytopeFace> faces_;
 };
 

@@ -18,7 +18,9 @@ inline constexpr double kMinNearRatio = 1e-4;
 // Given the w row r_w (r_w . light == 0, r_w . X > 0 for the points the map holds) returns
 // r_z = (z0 - near * r_w) / (far - near), with z0 = e_w for a point light and
 // (-l_xyz, 0) for a directional one, near/far the extreme values of z0.X / r_w.X over
-// `points` (those with r_w.X > 0). Depth grows along light propagation, so the light's side
+// `points` (those with r_w.X > 0). A point light's range reaches down to the kMinNearRatio
+// clamp whenever some point lies nearer than that or behind it (q <= 0): the points are then
+// taken as the vertices of a region that reaches toward the light. Depth grows along light propagation, so the light's side
 // maps to kClipDepthNear. `light` is a point (w != 0, either sign) or a direction (w == 0).
 // Errors when no point lies in front of the light (r_w . X > 0).
 Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light,

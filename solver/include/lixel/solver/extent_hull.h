@@ -28,7 +28,9 @@ struct ExtentHull {
 };
 
 // `viewer` is Mv (world -> clip, [0, 1] clip depth; an infinite far plane is allowed), `light`
-// a point (w != 0, either sign: the same point) or a direction toward the light (w == 0),
+// a point (w != 0, either sign: a world light is a real point, so w < 0 names the same one;
+// unlike FitFrustum, which reads the sign as orientation) or a direction toward the light
+// (w == 0),
 // `bounds` the scene bounds (min < max on every axis). Errors name the input: "viewer" when
 // the matrix is not finite or singular or the view frustum misses the bounds, "light" when it
 // is not finite or zero, "bounds" when not finite or without volume.

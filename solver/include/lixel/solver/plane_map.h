@@ -36,7 +36,9 @@ struct PlaneMapRequest {
     // Vertices of the needed part of P (finite world points on P, convex, in order). Empty:
     // P ∩ view frustum ∩ `bounds`.
     std::vector<Vec3> needed_polygon;
-    Aabb bounds;  // scene bounds; used when needed_polygon is empty
+    // Scene bounds: give the needed polygon when it is empty, and the casters' room the depth
+    // range is fitted to (bounds ∩ the map's rays) when input.depth_points is empty.
+    Aabb bounds;
     CropOptions crop;
 };
 

@@ -1,0 +1,31 @@
+// The set of world points a light map accepts, as a cone of half-spaces through the light: the
+// 3D form of a map's lookup rule, which the scheduler subtracts from needed regions to find what
+// earlier maps leave uncovered (Chong & Gortler §3: C_fallback = HULL(C_tot - C_wall - C_floor)).
+#pragma once
+
+#include <lixel/solver/convex_polytope.h>
+#include <lixel/solver/light_map.h>
+#include <lixel/solver/types.h>
+
+#include <vector>
+
+namespace lixel {
+
+// Half-spaces plane . (x, 1) >= 0, each through the light.
+struct RayCone {
+    std::vector<Vec4> planes;
+};
+
+// The points X with q = (M X).w > 0, lixel (x, y) in [0, width] x [0, height], and
+// a x + b y + c >= 0 for every (a, b, c) in `half_planes`: each image line l becomes the world
+// plane l_x r_x + l_y r_y + l_z r_w.
+RayCone AcceptedCone(const LightMap& map, const std::vector<Eigen::Vector3d>& half_planes);
+
+// `region` minus the cone, as disjoint convex pieces (region ∩ {p_1 >= 0 ... p_{k-1} >= 0,
+// p_k < 0} for each bounding plane p_k); pieces without volume are dropped.
+std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayCone& cone);
+
+// The same for a convex polygon (finite vertices in order); pieces without area are dropped.
+std::vector<std::vector<Vec3>> Subtract(const std::vector<Vec3>& polygon, const RayCone& cone);
+
+}  // namespace lixel

@@ -1,0 +1,114 @@
+// The multi-map scheduler (DESIGN §4.5; Chong & Gortler §3-4): for one view and one light,
+// which shadow maps exist, how big each is, how a shader picks among them, and what was left
+// out and why.
+#pragma once
+
+#include <lixel/solver/extent_hull.h>
+#include <lixel/solver/light_map.h>
+#include <lixel/solver/mesh.h>
+#include <lixel/solver/plane_map.h>
+#include <lixel/solver/result.h>
+#include <lixel/solver/types.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lixel {
+
+// A plane of interest. `plane` is oriented: its normal points to the side the viewer cares about
+// (a floor's normal points up), so the plane is lit when plane . light > 0.
+struct PlaneOfInterest {
+    std::string name;  // for the plan's explanations ("floor", "table")
+    Vec4 plane = Vec4::Zero();
+    // Empty: the infinite plane. Otherwise a convex polygon on the plane (a table top), vertices
+    // counter-clockwise seen from the normal's side, world units.
+    std::vector<Vec3> polygon;
+};
+
+// A shadow caster or receiver. Bounds are required; the mesh, when present, lets the scheduler
+// test whether casters lie inside needed rays and whether they are closed solids.
+struct SceneObject {
+    std::string name;
+    Aabb bounds;
+    const Mesh* mesh = nullptr;  // not owned; may be null
+    bool closed = true;          // used when mesh is null
+};
+
+// The passes a request asks for; depth is always rendered.
+struct PassRequest {
+    bool second_depth = false;    // paper 003
+    bool silhouette_map = false;  // paper 000
+    bool volumes = false;         // papers 001, 002 (no map; planned as a pass over the view)
+};
+
+enum class MapRole { kPlane, kFallback, kCubeFace };
+enum class Pass { kDepth, kSecondDepth, kSilhouetteMap };
+
+struct PlanRequest {
+    Mat4 viewer = Mat4::Identity();  // Mv, world -> clip, [0, 1] clip depth
+    Viewport viewport;               // viewer pixels
+    Vec4 light = Vec4::Zero();       // w != 0 point, w == 0 direction toward the light
+    std::vector<SceneObject> objects;
+    // Union of the objects' bounds when left empty (min > max); world units.
+    Aabb scene_bounds{Vec3::Constant(1.0), Vec3::Constant(-1.0)};
+    std::vector<PlaneOfInterest> planes;  // priority order: earlier planes win shared rays
+    std::int64_t lixel_budget = 512 * 512;  // total over all maps, >= 1
+    // Smallest map the fallback gets when it is needed (the paper gave it 128^2 of 512^2).
+    std::int64_t fallback_floor = 128 * 128;
+    int max_texture_size = kMaxImageSide;  // GL_MAX_TEXTURE_SIZE, [1, kMaxImageSide]
+    PassRequest passes;
+};
+
+// The lookup rule of one map (paper §3): a world point X belongs to this map when
+// q = (M X).w > 0, its lixel (x, y) lies in [0, width) x [0, height), and every half-plane
+// a x + b y + c >= 0 holds. Maps are tried in plan order; the fallback accepts what is left.
+struct LookupRule {
+    std::vector<Eigen::Vector3d> half_planes;  // (a, b, c) on lixel coordinates
+};
+
+struct PlannedMap {
+    MapRole role = MapRole::kPlane;
+    int plane_index = -1;  // into PlanRequest::planes for kPlane
+    int cube_face = -1;    // 0..5 (+x, -x, +y, -y, +z, -z) for kCubeFace
+    std::string name;      // "plane floor", "fallback", "cube +x"
+    LightMap map;
+    std::vector<Pass> passes;
+    LookupRule lookup;
+    // The needed rays as a convex polygon in this map's lixel coordinates.
+    std::vector<Vec2> needed_image;
+    // For plane maps: the needed part of the plane in world units, and the solve's diagnostics.
+    std::vector<Vec3> needed_polygon;
+    SolveDiagnostics diagnostics;
+    double scale = 1.0;            // lixels per viewer pixel on the plane (plane maps), else 0
+    std::int64_t lixels = 0;       // width * height
+    double expected_pixels = 0.0;  // viewer pixels expected to read this map
+};
+
+struct LeftOut {
+    std::string item;    // "plane table", "fallback", "cube -y", "pass silhouette_map"
+    std::string reason;  // why, in words
+};
+
+struct Plan {
+    std::vector<PlannedMap> maps;  // in lookup order: planes by priority, then fallback or cubes
+    std::vector<LeftOut> left_out;
+    std::vector<std::string> warnings;  // e.g. second depth on open casters needs a bias
+    ExtentHull hull;
+    double plane_scale = 1.0;  // the one uniform scale applied to every plane map
+    std::int64_t total_lixels = 0;  // never above PlanRequest::lixel_budget
+    // Silhouette shadow volumes were asked for and some caster lies in the view's rays; they are
+    // a pass over the view, not a map.
+    bool volumes = false;
+};
+
+Result<Plan> PlanShadowMaps(const PlanRequest& request) noexcept;
+
+// The CPU twin of the shader's map selection: the index into plan.maps of the first map whose
+// lookup rule accepts world point `x` (homogeneous), or -1 when none does.
+int LookupMap(const Plan& plan, const Vec4& x) noexcept;
+
+// Whether one map's rule accepts `x` (the body of LookupMap's loop).
+bool LookupAccepts(const PlannedMap& map, const Vec4& x) noexcept;
+
+}  // namespace lixel

@@ -1,0 +1,72 @@
+// Accepted cones of light maps and convex set differences against them.
+#include <lixel/solver/polygon.h>
+#include <lixel/solver/ray_cone.h>
+
+#include <cmath>
+
+namespace lixel {
+
+namespace {
+
+// Unit normal keeps plane . (x, 1) a distance, which ConvexPolytope's tolerances assume.
+Vec4 NormalizedPlane(const RowVec4& row) {
+    const Vec4 p = row.transpose();
+    const double n = p.head<3>().norm();
+    return n > 0.0 ? Vec4(p / n) : p;
+}
+
+// Twice the area of a planar polygon in 3D.
+double TwiceArea(const std::vector<Vec3>& polygon) {
+    Vec3 sum = Vec3::Zero();
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        sum += polygon[i].cross(polygon[(i + 1) % polygon.size()]);
+    }
+    return sum.norm();
+}
+
+}  // namespace
+
+RayCone AcceptedCone(const LightMap& map, const std::vector<Eigen::Vector3d>& half_planes) {
+    const RowVec4 r_x = map.matrix.row(0);
+    const RowVec4 r_y = map.matrix.row(1);
+    const RowVec4 r_w = map.matrix.row(3);
+    RayCone cone;
+    cone.planes = {NormalizedPlane(r_w),
+                   NormalizedPlane(r_x),
+                   NormalizedPlane(map.width * r_w - r_x),
+                   NormalizedPlane(r_y),
+                   NormalizedPlane(map.height * r_w - r_y)};
+    for (const Eigen::Vector3d& l : half_planes) {
+        cone.planes.push_back(NormalizedPlane(l.x() * r_x + l.y() * r_y + l.z() * r_w));
+    }
+    return cone;
+}
+
+std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayCone& cone) {
+    std::vector<ConvexPolytope> pieces;
+    ConvexPolytope inside = region;
+    for (const Vec4& plane : cone.planes) {
+        if (inside.empty()) break;
+        ConvexPolytope outside = inside.Clipped(-plane);
+        if (!outside.empty()) pieces.push_back(std::move(outside));
+        inside = inside.Clipped(plane);
+    }
+    return pieces;
+}
+
+std::vector<std::vector<Vec3>> Subtract(const std::vector<Vec3>& polygon, const RayCone& cone) {
+    std::vector<std::vector<Vec3>> pieces;
+    if (polygon.size() < 3) return pieces;
+    // Slivers below this share of the polygon's area are rounding, not uncovered receivers.
+    const double min_area = 1e-9 * TwiceArea(polygon);
+    std::vector<Vec3> inside = polygon;
+    for (const Vec4& plane : cone.planes) {
+        if (inside.size() < 3) break;
+        std::vector<Vec3> outside = ClipPolygon(inside, -plane);
+        if (outside.size() >= 3 && TwiceArea(outside) > min_area) pieces.push_back(outside);
+        inside = ClipPolygon(inside, plane);
+    }
+    return pieces;
+}
+
+}  // namespace lixel
