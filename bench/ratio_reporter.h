@@ -14,12 +14,15 @@ namespace lixel::bench {
 
 class RatioReporter : public benchmark::ConsoleReporter {
 public:
-    explicit RatioReporter(std::string baseline) : baseline_(std::move(baseline)) {}
+    explicit RatioReporter(std::vector<std::string> baselines) : baselines_(std::move(baselines)) {}
 
     void ReportRuns(const std::vector<Run>& runs) override {
         for (const Run& run : runs) {
             if (run.run_type == Run::RT_Iteration && run.iterations > 0) {
-                times_.emplace_back(run.benchmark_name(), run.GetAdjustedRealTime());
+                // Seconds, so benchmarks reported in different units compare.
+                times_.emplace_back(run.benchmark_name(),
+                                    run.GetAdjustedRealTime() /
+                                        benchmark::GetTimeUnitMultiplier(run.time_unit));
             }
         }
         ConsoleReporter::ReportRuns(runs);
@@ -27,30 +30,32 @@ public:
 
     void Finalize() override {
         ConsoleReporter::Finalize();
-        double base = 0.0;
-        for (const auto& [name, t] : times_) {
-            if (name == baseline_) base = t;
-        }
-        if (base <= 0.0) {
-            std::printf("\nbaseline %s was not run: no ratios\n", baseline_.c_str());
-            return;
-        }
-        std::printf("\nratios to %s (same run; < 1 is faster):\n", baseline_.c_str());
-        for (const auto& [name, t] : times_) {
-            std::printf("  %-48s %10.4f\n", name.c_str(), t / base);
+        for (const std::string& baseline : baselines_) {
+            double base = 0.0;
+            for (const auto& [name, t] : times_) {
+                if (name == baseline) base = t;
+            }
+            if (base <= 0.0) {
+                std::printf("\nbaseline %s was not run: no ratios to it\n", baseline.c_str());
+                continue;
+            }
+            std::printf("\nratios to %s (same run; < 1 is faster):\n", baseline.c_str());
+            for (const auto& [name, t] : times_) {
+                std::printf("  %-48s %10.4f\n", name.c_str(), t / base);
+            }
         }
     }
 
 private:
-    std::string baseline_;
+    std::vector<std::string> baselines_;
     std::vector<std::pair<std::string, double>> times_;
 };
 
-// Runs the registered benchmarks with a RatioReporter against `baseline`.
-inline int RunWithRatios(int argc, char** argv, const char* baseline) {
+// Runs the registered benchmarks with a RatioReporter against each of `baselines`.
+inline int RunWithRatios(int argc, char** argv, std::vector<std::string> baselines) {
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-    RatioReporter reporter(baseline);
+    RatioReporter reporter(std::move(baselines));
     benchmark::RunSpecifiedBenchmarks(&reporter);
     benchmark::Shutdown();
     return 0;

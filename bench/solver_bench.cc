@@ -10,6 +10,7 @@
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/plane_optimal.h>
+#include <lixel/solver/scheduler.h>
 
 #include <Eigen/LU>
 #include <numbers>
@@ -168,9 +169,55 @@ BENCHMARK(BM_Baseline)
     ->Arg(static_cast<int>(BaselineMethod::kPsm))
     ->Arg(static_cast<int>(BaselineMethod::kLispsm));
 
+// The floor/wall room with `count` planes of interest: the floor, up to three walls, then
+// table tops (bounded polygons) in a row, as a scene with many receivers would declare them.
+PlanRequest RoomWithPlanes(int count) {
+    const FloorCase& c = Case();
+    PlanRequest r;
+    r.viewer = c.input.viewer;
+    r.viewport = c.input.viewport;
+    r.light = c.input.light;
+    r.scene_bounds = c.bounds;
+    r.objects = {{"floor", Aabb{Vec3(-10, -0.1, -5), Vec3(10, 0, 10)}},
+                 {"cube", Aabb{Vec3(-1, 0, -2), Vec3(0, 1, -1)}},
+                 {"ball", Aabb{Vec3(1, 0.5, -3), Vec3(2, 1.5, -2)}}};
+    const std::vector<Vec4> infinite = {Vec4(0, 1, 0, 0), Vec4(0, 0, 1, 5), Vec4(1, 0, 0, 10),
+                                        Vec4(-1, 0, 0, 10)};
+    for (int i = 0; i < count; ++i) {
+        if (i < static_cast<int>(infinite.size())) {
+            r.planes.push_back({"plane" + std::to_string(i), infinite[i], {}});
+            continue;
+        }
+        const int k = i - static_cast<int>(infinite.size());
+        const double x = -6.0 + 1.0 * (k % 12);
+        const double y = 0.6 + 0.05 * k;
+        r.planes.push_back({"table" + std::to_string(k), Vec4(0, 1, 0, -y),
+                            {Vec3(x, y, -1), Vec3(x + 0.8, y, -1), Vec3(x + 0.8, y, -2),
+                             Vec3(x, y, -2)}});
+        r.objects.push_back({"table" + std::to_string(k),
+                             Aabb{Vec3(x, y - 0.05, -2), Vec3(x + 0.8, y, -1)}});
+    }
+    r.lixel_budget = 1024 * 1024;
+    return r;
+}
+
+void BM_Plan(benchmark::State& state) {
+    const PlanRequest r = RoomWithPlanes(static_cast<int>(state.range(0)));
+    std::int64_t maps = 0;
+    for (auto _ : state) {
+        auto plan = PlanShadowMaps(r);
+        maps = static_cast<std::int64_t>(plan->maps.size());
+        benchmark::DoNotOptimize(plan);
+    }
+    state.counters["maps"] = static_cast<double>(maps);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_Plan)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 }  // namespace lixel
 
 int main(int argc, char** argv) {
-    return lixel::bench::RunWithRatios(argc, argv, "BM_DenseSolve11x11");
+    return lixel::bench::RunWithRatios(argc, argv,
+                                       {"BM_DenseSolve11x11", "BM_SolvePlaneMapWithDiagnostics"});
 }

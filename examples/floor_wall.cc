@@ -1,10 +1,12 @@
-// The paper's floor/wall room (Chong & Gortler §3-4): solves the floor and wall plane-optimal
-// maps for the built-in viewer and light and prints their matrices and diagnostics.
+// The paper's floor/wall room (Chong & Gortler §3-4): plans the maps for the built-in viewer and
+// light at the paper's budget (the 512^2 a conventional map would get), then prints each map's
+// matrix, GL factorisation and diagnostics, what was left out and why, and the baselines fitted
+// to the same extent hull.
+#include <lixel/solver/baselines.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/light_map.h>
-#include <lixel/solver/plane_map.h>
-#include <lixel/solver/polygon.h>
+#include <lixel/solver/scheduler.h>
 
 #include <cstdio>
 #include <numbers>
@@ -14,6 +16,15 @@ namespace {
 
 using namespace lixel;
 
+const char* RoleName(MapRole role) {
+    switch (role) {
+        case MapRole::kPlane: return "plane";
+        case MapRole::kFallback: return "fallback";
+        case MapRole::kCubeFace: return "cube face";
+    }
+    return "?";
+}
+
 void PrintMatrix(const char* name, const Mat4& m) {
     std::printf("  %s =\n", name);
     for (int r = 0; r < 4; ++r) {
@@ -21,58 +32,74 @@ void PrintMatrix(const char* name, const Mat4& m) {
     }
 }
 
-void PrintMap(const std::string& role, const Result<PlaneMap>& map) {
-    std::printf("%s\n", role.c_str());
-    if (!map) {
-        std::printf("  refused: %s\n", map.error().Message().c_str());
-        return;
+void PrintMap(const PlannedMap& m) {
+    std::printf("%s (%s): %d x %d lixels, expected readers %.0f viewer pixels\n", m.name.c_str(),
+                RoleName(m.role), m.map.width, m.map.height, m.expected_pixels);
+    PrintMatrix("world -> lixel", m.map.matrix);
+    PrintMatrix("GL projection", GlProjection(m.map));
+    std::printf("  lookup half-planes:");
+    for (const auto& h : m.lookup.half_planes) std::printf(" (%.4f, %.4f, %.2f)", h.x(), h.y(), h.z());
+    std::printf("%s\n", m.lookup.half_planes.empty() ? " none" : "");
+    if (m.role == MapRole::kPlane) {
+        const SolveDiagnostics& d = m.diagnostics;
+        std::printf("  scale %.4f lixel/pixel; residual %.3e lixels (double), %.3e (float GL)\n",
+                    m.scale, d.residual_lixels, d.residual_lixels_float);
+        std::printf("  conditioning %.3f; horizon in view: %s; sign %+d; depth step %.3e world "
+                    "units at the receivers\n",
+                    d.conditioning, d.horizon_in_view ? "yes" : "no", d.sign, d.depth_resolution);
     }
-    const SolveDiagnostics& d = map->diagnostics;
-    std::printf("  size: %d x %d lixels (scale %.4f, twist %.3f deg)\n", map->crop.map.width,
-                map->crop.map.height, map->crop.scale,
-                map->crop.twist_radians * 180.0 / std::numbers::pi);
-    PrintMatrix("world -> lixel", map->crop.map.matrix);
-    PrintMatrix("GL projection", GlProjection(map->crop.map));
-    std::printf("  residual: %.3e lixels (double), %.3e lixels (float)\n", d.residual_lixels,
-                d.residual_lixels_float);
-    std::printf("  conditioning: %.3f   horizon in view: %s   sign: %+d\n", d.conditioning,
-                d.horizon_in_view ? "yes" : "no", d.sign);
-    std::printf("  depth resolution at receivers: %.3e world units (%d samples)\n",
-                d.depth_resolution, d.samples);
 }
 
 }  // namespace
 
 int main() {
-    // Floor y = 0, wall z = -5; viewer above the floor looking at the corner; light above.
-    const Viewport viewport{1024, 1024};
-    const Mat4 viewer = Perspective(60.0 * std::numbers::pi / 180.0, 1.0, 0.1, 100.0) *
-                        LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY());
-    const Vec4 light = Point(Vec3(4, 9, 3));
-    const Aabb bounds{Vec3(-10, 0, -5), Vec3(10, 8, 10)};
-    const Vec4 floor(0, 1, 0, 0);
-    const Vec4 wall(0, 0, 1, 5);
+    // Floor y = 0, wall z = -5; a viewer above the floor looking at the corner; a light above.
+    PlanRequest request;
+    request.viewport = {1024, 1024};
+    request.viewer = Perspective(60.0 * std::numbers::pi / 180.0, 1.0, 0.1, 100.0) *
+                     LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY());
+    request.light = Point(Vec3(4, 9, 3));
+    request.objects = {{"floor", Aabb{Vec3(-10, -0.1, -5), Vec3(10, 0, 10)}},
+                       {"wall", Aabb{Vec3(-10, 0, -5.1), Vec3(10, 8, -5)}},
+                       {"cube", Aabb{Vec3(-1, 0, -2), Vec3(0, 1, -1)}},
+                       {"ball", Aabb{Vec3(1, 0.5, -3), Vec3(2, 1.5, -2)}},
+                       {"pole", Aabb{Vec3(-2.5, 0, 3), Vec3(-2.2, 4, 3.3)}}};
+    request.planes = {{"floor", Vec4(0, 1, 0, 0), {}}, {"wall", Vec4(0, 0, 1, 5), {}}};
+    request.lixel_budget = 512 * 512;
+    request.passes.second_depth = true;
 
-    std::printf("lixel floor/wall: viewer 1024 x 1024, point light at (4, 9, 3)\n\n");
+    std::printf("lixel floor/wall: viewer 1024 x 1024, point light at (4, 9, 3), budget 512^2\n\n");
+    const auto plan = PlanShadowMaps(request);
+    if (!plan) {
+        std::printf("refused: %s\n", plan.error().Message().c_str());
+        return 1;
+    }
+    for (const PlannedMap& m : plan->maps) {
+        PrintMap(m);
+        std::printf("\n");
+    }
+    std::printf("total %lld of %lld lixels; plane maps at scale %.4f\n",
+                static_cast<long long>(plan->total_lixels),
+                static_cast<long long>(request.lixel_budget), plan->plane_scale);
+    std::printf("left out:\n");
+    for (const LeftOut& l : plan->left_out) {
+        std::printf("  %s: %s\n", l.item.c_str(), l.reason.c_str());
+    }
+    for (const std::string& w : plan->warnings) std::printf("warning: %s\n", w.c_str());
 
-    // Floor below the floor/wall line, twisted so the line is horizontal (paper §3).
-    PlaneMapRequest floor_request;
-    floor_request.input = {viewer, viewport, light, floor, {}};
-    floor_request.bounds = bounds;
-    floor_request.needed_polygon =
-        ClipPolygon(VisiblePlanePolygon(viewer, floor, bounds), wall);
-    floor_request.crop.twist = Twist::kLineHorizontal;
-    floor_request.crop.line_a = Point(Vec3(-10, 0, -5));
-    floor_request.crop.line_b = Point(Vec3(10, 0, -5));
-    PrintMap("floor (y = 0), twisted so the floor/wall line is horizontal",
-             SolvePlaneMap(floor_request));
-
-    // Wall above the floor.
-    PlaneMapRequest wall_request;
-    wall_request.input = {viewer, viewport, light, wall, {}};
-    wall_request.bounds = bounds;
-    wall_request.crop.twist = Twist::kMinimizeArea;
-    std::printf("\n");
-    PrintMap("wall (z = -5), minimal-area twist", SolvePlaneMap(wall_request));
+    std::printf("\nbaselines on the same extent hull and budget:\n");
+    BaselineInput input{request.viewer, request.viewport, request.light, request.lixel_budget};
+    for (BaselineMethod method :
+         {BaselineMethod::kUniform, BaselineMethod::kPsm, BaselineMethod::kLispsm}) {
+        const auto fitted = FitBaseline(method, input, plan->hull);
+        if (!fitted) {
+            std::printf("  %s: refused: %s\n", BaselineName(method),
+                        fitted.error().Message().c_str());
+            continue;
+        }
+        std::printf("  %s: %d x %d lixels%s%s\n", BaselineName(method), fitted->map.width,
+                    fitted->map.height, fitted->info.fallback_reason.empty() ? "" : "; ",
+                    fitted->info.fallback_reason.c_str());
+    }
     return 0;
 }

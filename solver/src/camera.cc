@@ -85,8 +85,8 @@ Result<bool> ValidateViewer(const Mat4& viewer, const Viewport& viewport, const 
                                             "], got " + std::to_string(viewport.height)};
     }
     // Scale- and position-free invertibility: move the eye to the origin (the determinant does
-    // not change, the entries' sizes do), equilibrate columns (undoes a world scale) and rows,
-    // then the determinant is the volume of unit rows: 1 when orthogonal, 0 when dependent.
+    // not change, the entries' sizes do), equilibrate columns (undoes a world scale) and rows;
+    // the determinant is then at most 16 (Hadamard) and 0 when the rows are dependent.
     Mat4 normalized = viewer;
     const Vec4 eye = Cross4(viewer.row(0).transpose(), viewer.row(1).transpose(),
                             viewer.row(3).transpose());
@@ -95,18 +95,17 @@ Result<bool> ValidateViewer(const Mat4& viewer, const Viewport& viewport, const 
         to_eye.block<3, 1>(0, 3) = eye.head<3>() / eye.w();
         if (to_eye.allFinite()) normalized = viewer * to_eye;
     }
-    for (int pass = 0; pass < 2; ++pass) {
-        for (int c = 0; c < 4; ++c) {
-            const double n = normalized.col(c).norm();
-            if (n > 0.0) normalized.col(c) /= n;
+    // One pass each, scaling by the largest entry (no square roots on the per-frame path).
+    for (int c = 0; c < 4; ++c) {
+        const double m = normalized.col(c).cwiseAbs().maxCoeff();
+        if (m > 0.0) normalized.col(c) *= 1.0 / m;
+    }
+    for (int r = 0; r < 4; ++r) {
+        const double m = normalized.row(r).cwiseAbs().maxCoeff();
+        if (!(m > 0.0)) {
+            return Error{name, "row " + std::to_string(r) + " is zero: the matrix is singular"};
         }
-        for (int r = 0; r < 4; ++r) {
-            const double n = normalized.row(r).norm();
-            if (!(n > 0.0)) {
-                return Error{name, "row " + std::to_string(r) + " is zero: the matrix is singular"};
-            }
-            normalized.row(r) /= n;
-        }
+        normalized.row(r) *= 1.0 / m;
     }
     const double volume = std::abs(normalized.determinant());
     if (!(volume > kSingularViewerVolume)) {

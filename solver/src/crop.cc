@@ -110,8 +110,9 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
     if (needed_points.empty()) return Error{"needed_points", "is empty: nothing to crop to"};
     if (!matrix.allFinite()) return Error{"matrix", "has non-finite entries"};
 
-    std::vector<Vec2> image;
-    image.reserve(needed_points.size());
+    // Per-thread scratch: a solve per plane per frame should not allocate.
+    thread_local std::vector<Vec2> image;
+    image.clear();
     for (size_t i = 0; i < needed_points.size(); ++i) {
         const Vec4 p = matrix * needed_points[i];
         if (!(p.w() > 0.0)) {
@@ -129,7 +130,8 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
     // Candidate twists. The minimal-area enclosing rectangle has a side along a hull edge, so
     // the hull's edge directions (mod 90 degrees) plus "no twist" are enough; integer rounding
     // is compared directly so a twist never costs lixels.
-    std::vector<double> twists = {0.0};
+    thread_local std::vector<double> twists;
+    twists.assign(1, 0.0);
     if (options.twist == Twist::kMinimizeArea) {
         const std::vector<Vec2> hull = ConvexHull2d(image);
         for (size_t i = 0; i < hull.size() && hull.size() >= 2; ++i) {
@@ -156,7 +158,7 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
         if (line.x() * centroid.x() + line.y() * centroid.y() + line.z() > 0.0) {
             theta += std::numbers::pi;
         }
-        twists = {theta};
+        twists.assign(1, theta);
     }
 
     double best_theta = twists.front();

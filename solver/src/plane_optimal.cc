@@ -106,14 +106,20 @@ Result<NormalizedLightPlane> ValidatePlaneOptimalInput(const PlaneOptimalInput& 
         }
         return out;
     }
-    // Point light: compare its height with its distance to the receivers in view, so the
-    // test means the same at every world scale.
-    const Mat4 pixel = PixelMatrix(input.viewer, input.viewport);
-    std::array<Vec4, 5> probes;
-    const int count = VisiblePlaneProbes(pixel, out.plane, input.viewport, probes);
+    // Point light: compare its height with its distance to the receivers in view (or to the
+    // depth points the caller gave, which hold them), so the test means the same at every
+    // world scale.
     double reach = 0.0;
-    for (int i = 0; i < count; ++i) {
-        reach = std::max(reach, (probes[i].head<3>() - out.light.head<3>()).norm());
+    for (const Vec4& x : input.depth_points) {
+        if (x.w() > 0.0) reach = std::max(reach, (x.head<3>() / x.w() - out.light.head<3>()).norm());
+    }
+    if (!(reach > 0.0)) {
+        const Mat4 pixel = PixelMatrix(input.viewer, input.viewport);
+        std::array<Vec4, 5> probes;
+        const int count = VisiblePlaneProbes(pixel, out.plane, input.viewport, probes);
+        for (int i = 0; i < count; ++i) {
+            reach = std::max(reach, (probes[i].head<3>() - out.light.head<3>()).norm());
+        }
     }
     if (!(reach > 0.0)) {
         // Plane not in view: fall back to the light's distance from the plane's closest point
