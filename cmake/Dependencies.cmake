@@ -31,6 +31,15 @@ find_package(PNG REQUIRED)                    # libpng-dev: mask and difference 
 find_program(LIXEL_GNUPLOT gnuplot)           # gnuplot-nox: error_vs_time.png
 find_package(Threads REQUIRED)                # ground truth traces tiles on std::thread
 
+# --- proto, server/service, client: gRPC and protobuf, metrics ---------------------------
+find_package(Protobuf REQUIRED)                           # libprotobuf-dev, protobuf-compiler
+find_package(gRPC CONFIG REQUIRED)                        # libgrpc++-dev
+find_package(prometheus-cpp CONFIG REQUIRED)              # prometheus-cpp-dev
+find_package(OpenSSL REQUIRED)                            # libssl-dev: scene ids (SHA-256)
+find_program(LIXEL_PROTOC protoc REQUIRED)                # protobuf-compiler
+find_program(LIXEL_GRPC_CPP_PLUGIN grpc_cpp_plugin REQUIRED)        # protobuf-compiler-grpc
+find_program(LIXEL_GRPC_PYTHON_PLUGIN grpc_python_plugin)           # protobuf-compiler-grpc
+
 # Warnings shared by every lixel target.
 add_library(lixel_warnings INTERFACE)
 target_compile_options(lixel_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wconversion

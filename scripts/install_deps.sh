@@ -12,6 +12,8 @@ packages=(
     libembree-dev libglm-dev libpng-dev libopenexr-dev
     libtinyobjloader-dev libtinygltf-dev
     gnuplot-nox
+    libgrpc++-dev protobuf-compiler-grpc protobuf-compiler libprotobuf-dev
+    prometheus-cpp-dev libssl-dev python3-grpcio python3-protobuf
 )
 
 missing=()

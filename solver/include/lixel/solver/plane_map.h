@@ -17,7 +17,7 @@ struct SolveDiagnostics {
     // The same as a GL pass computes it: float vertices relative to GlOrigin() and the float
     // projection of ToGl(map, origin), in float arithmetic. Grows like float epsilon x map
     // side x the cancellation in the light rows: below 0.01 up to 512^2 when conditioning <= 2,
-    // up to ~0.05 at 4096^2 on random views, 5e-4 for the floor/wall room at 4096^2.
+    // up to ~0.05 at 4096^2 on random views, 3e-4 for the floor/wall room at 4096^2.
     double residual_lixels_float = 0.0;
     // How strongly errors in the light or plane are amplified: dist(l, samples)/|P.l| for a
     // point light, 1/|sin elevation| for a directional one. 1 is ideal; 1e9 means a light

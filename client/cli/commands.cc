@@ -1,0 +1,279 @@
+// lixel upload, solve, plan, render and view.
+#include "commands.h"
+
+#include <lixel/eval/progress.h>
+#include <lixel/render/image_io.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+namespace lixel::cli {
+
+namespace {
+
+const char* PassName(v1::PassKind pass) {
+    switch (pass) {
+        case v1::PASS_DEPTH: return "depth";
+        case v1::PASS_SECOND_DEPTH: return "second_depth";
+        case v1::PASS_SILHOUETTE_MAP: return "silhouette_map";
+        default: return "pass";
+    }
+}
+
+void PrintMat4(const v1::Mat4& m) {
+    for (int r = 0; r < 4; ++r) {
+        std::printf("    [% .6e % .6e % .6e % .6e]\n", m.m(r), m.m(4 + r), m.m(8 + r),
+                    m.m(12 + r));
+    }
+}
+
+void PrintDiagnostics(const v1::SolveDiagnostics& d) {
+    std::printf("    residual %.2e lixels (double) %.2e (float); conditioning %.3g; horizon %s; "
+                "sign %+d; depth step %.2e\n",
+                d.residual_lixels(), d.residual_lixels_float(), d.conditioning(),
+                d.horizon_in_view() ? "in view" : "out of view", d.sign(), d.depth_resolution());
+}
+
+// Depth as grey for people: near light bright, far dark, empty (1) black.
+render::Rgb8Image DepthPreview(const render::FloatImage& depth) {
+    render::Rgb8Image out{depth.width, depth.height, {}};
+    out.pixels.resize(static_cast<std::size_t>(depth.width) * depth.height * 3);
+    float lo = 1.0f;
+    float hi = 0.0f;
+    for (int i = 0; i < depth.width * depth.height; ++i) {
+        const float z = depth.pixels[static_cast<std::size_t>(i) * depth.channels];
+        if (z < 1.0f) {
+            lo = std::min(lo, z);
+            hi = std::max(hi, z);
+        }
+    }
+    for (int i = 0; i < depth.width * depth.height; ++i) {
+        const float z = depth.pixels[static_cast<std::size_t>(i) * depth.channels];
+        const float t = z >= 1.0f || hi <= lo ? 0.0f : 1.0f - (z - lo) / (hi - lo);
+        const auto v = static_cast<std::uint8_t>(40.0f + 215.0f * t);
+        for (int c = 0; c < 3; ++c) out.pixels[static_cast<std::size_t>(i) * 3 + c] = z >= 1.0f ? 0 : v;
+    }
+    return out;
+}
+
+}  // namespace
+
+int Fail(const Error& error) {
+    std::fprintf(stderr, "lixel: %s\n", error.Message().c_str());
+    return 1;
+}
+
+std::string UploadSceneFrom(client::Client& client, const Flags& flags, SceneSource* source) {
+    auto loaded = LoadScene(flags);
+    if (!loaded) {
+        Fail(loaded.error());
+        return {};
+    }
+    auto uploaded = client.UploadScene(loaded->message);
+    if (!uploaded) {
+        Fail(uploaded.error());
+        return {};
+    }
+    if (source != nullptr) *source = std::move(loaded).value();
+    return uploaded->scene_id();
+}
+
+int UploadCommand(client::Client& client, const Flags& flags) {
+    if (auto ok = flags.Check({"scene", "scene_file"}); !ok) return Fail(ok.error());
+    auto loaded = LoadScene(flags);
+    if (!loaded) return Fail(loaded.error());
+    auto uploaded = client.UploadScene(loaded->message);
+    if (!uploaded) return Fail(uploaded.error());
+    std::printf("%s\n", uploaded->scene_id().c_str());
+    std::fprintf(stderr, "lixel: %llu bytes, %llu triangles%s (instance %s)\n",
+                 static_cast<unsigned long long>(uploaded->bytes()),
+                 static_cast<unsigned long long>(uploaded->triangles()),
+                 uploaded->already_present() ? ", already present" : "",
+                 uploaded->instance().c_str());
+    return 0;
+}
+
+int SolveCommand(client::Client& client, const Flags& flags) {
+    if (auto ok = flags.Check({"scene", "scene_file", "budget", "twist"}); !ok) {
+        return Fail(ok.error());
+    }
+    auto loaded = LoadScene(flags);
+    if (!loaded) return Fail(loaded.error());
+    v1::SolveRequest request;
+    *request.add_views() = loaded->message.default_camera();
+    *request.add_lights() = loaded->message.default_light();
+    for (const auto& p : loaded->message.planes()) *request.add_planes() = p;
+    const Aabb b = loaded->scene.Bounds();
+    auto* bounds = request.mutable_bounds();
+    bounds->mutable_min()->set_x(b.min.x());
+    bounds->mutable_min()->set_y(b.min.y());
+    bounds->mutable_min()->set_z(b.min.z());
+    bounds->mutable_max()->set_x(b.max.x());
+    bounds->mutable_max()->set_y(b.max.y());
+    bounds->mutable_max()->set_z(b.max.z());
+    auto budget = flags.Number("budget", 0.0);
+    if (!budget) return Fail(budget.error());
+    request.set_lixel_budget(static_cast<std::uint64_t>(*budget));
+    if (flags.Bool("twist")) request.set_twist(v1::TWIST_MINIMIZE_AREA);
+    auto solved = client.Solve(request);
+    if (!solved) return Fail(solved.error());
+    for (const v1::SolveResult& r : solved->results()) {
+        std::printf("view %u, plane %u (%s), light %u:\n", r.view_index(), r.plane_index(),
+                    request.planes(static_cast<int>(r.plane_index())).name().c_str(),
+                    r.light_index());
+        if (r.has_error()) {
+            std::printf("  refused: %s: %s\n", r.error().field().c_str(),
+                        r.error().reason().c_str());
+            continue;
+        }
+        std::printf("  %u x %u lixels, scale %.4f\n", r.map().map().width(),
+                    r.map().map().height(), r.map().scale());
+        PrintMat4(r.map().map().matrix());
+        PrintDiagnostics(r.map().diagnostics());
+    }
+    return 0;
+}
+
+int PlanCommand(client::Client& client, const Flags& flags) {
+    if (auto ok = flags.Check({"scene", "scene_file", "budget", "fallback_floor", "second_depth",
+                               "silhouette_map", "volumes"});
+        !ok) {
+        return Fail(ok.error());
+    }
+    const std::string id = UploadSceneFrom(client, flags, nullptr);
+    if (id.empty()) return 1;
+    auto request = PlanRequestFrom(flags, id);
+    if (!request) return Fail(request.error());
+    auto plan = client.Plan(*request);
+    if (!plan) return Fail(plan.error());
+    std::printf("plan on %s: %llu of %llu lixels, plane scale %.4f\n", plan->instance().c_str(),
+                static_cast<unsigned long long>(plan->total_lixels()),
+                static_cast<unsigned long long>(request->lixel_budget()), plan->plane_scale());
+    for (const v1::PlannedMap& m : plan->maps()) {
+        std::printf("  %-16s %5u x %-5u expected readers %8.0f px, passes:", m.name().c_str(),
+                    m.map().width(), m.map().height(), m.expected_pixels());
+        for (int p : m.passes()) std::printf(" %s", PassName(static_cast<v1::PassKind>(p)));
+        std::printf(", %d half-plane test(s)\n", m.lookup_size());
+        if (m.has_diagnostics()) PrintDiagnostics(m.diagnostics());
+    }
+    for (const v1::LeftOut& l : plan->left_out()) {
+        std::printf("  left out %s: %s\n", l.item().c_str(), l.reason().c_str());
+    }
+    for (const std::string& w : plan->warnings()) std::printf("  warning: %s\n", w.c_str());
+    return 0;
+}
+
+int RenderCommand(client::Client& client, const Flags& flags) {
+    if (auto ok = flags.Check({"scene", "scene_file", "budget", "fallback_floor", "second_depth",
+                               "silhouette_map", "volumes", "out", "pfm"});
+        !ok) {
+        return Fail(ok.error());
+    }
+    const std::string id = UploadSceneFrom(client, flags, nullptr);
+    if (id.empty()) return 1;
+    auto plan = PlanRequestFrom(flags, id);
+    if (!plan) return Fail(plan.error());
+    v1::RenderRequest request;
+    *request.mutable_plan() = *plan;
+    eval::ProgressBar bar(1000, "render");
+    std::int64_t shown = 0;
+    auto maps = client.Render(request, [&](std::uint64_t done, std::uint64_t total) {
+        const std::int64_t now = total ? static_cast<std::int64_t>(1000 * done / total) : 0;
+        if (now > shown) bar.Advance(now - shown, "maps");
+        shown = now;
+    });
+    bar.Finish();
+    if (!maps) return Fail(maps.error());
+    const std::string out = flags.Get("out", "out/maps");
+    std::filesystem::create_directories(out);
+    for (int i = 0; i < maps->header.images_size(); ++i) {
+        const v1::MapImage& meta = maps->header.images(i);
+        const v1::PlannedMap& planned = maps->header.plan().maps(static_cast<int>(meta.map_index()));
+        render::FloatImage image;
+        image.width = static_cast<int>(meta.width());
+        image.height = static_cast<int>(meta.height());
+        image.channels = meta.pass() == v1::PASS_SILHOUETTE_MAP ? 2 : 1;
+        image.pixels = maps->images[static_cast<std::size_t>(i)];
+        std::string base = planned.name() + "_" + PassName(meta.pass());
+        for (char& c : base) {
+            if (c == ' ') c = '_';
+        }
+        const std::string path = out + "/" + base;
+        auto written = flags.Bool("pfm") ? render::WritePfm(path + ".pfm", image)
+                                         : render::WriteExr(path + ".exr", image);
+        if (!written) return Fail(written.error());
+        if (image.channels == 1) {
+            if (auto png = render::WritePng(path + ".png", DepthPreview(image)); !png) {
+                return Fail(png.error());
+            }
+        }
+        std::printf("%s: %d x %d (%s)\n", path.c_str(), image.width, image.height,
+                    flags.Bool("pfm") ? "pfm" : "exr");
+    }
+    return 0;
+}
+
+int ViewCommand(client::Client& client, const Flags& flags) {
+    if (auto ok = flags.Check({"scene", "scene_file", "budget", "fallback_floor", "method",
+                               "filter", "evaluate", "timings", "out"});
+        !ok) {
+        return Fail(ok.error());
+    }
+    const std::string id = UploadSceneFrom(client, flags, nullptr);
+    if (id.empty()) return 1;
+    auto plan = PlanRequestFrom(flags, id);
+    if (!plan) return Fail(plan.error());
+    v1::ViewRequest request;
+    *request.mutable_plan() = *plan;
+    v1::Method method;
+    std::string method_name = "METHOD_";
+    for (char c : flags.Get("method", "plane_optimal")) {
+        method_name += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+    if (!v1::Method_Parse(method_name, &method)) {
+        return Fail(Error{"--method", "must be plane_optimal, uniform, psm or lispsm"});
+    }
+    request.set_method(method);
+    v1::Filter filter;
+    std::string upper = "FILTER_";
+    for (char c : flags.Get("filter", "depth")) {
+        upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+    if (!v1::Filter_Parse(upper, &filter)) {
+        return Fail(Error{"--filter", "must be depth, pcf, second_depth, silhouette_map or "
+                                      "volumes"});
+    }
+    request.set_filter(filter);
+    request.set_evaluate(flags.Bool("evaluate"));
+    request.set_timings(flags.Bool("timings"));
+    auto view = client.View(request);
+    if (!view) return Fail(view.error());
+    render::FloatImage mask{static_cast<int>(view->width()), static_cast<int>(view->height()), 1,
+                            {}};
+    mask.pixels.resize(view->mask().size() / sizeof(float));
+    std::memcpy(mask.pixels.data(), view->mask().data(), view->mask().size());
+    const std::string out = flags.Get("out", "out/view");
+    std::filesystem::create_directories(out);
+    if (auto w = render::WritePfm(out + "/mask.pfm", mask); !w) return Fail(w.error());
+    if (auto w = render::WritePng(out + "/mask.png", render::MaskPreview(mask)); !w) {
+        return Fail(w.error());
+    }
+    std::printf("%s/mask.png: %u x %u, %u maps, %llu lixels (instance %s)\n", out.c_str(),
+                view->width(), view->height(), view->maps(),
+                static_cast<unsigned long long>(view->total_lixels()), view->instance().c_str());
+    if (view->has_evaluation()) {
+        const v1::Evaluation& e = view->evaluation();
+        std::printf("misclassified %.3f%% (%.2f%% near boundaries) of %llu decided pixels; "
+                    "aliasing m on planes mean %.2f p95 %.2f; lixel use %.1f%%\n",
+                    e.misclassified_percent(), e.misclassified_band_percent(),
+                    static_cast<unsigned long long>(e.decided_pixels()),
+                    e.aliasing_planes().mean(), e.aliasing_planes().p95(), 100.0 * e.lixel_use());
+    }
+    for (const v1::StageTime& t : view->timings()) {
+        std::printf("  %-10s %.3f ms\n", t.stage().c_str(), 1e3 * t.seconds());
+    }
+    return 0;
+}
+
+}  // namespace lixel::cli

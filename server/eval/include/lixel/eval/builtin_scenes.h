@@ -1,0 +1,45 @@
+// The built-in procedural scenes (DESIGN §9; Chong & Gortler §3-4). Deterministic: the same
+// parameters give bit-identical meshes on every run.
+#pragma once
+
+#include <lixel/eval/scene.h>
+#include <lixel/solver/result.h>
+
+#include <string>
+#include <vector>
+
+namespace lixel::eval {
+
+// The paper's room: floor y = 0 and wall z = -5 as planes of interest (floor first), with a
+// sphere, a box, a torus and a lathe-turned cone bouncing on the floor. `time` in seconds moves
+// them (each bounces with its own period); time 0 is the default view.
+Scene FloorWallScene(double time = 0.0);
+
+// The paper's table/floor configuration: a table top (bounded plane of interest, a convex
+// polygon) over a floor (infinite plane, second priority), with casters on the table.
+Scene TableFloorScene();
+
+// A 10 x 10 grid of spheres on a floor, tessellated so the whole scene has close to
+// `triangles` triangles (clamped to [30'000, 2'000'000]; the result is within 2% of the target).
+Scene SphereGridScene(long triangles = 100'000);
+
+// Thin plates over a floor: open zero-thickness quads (two-sided for visibility and shadows, as
+// paper 003 treats open surfaces) and closed slabs 1 mm thick, the case where
+// second-depth shadow maps are ambiguous (paper 003).
+Scene ThinPlatesScene();
+
+// A coarse sphere and a coarse torus with smooth vertex normals over a floor: silhouettes that
+// smooth shadow volumes (paper 002) must round off.
+Scene SphereTorusScene();
+
+// Lathe-turned pins standing on a floor: curved receivers that no plane of interest covers.
+Scene PinsScene();
+
+// Names accepted by BuiltinScene, in a fixed order; the first is the default scene.
+std::vector<std::string> BuiltinSceneNames();
+
+// A built-in scene by name ("floor_wall", "table_floor", "sphere_grid", "thin_plates",
+// "sphere_torus", "pins") with its default parameters. Error names the scene.
+Result<Scene> BuiltinScene(const std::string& name);
+
+}  // namespace lixel::eval

@@ -1,0 +1,33 @@
+// One report row from a method run (DESIGN §7): the run's plan, its mask and its stage times
+// against the ground truth. GL-free: the renderer (or any other method) supplies the mask.
+#pragma once
+
+#include <lixel/eval/ground_truth.h>
+#include <lixel/eval/image.h>
+#include <lixel/eval/methods.h>
+#include <lixel/eval/png_image.h>
+#include <lixel/eval/report.h>
+#include <lixel/eval/scene.h>
+#include <lixel/eval/timing.h>
+#include <lixel/solver/result.h>
+#include <lixel/solver/scheduler.h>
+
+#include <string>
+#include <vector>
+
+namespace lixel::eval {
+
+// Misclassification from `mask`, aliasing and lixel use from `plan`'s maps and lookup rule,
+// stage medians from `times`. Refuses a mask whose size differs from the truth's.
+Result<ReportRow> EvaluateRun(const Scene& scene, const GroundTruth& truth, const Method& method,
+                              std::int64_t budget, const Plan& plan, const Mask& mask,
+                              const StageTimes& times);
+
+// The side-by-side image of one scene. Masks go `masks_per_row` to a row pair: the upper row
+// holds the truth then the masks, the lower row the truth again then each mask's difference
+// from the truth (png_image.h's palette). With AllMethods() and 4 per row, a row pair is one
+// fitting and a column one shadow test. Tiles are shrunk so no side exceeds `max_tile_side`.
+RgbImage MaskGrid(const GroundTruth& truth, const std::vector<const Mask*>& masks,
+                  int masks_per_row = 4, int max_tile_side = 384);
+
+}  // namespace lixel::eval

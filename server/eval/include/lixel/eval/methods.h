@@ -1,0 +1,47 @@
+// The methods the report compares (issue 6): a light-matrix fitting (plane-optimal with
+// fallback, uniform, PSM, LiSPSM) times a shadow test (plain depth, PCF, second depth,
+// silhouette map), each planned for a scene and a lixel budget without GL.
+#pragma once
+
+#include <lixel/eval/scene.h>
+#include <lixel/solver/result.h>
+#include <lixel/solver/scheduler.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lixel::eval {
+
+enum class Fitting { kPlaneOptimal, kUniform, kPsm, kLispsm };
+
+// Mirrors lixel::render::ShadowMethod (same order) without depending on GL.
+enum class ShadowTest { kDepth, kPcf, kSecondDepth, kSilhouette };
+
+const char* FittingName(Fitting fitting) noexcept;    // "plane-optimal", "uniform", ...
+const char* ShadowTestName(ShadowTest test) noexcept;  // "depth", "PCF", ...
+
+struct Method {
+    Fitting fitting = Fitting::kPlaneOptimal;
+    ShadowTest test = ShadowTest::kDepth;
+
+    std::string Name() const;  // "plane-optimal + depth"
+    // The passes the test needs beyond depth.
+    PassRequest Passes() const;
+};
+
+// Every fitting with every test, fittings outermost.
+std::vector<Method> AllMethods();
+// The headline set: each fitting with plain depth.
+std::vector<Method> DepthMethods();
+
+// The paper's budget (512^2 total, §4) with one below and one above it.
+std::vector<std::int64_t> DefaultBudgets();
+
+// A plan for `method` on `scene` within `budget` lixels. Plane-optimal goes through the
+// scheduler (PlanShadowMaps). A baseline is one map fitted to the extent hull (FitBaseline),
+// wrapped as a plan whose single map accepts every point inside it; it is refused when the light
+// is inside the hull (one map cannot hold C_tot). Errors name the method.
+Result<Plan> PlanMethod(const Scene& scene, const Method& method, std::int64_t budget);
+
+}  // namespace lixel::eval

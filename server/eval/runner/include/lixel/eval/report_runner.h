@@ -1,0 +1,46 @@
+// The error-vs-run-time sweep (issue 6, DESIGN §7): for every scene, method and budget, plan
+// the maps, render them and the view with lixel::render, read the mask back, and score it
+// against Embree ground truth. Writes report.csv, report.md, error_vs_time.png and a mask grid
+// per scene into one folder. This is the one lixel::eval piece that needs GL.
+#pragma once
+
+#include <lixel/eval/methods.h>
+#include <lixel/eval/report.h>
+#include <lixel/render/context.h>
+#include <lixel/solver/result.h>
+#include <lixel/solver/types.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lixel::eval {
+
+struct ReportOptions {
+    // Built-in scene names (builtin_scenes.h) or paths of scene files (docs/scenes.md).
+    std::vector<std::string> scenes = {"floor_wall"};
+    std::vector<Method> methods = AllMethods();
+    std::vector<std::int64_t> budgets = DefaultBudgets();
+    int repeats = 3;  // timed repeats per run; stage times are their medians, >= 1
+    std::optional<Viewport> viewport;  // overrides every scene's default viewer image
+    std::string output = "report";     // folder, created when missing
+    render::ContextOptions gl;
+    bool progress = true;              // progress bar on stderr
+    bool plot = true;                  // error_vs_time.png through gnuplot
+    // Mask grids show the budget closest to this one (the paper's 512^2).
+    std::int64_t grid_budget = 512 * 512;
+};
+
+struct ReportSummary {
+    std::vector<ReportRow> rows;
+    std::vector<std::string> notes;    // skipped runs, GL renderer, ground-truth figures
+    std::vector<std::string> files;    // written, relative to the output folder
+    double seconds = 0.0;
+};
+
+// Errors name the scene or the file; a method a scene cannot use (for example a baseline
+// when the light is inside the extent hull) is skipped with a note instead.
+Result<ReportSummary> RunReport(const ReportOptions& options);
+
+}  // namespace lixel::eval

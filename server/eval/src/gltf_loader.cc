@@ -1,0 +1,314 @@
+// glTF 2.0 meshes through tinygltf (scene_io.h). tinygltf parses; this file checks every
+// accessor read against its buffer and flattens the node hierarchy into world-space meshes.
+#include <lixel/eval/mesh_builders.h>
+#include <lixel/eval/scene_io.h>
+#include <tiny_gltf.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+namespace lixel::eval {
+namespace {
+
+// Textures play no part in shadows: skip decoding them.
+bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+               const unsigned char*, int, void*) {
+    return true;
+}
+
+std::string Lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+}
+
+// A checked view of one accessor's elements.
+struct AccessorView {
+    const unsigned char* base = nullptr;
+    std::size_t stride = 0;
+    std::size_t count = 0;
+    int component_type = 0;
+};
+
+Result<AccessorView> View(const tinygltf::Model& model, int index, int type,
+                          const std::string& path) {
+    const std::string field = path + ": accessors[" + std::to_string(index) + "]";
+    if (index < 0 || index >= static_cast<int>(model.accessors.size())) {
+        return Error{path + ": accessors", "index " + std::to_string(index) + " out of range"};
+    }
+    const tinygltf::Accessor& a = model.accessors[index];
+    if (a.sparse.isSparse) return Error{field, "sparse accessors are not supported"};
+    if (a.type != type) return Error{field, "type " + std::to_string(a.type) + " unexpected"};
+    if (a.bufferView < 0 || a.bufferView >= static_cast<int>(model.bufferViews.size())) {
+        return Error{field, "has no valid bufferView"};
+    }
+    const tinygltf::BufferView& bv = model.bufferViews[a.bufferView];
+    if (bv.buffer < 0 || bv.buffer >= static_cast<int>(model.buffers.size())) {
+        return Error{field, "bufferView " + std::to_string(a.bufferView) + " has no buffer"};
+    }
+    const tinygltf::Buffer& buffer = model.buffers[bv.buffer];
+    const int component_size = tinygltf::GetComponentSizeInBytes(a.componentType);
+    const int components = tinygltf::GetNumComponentsInType(a.type);
+    if (component_size <= 0 || components <= 0) {
+        return Error{field, "componentType " + std::to_string(a.componentType) + " unknown"};
+    }
+    const std::size_t element = std::size_t(component_size) * std::size_t(components);
+    AccessorView view;
+    view.stride = bv.byteStride ? bv.byteStride : element;
+    view.count = a.count;
+    view.component_type = a.componentType;
+    const std::size_t begin = bv.byteOffset + a.byteOffset;
+    const std::size_t end = a.count == 0 ? begin : begin + (a.count - 1) * view.stride + element;
+    if (end > bv.byteOffset + bv.byteLength || end > buffer.data.size()) {
+        return Error{field, "reads bytes up to " + std::to_string(end) + " of a buffer of " +
+                                std::to_string(buffer.data.size()) + " (view length " +
+                                std::to_string(bv.byteLength) + ")"};
+    }
+    view.base = buffer.data.data() + begin;
+    return view;
+}
+
+Eigen::Vector3f ReadVec3(const AccessorView& v, std::size_t i) {
+    float f[3];
+    std::memcpy(f, v.base + i * v.stride, sizeof(f));
+    return {f[0], f[1], f[2]};
+}
+
+std::uint32_t ReadIndex(const AccessorView& v, std::size_t i) {
+    const unsigned char* p = v.base + i * v.stride;
+    switch (v.component_type) {
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return *p;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            std::uint16_t s;
+            std::memcpy(&s, p, sizeof(s));
+            return s;
+        }
+        default: {
+            std::uint32_t u;
+            std::memcpy(&u, p, sizeof(u));
+            return u;
+        }
+    }
+}
+
+Eigen::Matrix4d LocalTransform(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16) {
+        Eigen::Matrix4d m;
+        for (int k = 0; k < 16; ++k) m(k % 4, k / 4) = node.matrix[k];  // column-major
+        return m;
+    }
+    Eigen::Affine3d t = Eigen::Affine3d::Identity();
+    if (node.translation.size() == 3) {
+        t.translate(Eigen::Vector3d(node.translation[0], node.translation[1],
+                                    node.translation[2]));
+    }
+    if (node.rotation.size() == 4) {
+        // glTF stores (x, y, z, w); Eigen's constructor takes (w, x, y, z).
+        t.rotate(Eigen::Quaterniond(node.rotation[3], node.rotation[0], node.rotation[1],
+                                    node.rotation[2])
+                     .normalized());
+    }
+    if (node.scale.size() == 3) {
+        t.scale(Eigen::Vector3d(node.scale[0], node.scale[1], node.scale[2]));
+    }
+    return t.matrix();
+}
+
+// Triangle corner indices of a primitive (list, strip or fan) in list order.
+Result<std::vector<std::uint32_t>> Corners(const tinygltf::Model& model,
+                                           const tinygltf::Primitive& prim, std::size_t vertices,
+                                           const std::string& field, const std::string& path) {
+    std::vector<std::uint32_t> raw;
+    if (prim.indices >= 0) {
+        auto view = View(model, prim.indices, TINYGLTF_TYPE_SCALAR, path);
+        if (!view) return view.error();
+        const int ct = view->component_type;
+        if (ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+            ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+            ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+            return Error{field + ".indices", "componentType must be an unsigned integer"};
+        }
+        raw.resize(view->count);
+        for (std::size_t i = 0; i < view->count; ++i) {
+            raw[i] = ReadIndex(*view, i);
+            if (raw[i] >= vertices) {
+                return Error{field + ".indices[" + std::to_string(i) + "]",
+                             "vertex " + std::to_string(raw[i]) + " out of range (" +
+                                 std::to_string(vertices) + " vertices)"};
+            }
+        }
+    } else {
+        raw.resize(vertices);
+        for (std::size_t i = 0; i < vertices; ++i) raw[i] = static_cast<std::uint32_t>(i);
+    }
+    std::vector<std::uint32_t> list;
+    if (prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1) {
+        if (raw.size() % 3 != 0) {
+            return Error{field, std::to_string(raw.size()) + " indices: not whole triangles"};
+        }
+        list = std::move(raw);
+    } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        for (std::size_t i = 2; i < raw.size(); ++i) {
+            // Every other strip triangle is reversed to keep one winding.
+            if (i % 2 == 0) {
+                list.insert(list.end(), {raw[i - 2], raw[i - 1], raw[i]});
+            } else {
+                list.insert(list.end(), {raw[i - 1], raw[i - 2], raw[i]});
+            }
+        }
+    } else if (prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+        for (std::size_t i = 2; i < raw.size(); ++i) {
+            list.insert(list.end(), {raw[0], raw[i - 1], raw[i]});
+        }
+    }
+    return list;
+}
+
+}  // namespace
+
+Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
+    if (!std::filesystem::is_regular_file(path)) return Error{path, "no such file"};
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&SkipImage, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    const bool binary = Lower(std::filesystem::path(path).extension().string()) == ".glb";
+    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                           : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    if (!ok) {
+        return Error{path, "glTF parse failed: " + (err.empty() ? std::string("unknown error")
+                                                                : err)};
+    }
+
+    // Roots: the default scene's nodes, else every node no other node lists as a child.
+    std::vector<int> roots;
+    const int scene_index = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (scene_index < static_cast<int>(model.scenes.size())) {
+        roots = model.scenes[scene_index].nodes;
+    } else {
+        std::vector<bool> child(model.nodes.size(), false);
+        for (const tinygltf::Node& n : model.nodes) {
+            for (const int c : n.children) {
+                if (c >= 0 && c < static_cast<int>(child.size())) child[c] = true;
+            }
+        }
+        for (std::size_t i = 0; i < child.size(); ++i) {
+            if (!child[i]) roots.push_back(static_cast<int>(i));
+        }
+    }
+
+    std::vector<Mesh> meshes;
+    std::vector<int> depth_guard(model.nodes.size(), 0);
+    std::function<Result<bool>(int, const Eigen::Matrix4d&)> visit =
+        [&](int node_index, const Eigen::Matrix4d& parent) -> Result<bool> {
+        if (node_index < 0 || node_index >= static_cast<int>(model.nodes.size())) {
+            return Error{path + ": nodes", "index " + std::to_string(node_index) +
+                                               " out of range"};
+        }
+        // A node reached again on the current path is a cycle, which glTF forbids.
+        if (depth_guard[node_index]++) {
+            return Error{path + ": nodes[" + std::to_string(node_index) + "]",
+                         "node hierarchy has a cycle"};
+        }
+        const tinygltf::Node& node = model.nodes[node_index];
+        const Eigen::Matrix4d world = parent * LocalTransform(node);
+        if (node.mesh >= 0) {
+            if (node.mesh >= static_cast<int>(model.meshes.size())) {
+                return Error{path + ": nodes[" + std::to_string(node_index) + "].mesh",
+                             "index " + std::to_string(node.mesh) + " out of range"};
+            }
+            const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
+            const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
+            const bool mirrored = linear.determinant() < 0;
+            const tinygltf::Mesh& source = model.meshes[node.mesh];
+            for (std::size_t p = 0; p < source.primitives.size(); ++p) {
+                const tinygltf::Primitive& prim = source.primitives[p];
+                const std::string field = path + ": meshes[" + std::to_string(node.mesh) +
+                                          "].primitives[" + std::to_string(p) + "]";
+                if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES &&
+                    prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+                    prim.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+                    continue;  // points and lines cast no shadow
+                }
+                const auto position = prim.attributes.find("POSITION");
+                if (position == prim.attributes.end()) {
+                    return Error{field + ".attributes", "no POSITION"};
+                }
+                auto pv = View(model, position->second, TINYGLTF_TYPE_VEC3, path);
+                if (!pv) return pv.error();
+                if (pv->component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                    return Error{field + ".attributes.POSITION", "must be float VEC3"};
+                }
+                Mesh mesh;
+                mesh.name = (node.name.empty() ? source.name : node.name);
+                if (mesh.name.empty()) mesh.name = "mesh " + std::to_string(node.mesh);
+                if (source.primitives.size() > 1) mesh.name += "[" + std::to_string(p) + "]";
+                for (std::size_t i = 0; i < pv->count; ++i) {
+                    const Eigen::Vector3f local = ReadVec3(*pv, i);
+                    if (!local.allFinite()) {
+                        return Error{field + ".attributes.POSITION[" + std::to_string(i) + "]",
+                                     "not finite"};
+                    }
+                    const Eigen::Vector4d w = world * Eigen::Vector4d(local.x(), local.y(),
+                                                                      local.z(), 1.0);
+                    mesh.positions.push_back(w.head<3>().cast<float>());
+                }
+                const auto normal = prim.attributes.find("NORMAL");
+                if (normal != prim.attributes.end()) {
+                    auto nv = View(model, normal->second, TINYGLTF_TYPE_VEC3, path);
+                    if (!nv) return nv.error();
+                    if (nv->count != pv->count ||
+                        nv->component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                        return Error{field + ".attributes.NORMAL",
+                                     "must be float VEC3 with one normal per position"};
+                    }
+                    for (std::size_t i = 0; i < nv->count; ++i) {
+                        const Eigen::Vector3d n =
+                            normal_matrix * ReadVec3(*nv, i).cast<double>();
+                        mesh.normals.push_back(
+                            (n.norm() > 0 ? n.normalized() : n).cast<float>());
+                    }
+                }
+                auto corners = Corners(model, prim, pv->count, field, path);
+                if (!corners) return corners.error();
+                mesh.indices = std::move(*corners);
+                if (mirrored) {
+                    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+                        std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+                    }
+                }
+                if (mesh.TriangleCount() == 0) continue;
+                mesh.closed = IsClosedByPosition(mesh);
+                meshes.push_back(std::move(mesh));
+            }
+        }
+        for (const int child : node.children) {
+            auto visited = visit(child, world);
+            if (!visited) return visited;
+        }
+        --depth_guard[node_index];
+        return true;
+    };
+    for (const int root : roots) {
+        auto visited = visit(root, Eigen::Matrix4d::Identity());
+        if (!visited) return visited.error();
+    }
+    if (meshes.empty()) return Error{path, "no triangles: a glTF scene needs a triangle mesh"};
+    return meshes;
+}
+
+Result<std::vector<Mesh>> LoadMeshes(const std::string& path) {
+    const std::string ext = Lower(std::filesystem::path(path).extension().string());
+    if (ext == ".obj") return LoadObj(path);
+    if (ext == ".gltf" || ext == ".glb") return LoadGltf(path);
+    return Error{path, "unknown mesh format '" + ext + "' (expected .obj, .gltf or .glb)"};
+}
+
+}  // namespace lixel::eval

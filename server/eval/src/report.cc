@@ -1,0 +1,227 @@
+// report.csv and report.md writers, the Pareto front and the best-per-budget marks (report.h).
+#include <lixel/eval/report.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace lixel::eval {
+namespace {
+
+std::string Number(double value, int digits = 4) {
+    if (std::isnan(value)) return "nan";
+    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+    char text[64];
+    std::snprintf(text, sizeof(text), "%.*g", digits, value);
+    return text;
+}
+
+std::string Fixed(double value, int decimals) {
+    if (!std::isfinite(value)) return Number(value);
+    char text[64];
+    std::snprintf(text, sizeof(text), "%.*f", decimals, value);
+    return text;
+}
+
+// RFC 4180: quote fields holding a comma, quote or line break; double the quotes.
+std::string CsvField(const std::string& s) {
+    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+    std::string out = "\"";
+    for (const char c : s) {
+        if (c == '"') out += '"';
+        out += c;
+    }
+    return out + "\"";
+}
+
+// "262144" -> "512²" when it is a square, else "256k" style.
+std::string BudgetLabel(std::int64_t budget) {
+    const auto side = static_cast<std::int64_t>(std::llround(std::sqrt(double(budget))));
+    if (side * side == budget) return std::to_string(side) + "²";
+    if (budget % 1024 == 0) return std::to_string(budget / 1024) + "k";
+    return std::to_string(budget);
+}
+
+std::vector<std::string> StageUnion(const std::vector<ReportRow>& rows) {
+    std::vector<std::string> stages;
+    for (const ReportRow& row : rows) {
+        for (const auto& [name, ms] : row.stage_ms) {
+            if (std::find(stages.begin(), stages.end(), name) == stages.end()) {
+                stages.push_back(name);
+            }
+        }
+    }
+    return stages;
+}
+
+Result<bool> WriteText(const std::string& path, const std::string& text) {
+    std::ofstream file(path, std::ios::binary);
+    if (!file) return Error{path, "cannot open for writing"};
+    file << text;
+    file.close();
+    if (!file) return Error{path, "write failed"};
+    return true;
+}
+
+}  // namespace
+
+double ReportRow::TotalMs() const {
+    double total = 0.0;
+    for (const auto& [name, ms] : stage_ms) total += ms;
+    return total;
+}
+
+std::vector<std::size_t> ParetoFront(const std::vector<std::pair<double, double>>& time_error) {
+    std::vector<std::size_t> order(time_error.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        if (time_error[a].first != time_error[b].first) {
+            return time_error[a].first < time_error[b].first;
+        }
+        return time_error[a].second < time_error[b].second;
+    });
+    std::vector<std::size_t> front;
+    double best_error = std::numeric_limits<double>::infinity();
+    for (const std::size_t i : order) {
+        // Sorted by time: a row is on the front when it is strictly less wrong than every
+        // faster (or equally fast) row before it.
+        if (time_error[i].second < best_error) {
+            front.push_back(i);
+            best_error = time_error[i].second;
+        }
+    }
+    return front;
+}
+
+std::vector<bool> BestPerBudget(const std::vector<ReportRow>& rows) {
+    std::map<std::pair<std::string, std::int64_t>, std::size_t> best;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const auto key = std::make_pair(rows[i].scene, rows[i].budget);
+        const auto it = best.find(key);
+        if (it == best.end()) {
+            best[key] = i;
+            continue;
+        }
+        const ReportRow& b = rows[it->second];
+        const double e = rows[i].error.Percent(), eb = b.error.Percent();
+        if (e < eb || (e == eb && rows[i].TotalMs() < b.TotalMs())) it->second = i;
+    }
+    std::vector<bool> flags(rows.size(), false);
+    for (const auto& [key, index] : best) flags[index] = true;
+    return flags;
+}
+
+Result<bool> WriteReportCsv(const std::string& path, const std::vector<ReportRow>& rows) {
+    const std::vector<std::string> stages = StageUnion(rows);
+    std::ostringstream out;
+    out << "scene,method,budget,total_lixels,maps,decided_pixels,misclassified_pct,"
+           "band_pixels,band_misclassified_pct,false_lit,false_shadow,"
+           "m_planes_pixels,m_planes_mean,m_planes_p95,m_planes_over_1_5,"
+           "m_elsewhere_pixels,m_elsewhere_mean,m_elsewhere_p95,m_elsewhere_over_1_5,"
+           "lixel_use,repeats";
+    for (const std::string& s : stages) out << "," << CsvField(s + "_ms");
+    out << ",total_ms\n";
+    for (const ReportRow& r : rows) {
+        out << CsvField(r.scene) << "," << CsvField(r.method) << "," << r.budget << ","
+            << r.total_lixels << "," << r.maps << "," << r.error.decided << ","
+            << Number(r.error.Percent(), 6) << "," << r.error.band_decided << ","
+            << Number(r.error.BandPercent(), 6) << "," << r.error.false_lit << ","
+            << r.error.false_shadow << "," << r.aliasing_planes.pixels << ","
+            << Number(r.aliasing_planes.mean, 6) << "," << Number(r.aliasing_planes.p95, 6)
+            << "," << Number(r.aliasing_planes.over_threshold, 6) << ","
+            << r.aliasing_elsewhere.pixels << "," << Number(r.aliasing_elsewhere.mean, 6) << ","
+            << Number(r.aliasing_elsewhere.p95, 6) << ","
+            << Number(r.aliasing_elsewhere.over_threshold, 6) << ","
+            << Number(r.lixel_use, 6) << "," << r.repeats;
+        for (const std::string& s : stages) {
+            const auto it = std::find_if(r.stage_ms.begin(), r.stage_ms.end(),
+                                         [&](const auto& p) { return p.first == s; });
+            out << "," << (it == r.stage_ms.end() ? std::string() : Number(it->second, 6));
+        }
+        out << "," << Number(r.TotalMs(), 6) << "\n";
+    }
+    return WriteText(path, out.str());
+}
+
+Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<ReportRow>& rows,
+                                 const std::vector<std::string>& notes) {
+    const std::vector<bool> best = BestPerBudget(rows);
+    std::vector<std::string> scenes;
+    for (const ReportRow& r : rows) {
+        if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) {
+            scenes.push_back(r.scene);
+        }
+    }
+    std::ostringstream out;
+    out << "# lixel shadow report: error against run time\n\n"
+        << "Misclassified: % of decided visible pixels whose lit/shadow answer differs from "
+           "Embree ray casting (band: within "
+        << kBoundaryBandPixels
+        << " px of a true shadow boundary). m: pixels per lixel along the worst direction "
+           "(mean / 95th percentile / share above "
+        << Number(kAliasingThreshold)
+        << "), on the planes of interest and elsewhere. Use: share of allocated lixels some "
+           "visible pixel reads. Times: medians of repeats, ms. **Bold**: fewest misclassified "
+           "pixels at that budget.\n\n"
+        << "![error against time](error_vs_time.png)\n";
+    for (const std::string& scene : scenes) {
+        out << "\n## " << scene << "\n\n"
+            << "| budget | method | lixels | maps | misclassified % | band % | m planes | "
+               "m elsewhere | use | total ms |\n"
+            << "|---:|---|---:|---:|---:|---:|---|---|---:|---:|\n";
+        std::vector<std::size_t> order;
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            if (rows[i].scene == scene) order.push_back(i);
+        }
+        std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+            return rows[a].budget < rows[b].budget;
+        });
+        auto aliasing = [](const AliasingStats& s) {
+            if (s.pixels == 0) return std::string("–");
+            return Fixed(s.mean, 2) + " / " + Fixed(s.p95, 2) + " / " +
+                   Fixed(100.0 * s.over_threshold, 1) + "%";
+        };
+        for (const std::size_t i : order) {
+            const ReportRow& r = rows[i];
+            const std::string b = best[i] ? "**" : "";
+            out << "| " << BudgetLabel(r.budget) << " | " << b << r.method << b << " | "
+                << r.total_lixels << " | " << r.maps << " | " << b
+                << Fixed(r.error.Percent(), 3) << b << " | " << Fixed(r.error.BandPercent(), 2)
+                << " | " << aliasing(r.aliasing_planes) << " | "
+                << aliasing(r.aliasing_elsewhere) << " | " << Fixed(100.0 * r.lixel_use, 1)
+                << "% | " << Fixed(r.TotalMs(), 2) << " |\n";
+        }
+        // Stage breakdown of the same rows.
+        const std::vector<std::string> stages = StageUnion(rows);
+        if (!stages.empty()) {
+            out << "\n<details><summary>stages (median ms)</summary>\n\n| budget | method |";
+            for (const std::string& s : stages) out << " " << s << " |";
+            out << "\n|---:|---|";
+            for (std::size_t k = 0; k < stages.size(); ++k) out << "---:|";
+            out << "\n";
+            for (const std::size_t i : order) {
+                const ReportRow& r = rows[i];
+                out << "| " << BudgetLabel(r.budget) << " | " << r.method << " |";
+                for (const std::string& s : stages) {
+                    const auto it = std::find_if(r.stage_ms.begin(), r.stage_ms.end(),
+                                                 [&](const auto& p) { return p.first == s; });
+                    out << " " << (it == r.stage_ms.end() ? "–" : Fixed(it->second, 3)) << " |";
+                }
+                out << "\n";
+            }
+            out << "\n</details>\n";
+        }
+        out << "\n![masks of " << scene << "](" << scene << "_masks.png)\n";
+    }
+    if (!notes.empty()) {
+        out << "\n## Notes\n\n";
+        for (const std::string& n : notes) out << "- " << n << "\n";
+    }
+    return WriteText(path, out.str());
+}
+
+}  // namespace lixel::eval

@@ -1,0 +1,60 @@
+// Meshes uploaded once for every pass: positions relative to an origin (camera-relative
+// rendering: float keeps the plane residual small, light_map.h), triangle indices, and
+// triangle-adjacency indices for silhouette edges.
+#pragma once
+
+#include <lixel/render/context.h>
+#include <lixel/render/gl_objects.h>
+#include <lixel/solver/mesh.h>
+#include <lixel/solver/result.h>
+#include <lixel/solver/types.h>
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace lixel::render {
+
+// One mesh's share of the scene's buffers.
+struct GpuMeshRange {
+    std::string name;
+    std::size_t first_index = 0;      // into the triangle index buffer
+    std::size_t index_count = 0;      // 3 per triangle
+    std::size_t first_adjacency = 0;  // into the adjacency index buffer
+    std::size_t adjacency_count = 0;  // 6 per triangle
+    // A closed solid: the second-depth pass culls its light-facing triangles; open surfaces are
+    // two-sided and drawn whole (paper 003 §3.3-3.4).
+    bool closed = false;
+};
+
+class GpuScene {
+public:
+    const Vec3& origin() const noexcept { return origin_; }
+    const std::vector<GpuMeshRange>& ranges() const noexcept { return ranges_; }
+    std::size_t triangle_count() const noexcept { return triangles_; }
+    int boundary_edges() const noexcept { return boundary_edges_; }
+    // Vertex arrays with position at location 0 and the triangle or adjacency index buffer.
+    GLuint triangles() const noexcept { return triangle_vao_.id(); }
+    GLuint adjacency() const noexcept { return adjacency_vao_.id(); }
+
+private:
+    friend Result<GpuScene> UploadScene(GlContext&, std::span<const Mesh>, const Vec3&);
+    Vec3 origin_ = Vec3::Zero();
+    std::vector<GpuMeshRange> ranges_;
+    std::size_t triangles_ = 0;
+    int boundary_edges_ = 0;
+    GlBuffer positions_;
+    GlBuffer indices_;
+    GlBuffer adjacency_indices_;
+    GlVertexArray triangle_vao_;
+    GlVertexArray adjacency_vao_;
+};
+
+// Refuses, naming the field ("meshes[2].indices[7]"): no meshes, a mesh without triangles, an
+// index count not a multiple of 3, an index past the vertex count, a non-finite position, a
+// non-finite origin, or more vertices than 32-bit indices address.
+Result<GpuScene> UploadScene(GlContext& context, std::span<const Mesh> meshes,
+                             const Vec3& origin = Vec3::Zero());
+
+}  // namespace lixel::render

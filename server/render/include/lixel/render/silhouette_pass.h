@@ -1,0 +1,52 @@
+// Silhouette-map pass (paper 000 §3.1): the depth map offset by half a texel, then silhouette
+// edges from edge adjacency as conservative quads whose fragments keep one point per texel.
+#pragma once
+
+#include <lixel/render/context.h>
+#include <lixel/render/depth_pass.h>
+#include <lixel/render/gl_objects.h>
+#include <lixel/render/gpu_scene.h>
+#include <lixel/render/program.h>
+#include <lixel/solver/light_map.h>
+#include <lixel/solver/result.h>
+
+namespace lixel::render {
+
+// Value of an empty silhouette texel (both components); the view pass reads it as the centre.
+inline constexpr float kNoSilhouettePoint = -1.0f;
+
+struct SilhouetteMap {
+    // width x height GL_RG32F: per texel a point of a visible silhouette edge in texel-local
+    // coordinates [0, 1]^2 (origin at the texel's lower-left corner), or kNoSilhouettePoint.
+    GlTexture points;
+    // (width + 1) x (height + 1) depth at the texels' corners (CornerDepthMap), both faces.
+    DepthMap corners;
+    LightMap map;  // the map the points are in
+};
+
+struct SilhouetteOptions {
+    // Clip-depth slack of the visibility test: an edge point is hidden when it is farther than
+    // all four corner depths by more than this. [0, 1), default 1e-3 of the map's depth range.
+    float visibility_bias = 1e-3f;
+};
+
+class SilhouettePass {
+public:
+    static Result<SilhouettePass> Create(GlContext& context);
+
+    // `light` is the light the map was solved for (w = 1 point, w = 0 direction toward it);
+    // silhouette edges are judged against it. `depth` renders the corner map.
+    Result<bool> Render(const GpuScene& scene, const LightMap& map, const Vec4& light,
+                        const SilhouetteOptions& options, DepthPass& depth,
+                        SilhouetteMap& target);
+
+private:
+    SilhouettePass(GlContext& context, Program program, GlFramebuffer framebuffer)
+        : context_(&context), program_(std::move(program)), framebuffer_(std::move(framebuffer)) {}
+
+    GlContext* context_;
+    Program program_;
+    GlFramebuffer framebuffer_;
+};
+
+}  // namespace lixel::render

@@ -1,0 +1,102 @@
+// View pass (DESIGN §5): per viewer pixel, the map the plan's lookup rule selects and the shadow
+// test of the method asked for. Outputs a lit-fraction mask, a shaded preview and the map index.
+#pragma once
+
+#include <lixel/render/context.h>
+#include <lixel/render/depth_pass.h>
+#include <lixel/render/gl_objects.h>
+#include <lixel/render/gpu_scene.h>
+#include <lixel/render/program.h>
+#include <lixel/render/silhouette_pass.h>
+#include <lixel/solver/light_map.h>
+#include <lixel/solver/result.h>
+#include <lixel/solver/scheduler.h>
+
+#include <vector>
+
+namespace lixel::render {
+
+// The values match view.frag's kMethod* constants.
+enum class ShadowMethod {
+    kDepth = 0,        // Williams: nearest texel, slope-scaled bias
+    kPcf = 1,          // percentage-closer filtering over 2r x 2r texels (Reeves et al.)
+    kSecondDepth = 2,  // paper 003: second-depth map, virtual samples when comparisons are mixed
+    kSilhouette = 3,   // paper 000: corner depths + silhouette points, skewed quadrants
+};
+
+const char* ShadowMethodName(ShadowMethod method) noexcept;
+
+// At most this many maps per view, and half-planes per map's lookup rule.
+inline constexpr int kMaxViewMaps = 8;
+inline constexpr int kMaxHalfPlanes = 8;
+
+// Mask value of a pixel that shows no surface.
+inline constexpr float kNoSurface = -1.0f;
+// Map-index value of a pixel no map holds (or that shows no surface).
+inline constexpr int kNoMap = -1;
+
+struct ShadowOptions {
+    // Depth, PCF and silhouette tests: lit when z <= stored + bias with
+    // bias = min(depth_bias + slope_bias * reach * |grad z|, max_bias), where grad z is the
+    // tangent plane's depth change per lixel and reach the distance in lixels from the point to
+    // the test's farthest sample (sqrt(2)/2 nearest texel, sqrt(2) r PCF taps, sqrt(2) texel
+    // corners). slope_bias = 1 is exactly enough for planar receivers; the default leaves room
+    // for rounding and tessellated curves. A boundary moves by at most slope_bias * reach lixels
+    // whatever the slope, so the default cap only stops the infinite slope of a surface that
+    // contains the light rays. Clip-depth units except slope_bias (dimensionless, >= 0).
+    float depth_bias = 0.0f;
+    float slope_bias = 1.5f;
+    float max_bias = 1.0f;
+    // Second depth (paper 003 §3.3): 0 for solids; non-planar two-sided surfaces need some.
+    float second_depth_bias = 0.0f;
+    // PCF and second depth filter 2r x 2r texels; r in [1, 4], 1 = bilinear.
+    int pcf_radius = 1;
+    bool tint_maps = false;  // colour the preview by the map each pixel used
+};
+
+// One map of the plan as the view reads it. Which textures must be set depends on the method:
+// depth (kDepth, kPcf), second_depth (kSecondDepth), silhouette (kSilhouette). Not owned.
+struct ViewMap {
+    LightMap map;
+    LookupRule lookup;
+    const DepthMap* depth = nullptr;
+    const DepthMap* second_depth = nullptr;
+    const SilhouetteMap* silhouette = nullptr;
+};
+
+struct ViewRequest {
+    Mat4 viewer = Mat4::Identity();  // Mv, world -> clip, [0, 1] clip depth
+    Viewport viewport;               // pixels
+    Vec4 light = Vec4::Zero();       // w = 1 point, w = 0 direction toward the light
+    ShadowMethod method = ShadowMethod::kDepth;
+    ShadowOptions options;
+    std::vector<ViewMap> maps;  // in lookup order (Plan::maps)
+};
+
+// The pass's outputs, kept on the GPU until read back (readback.h). Row 0 is the bottom row.
+struct ViewImages {
+    GlTexture mask;       // GL_R32F: lit fraction in [0, 1], kNoSurface where no surface
+    GlTexture preview;    // GL_RGBA8: shaded image for people
+    GlTexture map_index;  // GL_R32I: index into ViewRequest::maps, kNoMap where none
+    GlTexture depth;      // GL_DEPTH_COMPONENT32F: the viewer's depth buffer
+    Viewport viewport;
+};
+
+class ViewPass {
+public:
+    static Result<ViewPass> Create(GlContext& context);
+
+    // Errors name the field: "viewer", "viewport.width", "light", "maps", "maps[1].second_depth",
+    // "maps[0].lookup.half_planes", "options.pcf_radius".
+    Result<bool> Render(const GpuScene& scene, const ViewRequest& request, ViewImages& target);
+
+private:
+    ViewPass(GlContext& context, Program program, GlFramebuffer framebuffer)
+        : context_(&context), program_(std::move(program)), framebuffer_(std::move(framebuffer)) {}
+
+    GlContext* context_;
+    Program program_;
+    GlFramebuffer framebuffer_;
+};
+
+}  // namespace lixel::render

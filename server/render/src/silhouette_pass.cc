@@ -1,0 +1,79 @@
+// Silhouette map: corner depths, then edges drawn with the diagonal rule in the fragment stage.
+#include <lixel/render/map_transform.h>
+#include <lixel/render/silhouette_pass.h>
+
+#include <string>
+
+namespace lixel::render {
+
+Result<SilhouettePass> SilhouettePass::Create(GlContext& context) {
+    auto program = BuildProgram(
+        context, {"silhouette_map.vert", "silhouette_map.geom", "silhouette_map.frag"});
+    if (!program) return program.error();
+    GLuint fbo = 0;
+    context.gl().CreateFramebuffers(1, &fbo);
+    return SilhouettePass(context, std::move(program.value()), GlFramebuffer(context.gl(), fbo));
+}
+
+Result<bool> SilhouettePass::Render(const GpuScene& scene, const LightMap& map, const Vec4& light,
+                                    const SilhouetteOptions& options, DepthPass& depth,
+                                    SilhouetteMap& target) {
+    if (auto ok = ValidateLightMap(map, context_->info().max_texture_size - 1, "map"); !ok) {
+        return ok;
+    }
+    if (!light.allFinite() || light.head<3>().isZero()) {
+        return Error{"light", "not finite, or a zero direction"};
+    }
+    if (!(options.visibility_bias >= 0.0f && options.visibility_bias < 1.0f)) {
+        return Error{"silhouette.visibility_bias", "outside [0, 1)"};
+    }
+    if (auto ok = depth.Render(scene, CornerDepthMap(map), FaceSelection::kBoth, target.corners);
+        !ok) {
+        return ok;
+    }
+    const GlApi& gl = context_->gl();
+    if (!target.points || target.map.width != map.width || target.map.height != map.height) {
+        target.points = CreateTexture2D(gl, GL_RG32F, map.width, map.height);
+    }
+    target.map = map;
+    gl.NamedFramebufferTexture(framebuffer_.id(), GL_COLOR_ATTACHMENT0, target.points.id(), 0);
+    gl.NamedFramebufferDrawBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT0);
+    const GLenum status = gl.CheckNamedFramebufferStatus(framebuffer_.id(), GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        return Error{"silhouette pass", "framebuffer incomplete (status " +
+                                            std::to_string(status) + ")"};
+    }
+    const MapTransform transform = MakeMapTransform(map, scene.origin());
+    const Eigen::Vector4f relative_light = RelativePoint(light, scene.origin()).cast<float>();
+    const GLuint program = program_.id();
+    gl.ProgramUniformMatrix4fv(program, program_.Uniform("u_lixel"), 1, GL_FALSE,
+                               transform.lixel.data());
+    gl.ProgramUniform4fv(program, program_.Uniform("u_light"), 1, relative_light.data());
+    gl.ProgramUniform2f(program, program_.Uniform("u_size"), static_cast<float>(map.width),
+                        static_cast<float>(map.height));
+    gl.ProgramUniform1f(program, program_.Uniform("u_bias"), options.visibility_bias);
+    gl.ProgramUniform1i(program, program_.Uniform("u_corner_depth"), 0);
+
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+    gl.Viewport(0, 0, map.width, map.height);
+    gl.Disable(GL_DEPTH_TEST);
+    gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_BLEND);
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    const float empty[4] = {kNoSilhouettePoint, kNoSilhouettePoint, 0.0f, 0.0f};
+    gl.ClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, empty);
+    gl.UseProgram(program);
+    gl.BindTextureUnit(0, target.corners.texture.id());
+    gl.BindVertexArray(scene.adjacency());
+    for (const GpuMeshRange& range : scene.ranges()) {
+        gl.DrawElements(GL_TRIANGLES_ADJACENCY, static_cast<GLsizei>(range.adjacency_count),
+                        GL_UNSIGNED_INT,
+                        reinterpret_cast<const void*>(range.first_adjacency * sizeof(GLuint)));
+    }
+    gl.BindVertexArray(0);
+    gl.BindTextureUnit(0, 0);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    return context_->Check("silhouette pass");
+}
+
+}  // namespace lixel::render

@@ -1,0 +1,228 @@
+// The view pass: uniforms for the plan's maps, the method's textures, one draw of the scene.
+#include <lixel/render/map_transform.h>
+#include <lixel/render/view_pass.h>
+#include <lixel/solver/camera.h>
+
+#include <string>
+
+namespace lixel::render {
+namespace {
+
+std::string MapField(std::size_t i, const char* what) {
+    return "maps[" + std::to_string(i) + "]" + what;
+}
+
+Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size) {
+    if (auto ok = ValidateViewer(r.viewer, r.viewport, "viewer"); !ok) return ok;
+    if (r.viewport.width > max_texture_size || r.viewport.height > max_texture_size) {
+        return Error{"viewport", "larger than the GL maximum texture size " +
+                                     std::to_string(max_texture_size)};
+    }
+    if (!r.light.allFinite() || (r.light.head<3>().isZero() && r.light.w() == 0.0)) {
+        return Error{"light", "not finite, or a zero direction"};
+    }
+    if (r.maps.empty()) return Error{"maps", "no maps to look up"};
+    if (r.maps.size() > static_cast<std::size_t>(kMaxViewMaps)) {
+        return Error{"maps", std::to_string(r.maps.size()) + " maps; the view pass takes at most " +
+                                 std::to_string(kMaxViewMaps)};
+    }
+    if (r.options.pcf_radius < 1 || r.options.pcf_radius > 4) {
+        return Error{"options.pcf_radius", std::to_string(r.options.pcf_radius) +
+                                               " outside [1, 4]"};
+    }
+    for (std::size_t i = 0; i < r.maps.size(); ++i) {
+        const ViewMap& m = r.maps[i];
+        const std::string field = MapField(i, "");
+        if (auto ok = ValidateLightMap(m.map, max_texture_size, field.c_str()); !ok) return ok;
+        if (m.lookup.half_planes.size() > static_cast<std::size_t>(kMaxHalfPlanes)) {
+            return Error{MapField(i, ".lookup.half_planes"),
+                         "more than " + std::to_string(kMaxHalfPlanes) + " half-planes"};
+        }
+        for (const Eigen::Vector3d& h : m.lookup.half_planes) {
+            if (!h.allFinite()) return Error{MapField(i, ".lookup.half_planes"), "not finite"};
+        }
+        const DepthMap* needed = nullptr;
+        const char* name = "";
+        switch (r.method) {
+            case ShadowMethod::kDepth:
+            case ShadowMethod::kPcf: needed = m.depth; name = ".depth"; break;
+            case ShadowMethod::kSecondDepth: needed = m.second_depth; name = ".second_depth"; break;
+            case ShadowMethod::kSilhouette:
+                needed = m.silhouette ? &m.silhouette->corners : nullptr;
+                name = ".silhouette";
+                break;
+        }
+        if (needed == nullptr || !needed->texture) {
+            return Error{MapField(i, name), std::string("not rendered; ") +
+                                                ShadowMethodName(r.method) + " needs it"};
+        }
+        const LightMap& rendered =
+            r.method == ShadowMethod::kSilhouette ? m.silhouette->map : needed->map;
+        if (rendered.width != m.map.width || rendered.height != m.map.height ||
+            rendered.matrix != m.map.matrix) {
+            return Error{MapField(i, name), "rendered for another map"};
+        }
+    }
+    return true;
+}
+
+void EnsureTexture(const GlApi& gl, GlTexture& texture, GLenum format, const Viewport& size,
+                   const Viewport& old) {
+    if (!texture || size.width != old.width || size.height != old.height) {
+        texture = CreateTexture2D(gl, format, size.width, size.height);
+    }
+}
+
+}  // namespace
+
+const char* ShadowMethodName(ShadowMethod method) noexcept {
+    switch (method) {
+        case ShadowMethod::kDepth: return "depth";
+        case ShadowMethod::kPcf: return "pcf";
+        case ShadowMethod::kSecondDepth: return "second_depth";
+        case ShadowMethod::kSilhouette: return "silhouette_map";
+    }
+    return "?";
+}
+
+Result<ViewPass> ViewPass::Create(GlContext& context) {
+    auto program = BuildProgram(context, {"view.vert", "view.frag"},
+                                {"#define LIXEL_MAX_MAPS " + std::to_string(kMaxViewMaps),
+                                 "#define LIXEL_MAX_HALF_PLANES " + std::to_string(kMaxHalfPlanes)});
+    if (!program) return program.error();
+    GLuint fbo = 0;
+    context.gl().CreateFramebuffers(1, &fbo);
+    const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    context.gl().NamedFramebufferDrawBuffers(fbo, 3, buffers);
+    ViewPass pass(context, std::move(program.value()), GlFramebuffer(context.gl(), fbo));
+    // Texture units: u_tex_a[i] on unit i, u_tex_b[i] on unit kMaxViewMaps + i.
+    GLint units_a[kMaxViewMaps];
+    GLint units_b[kMaxViewMaps];
+    for (int i = 0; i < kMaxViewMaps; ++i) {
+        units_a[i] = i;
+        units_b[i] = kMaxViewMaps + i;
+    }
+    const GLuint id = pass.program_.id();
+    context.gl().ProgramUniform1iv(id, pass.program_.Uniform("u_tex_a"), kMaxViewMaps, units_a);
+    context.gl().ProgramUniform1iv(id, pass.program_.Uniform("u_tex_b"), kMaxViewMaps, units_b);
+    if (auto ok = context.Check("view pass setup"); !ok) return ok.error();
+    return pass;
+}
+
+Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
+                              ViewImages& target) {
+    if (auto ok = ValidateRequest(request, context_->info().max_texture_size); !ok) return ok;
+    const GlApi& gl = context_->gl();
+    const Vec3& origin = scene.origin();
+    const Viewport old = target.viewport;
+    EnsureTexture(gl, target.mask, GL_R32F, request.viewport, old);
+    EnsureTexture(gl, target.preview, GL_RGBA8, request.viewport, old);
+    EnsureTexture(gl, target.map_index, GL_R32I, request.viewport, old);
+    EnsureTexture(gl, target.depth, GL_DEPTH_COMPONENT32F, request.viewport, old);
+    target.viewport = request.viewport;
+    const GLuint fbo = framebuffer_.id();
+    gl.NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, target.mask.id(), 0);
+    gl.NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT1, target.preview.id(), 0);
+    gl.NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT2, target.map_index.id(), 0);
+    gl.NamedFramebufferTexture(fbo, GL_DEPTH_ATTACHMENT, target.depth.id(), 0);
+    const GLenum status = gl.CheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        return Error{"view pass", "framebuffer incomplete (status " + std::to_string(status) + ")"};
+    }
+
+    const GLuint program = program_.id();
+    const auto count = static_cast<GLsizei>(request.maps.size());
+    std::vector<float> lixel(16 * kMaxViewMaps, 0.0f);
+    std::vector<float> plane(16 * kMaxViewMaps, 0.0f);
+    std::vector<GLint> size(2 * kMaxViewMaps, 0);
+    std::vector<GLint> half_plane_count(kMaxViewMaps, 0);
+    std::vector<float> half_planes(3 * kMaxViewMaps * kMaxHalfPlanes, 0.0f);
+    for (std::size_t i = 0; i < request.maps.size(); ++i) {
+        const ViewMap& m = request.maps[i];
+        const MapTransform t = MakeMapTransform(m.map, origin);
+        std::copy(t.lixel.data(), t.lixel.data() + 16, lixel.begin() + 16 * i);
+        std::copy(t.plane.data(), t.plane.data() + 16, plane.begin() + 16 * i);
+        size[2 * i] = m.map.width;
+        size[2 * i + 1] = m.map.height;
+        half_plane_count[i] = static_cast<GLint>(m.lookup.half_planes.size());
+        for (std::size_t k = 0; k < m.lookup.half_planes.size(); ++k) {
+            const Eigen::Vector3d& h = m.lookup.half_planes[k];
+            for (int c = 0; c < 3; ++c) {
+                half_planes[3 * (i * kMaxHalfPlanes + k) + c] = static_cast<float>(h[c]);
+            }
+        }
+        const DepthMap* a = nullptr;
+        const SilhouetteMap* b = nullptr;
+        switch (request.method) {
+            case ShadowMethod::kDepth:
+            case ShadowMethod::kPcf: a = m.depth; break;
+            case ShadowMethod::kSecondDepth: a = m.second_depth; break;
+            case ShadowMethod::kSilhouette:
+                a = &m.silhouette->corners;
+                b = m.silhouette;
+                break;
+        }
+        gl.BindTextureUnit(static_cast<GLuint>(i), a->texture.id());
+        gl.BindTextureUnit(static_cast<GLuint>(kMaxViewMaps + i), b ? b->points.id() : 0);
+    }
+    // Slots past the plan's maps: nothing bound; view.frag never fetches them.
+    for (int i = count; i < kMaxViewMaps; ++i) {
+        gl.BindTextureUnit(static_cast<GLuint>(i), 0);
+        gl.BindTextureUnit(static_cast<GLuint>(kMaxViewMaps + i), 0);
+    }
+    gl.ProgramUniform1i(program, program_.Uniform("u_map_count"), count);
+    gl.ProgramUniformMatrix4fv(program, program_.Uniform("u_map_lixel"), kMaxViewMaps, GL_FALSE,
+                               lixel.data());
+    gl.ProgramUniformMatrix4fv(program, program_.Uniform("u_map_plane"), kMaxViewMaps, GL_FALSE,
+                               plane.data());
+    gl.ProgramUniform2iv(program, program_.Uniform("u_map_size"), kMaxViewMaps, size.data());
+    gl.ProgramUniform1iv(program, program_.Uniform("u_map_half_plane_count"), kMaxViewMaps,
+                         half_plane_count.data());
+    gl.ProgramUniform3fv(program, program_.Uniform("u_map_half_planes"),
+                         kMaxViewMaps * kMaxHalfPlanes, half_planes.data());
+
+    const Mat4f viewer = RelativeMatrix(request.viewer, origin);
+    gl.ProgramUniformMatrix4fv(program, program_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
+    const Eigen::Vector4f light = RelativePoint(request.light, origin).cast<float>();
+    gl.ProgramUniform4fv(program, program_.Uniform("u_light"), 1, light.data());
+    auto eye = EyePoint(request.viewer);
+    if (!eye) return eye.error();
+    const Eigen::Vector4f eye_relative = RelativePoint(*eye, origin).cast<float>();
+    gl.ProgramUniform4fv(program, program_.Uniform("u_eye"), 1, eye_relative.data());
+    const ShadowOptions& o = request.options;
+    gl.ProgramUniform1i(program, program_.Uniform("u_method"), static_cast<int>(request.method));
+    gl.ProgramUniform1f(program, program_.Uniform("u_depth_bias"), o.depth_bias);
+    gl.ProgramUniform1f(program, program_.Uniform("u_slope_bias"), o.slope_bias);
+    gl.ProgramUniform1f(program, program_.Uniform("u_max_bias"), o.max_bias);
+    gl.ProgramUniform1f(program, program_.Uniform("u_second_depth_bias"), o.second_depth_bias);
+    gl.ProgramUniform1i(program, program_.Uniform("u_pcf_radius"), o.pcf_radius);
+    gl.ProgramUniform1i(program, program_.Uniform("u_tint_maps"), o.tint_maps ? 1 : 0);
+
+    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
+    gl.Viewport(0, 0, request.viewport.width, request.viewport.height);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LESS);
+    gl.DepthMask(GL_TRUE);
+    gl.Disable(GL_CULL_FACE);  // open surfaces are seen from both sides
+    gl.Disable(GL_BLEND);
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    const float no_surface[4] = {kNoSurface, 0.0f, 0.0f, 0.0f};
+    const float background[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    const GLint no_map[4] = {kNoMap, 0, 0, 0};
+    const float far = static_cast<float>(kClipDepthFar);
+    gl.ClearNamedFramebufferfv(fbo, GL_COLOR, 0, no_surface);
+    gl.ClearNamedFramebufferfv(fbo, GL_COLOR, 1, background);
+    gl.ClearNamedFramebufferiv(fbo, GL_COLOR, 2, no_map);
+    gl.ClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &far);
+    gl.UseProgram(program);
+    gl.BindVertexArray(scene.triangles());
+    for (const GpuMeshRange& range : scene.ranges()) {
+        gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count), GL_UNSIGNED_INT,
+                        reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
+    }
+    gl.BindVertexArray(0);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    return context_->Check(std::string("view pass (") + ShadowMethodName(request.method) + ")");
+}
+
+}  // namespace lixel::render

@@ -1,0 +1,79 @@
+// What each worker thread of the service holds on the GPU: its own GL context (DESIGN §5: one per
+// worker, created once), the renderer built on it, and the scenes it has uploaded lately. Only
+// its own thread touches it.
+#pragma once
+
+#include <lixel/render/context.h>
+#include <lixel/render/gpu_scene.h>
+#include <lixel/render/image.h>
+#include <lixel/render/renderer.h>
+#include <lixel/service/proto_convert.h>
+#include <lixel/solver/result.h>
+#include <lixel/solver/scheduler.h>
+
+#include <atomic>
+#include <functional>
+#include <list>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace lixel::service {
+
+// Scenes kept uploaded per worker; older ones are released and re-uploaded when asked again.
+inline constexpr std::size_t kGpuScenesPerWorker = 2;
+
+struct GpuWorker {
+    render::ContextOptions options;
+    render::GlContext* context = nullptr;
+    std::unique_ptr<render::Renderer> renderer;
+    std::string error;  // why this worker cannot render (empty when it can)
+    std::list<std::pair<std::string, std::shared_ptr<render::GpuScene>>> scenes;
+    // Set from any thread to make the worker drop its GL state at its next job, as a lost
+    // context would (fault injection); the worker then rebuilds it.
+    std::atomic<bool> fault{false};
+
+    bool ready() const noexcept { return renderer != nullptr; }
+};
+
+// Creates the thread's context and renderer; on failure records the reason in `worker.error`.
+// A worker whose context failed rebuilds it on its next job (Rebuild).
+Result<bool> StartGpuWorker(GpuWorker& worker);
+Result<bool> RebuildGpuWorker(GpuWorker& worker);
+
+// The scene on this worker's GPU, uploading it (relative to its bounds' centre) when absent.
+Result<std::shared_ptr<render::GpuScene>> SceneOnGpu(GpuWorker& worker, const std::string& id,
+                                                     const SceneRecord& record);
+
+// True when the request was cancelled or ran past its deadline.
+using CancelCheck = std::function<bool()>;
+
+struct RenderedImage {
+    int map_index = 0;
+    Pass pass = Pass::kDepth;
+    render::FloatImage image;  // float32 z/w (two channels for silhouette points)
+};
+
+// Every pass of every planned map, read back once each, checking `cancelled` between passes.
+Result<std::vector<RenderedImage>> RenderPlanImages(GpuWorker& worker,
+                                                    const render::GpuScene& scene,
+                                                    const Plan& plan, const CancelCheck& cancelled);
+
+// The view pass's lit-fraction mask over the given maps (rendered here, in lookup order).
+struct MaskJob {
+    Mat4 viewer = Mat4::Identity();
+    Viewport viewport;
+    Vec4 light = Vec4::Zero();
+    render::ShadowMethod method = render::ShadowMethod::kDepth;
+    std::vector<PlannedMap> maps;
+};
+struct MaskTimes {
+    double maps_seconds = 0.0;
+    double view_seconds = 0.0;
+    double readback_seconds = 0.0;
+};
+Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene& scene,
+                                      const MaskJob& job, const CancelCheck& cancelled,
+                                      MaskTimes* times);
+
+}  // namespace lixel::service

@@ -1,0 +1,53 @@
+// The work behind each RPC, apart from the gRPC reactors that carry it (DESIGN §2): decode and
+// validate the message, call the library, encode the answer. Each returns a gRPC status whose
+// message names the field and the reason for bad input.
+#pragma once
+
+#include <grpcpp/support/status.h>
+#include <lixel/service/gpu_worker.h>
+#include <lixel/service/metrics.h>
+#include <lixel/service/scene_cache.h>
+#include <lixel/service/service_options.h>
+#include <lixel/v1/lixel.pb.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace lixel::service {
+
+// State shared by every handler.
+struct ServiceState {
+    ServiceOptions options;
+    SceneCache cache;
+    Metrics metrics;
+
+    ServiceState(ServiceOptions o, const std::string& metrics_address)
+        : options(std::move(o)), cache(options.scene_cache_bytes), metrics(metrics_address) {}
+};
+
+grpc::Status InvalidArgument(const Error& error);
+
+grpc::Status SolveJob(const ServiceState& state, const v1::SolveRequest& request,
+                      v1::SolveResponse* response);
+
+// Looks up the plan's scene (NOT_FOUND when unknown) and plans.
+grpc::Status PlanJob(ServiceState& state, const v1::PlanRequest& request,
+                     v1::PlanResponse* response);
+
+// Decodes an uploaded scene's content (after the header) into the cache.
+grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
+                       const std::string& content, v1::UploadSceneResponse* response);
+
+// Plans, renders and reads back every map, and lays out the stream: the header first, then
+// chunks of about options.chunk_bytes.
+grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
+                       const CancelCheck& cancelled, std::vector<v1::RenderChunk>* stream);
+
+grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
+                     const CancelCheck& cancelled, v1::ViewResponse* response);
+
+grpc::Status SilhouettesJob(const ServiceState& state, const v1::SilhouettesRequest& request,
+                            v1::SilhouettesResponse* response);
+
+}  // namespace lixel::service

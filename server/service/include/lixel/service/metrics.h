@@ -1,0 +1,49 @@
+// The service's Prometheus metrics (DESIGN §8): requests by RPC and status, latency histograms,
+// queue depth, maps and bytes rendered, scene cache hits. Exposed over HTTP when an address is
+// given.
+#pragma once
+
+#include <prometheus/counter.h>
+#include <prometheus/exposer.h>
+#include <prometheus/gauge.h>
+#include <prometheus/histogram.h>
+#include <prometheus/registry.h>
+
+#include <memory>
+#include <string>
+
+namespace lixel::service {
+
+class Metrics {
+public:
+    // `address` like "127.0.0.1:9464"; empty: collected, not exposed.
+    explicit Metrics(const std::string& address);
+
+    void Request(const std::string& rpc, const std::string& code, double seconds);
+    void QueueDepth(double depth) { queue_depth_->Set(depth); }
+    void MapsRendered(double maps, double bytes) {
+        maps_rendered_->Increment(maps);
+        bytes_rendered_->Increment(bytes);
+    }
+    void CacheLookup(bool hit) { (hit ? cache_hits_ : cache_misses_)->Increment(); }
+    void CacheBytes(double bytes) { cache_bytes_->Set(bytes); }
+
+    // Text exposition of every metric (what the HTTP endpoint serves), for tests and logs.
+    std::string Serialize() const;
+    // The port the exposer bound, 0 when not exposed.
+    int port() const;
+
+private:
+    std::shared_ptr<prometheus::Registry> registry_;
+    std::unique_ptr<prometheus::Exposer> exposer_;
+    prometheus::Family<prometheus::Counter>* requests_;
+    prometheus::Family<prometheus::Histogram>* latency_;
+    prometheus::Gauge* queue_depth_;
+    prometheus::Counter* maps_rendered_;
+    prometheus::Counter* bytes_rendered_;
+    prometheus::Counter* cache_hits_;
+    prometheus::Counter* cache_misses_;
+    prometheus::Gauge* cache_bytes_;
+};
+
+}  // namespace lixel::service

@@ -1,0 +1,68 @@
+// Messages <-> solver types. Every decoder validates what it reads and names the offending field
+// with its full path ("plan.camera.viewer.m[5]: is not finite"), so a handler can turn the error
+// into INVALID_ARGUMENT as it is.
+#pragma once
+
+#include <lixel/eval/scene.h>
+#include <lixel/solver/light_map.h>
+#include <lixel/solver/plane_map.h>
+#include <lixel/solver/result.h>
+#include <lixel/solver/scheduler.h>
+#include <lixel/solver/types.h>
+#include <lixel/v1/lixel.pb.h>
+
+#include <string>
+#include <vector>
+
+namespace lixel::service {
+
+// Limits on request shapes; the server's flags may lower the budget and texture size.
+inline constexpr std::size_t kMaxBatchAxis = 1024;         // views, planes or lights per Solve
+inline constexpr std::size_t kMaxBatchTriples = 65536;     // views x planes x lights
+inline constexpr std::size_t kMaxPolygonVertices = 1024;
+inline constexpr std::size_t kMaxObjects = 65536;
+inline constexpr std::uint64_t kMaxLixelBudget = 1ull << 28;
+
+Result<Mat4> DecodeMat4(const v1::Mat4& m, const std::string& field);
+Result<Vec3> DecodeVec3(const v1::Vec3& v, const std::string& field);
+Result<Vec4> DecodeVec4(const v1::Vec4& v, const std::string& field);
+Result<Aabb> DecodeAabb(const v1::Aabb& box, bool present, const std::string& field);
+
+struct DecodedCamera {
+    Mat4 viewer;
+    Viewport viewport;
+};
+Result<DecodedCamera> DecodeCamera(const v1::Camera& camera, bool present,
+                                   const std::string& field);
+Result<Vec4> DecodeLight(const v1::Light& light, bool present, const std::string& field);
+Result<PlaneOfInterest> DecodePlane(const v1::PlaneOfInterest& plane, std::size_t index,
+                                    const std::string& field);
+
+// An uploaded scene as the service keeps it: the meshes, planes and light, and the default viewer
+// as a matrix (requests that omit their camera use it).
+struct SceneRecord {
+    eval::Scene scene;
+    Mat4 default_viewer = Mat4::Identity();
+    Viewport default_viewport{1024, 1024};
+    std::uint64_t bytes = 0;  // decoded size, what the cache charges
+};
+
+// Builds the record of a built-in or loaded scene, its default viewer from its look-at camera.
+SceneRecord MakeSceneRecord(eval::Scene scene);
+
+// A PlanRequest for the solver. With a scene, objects point into `scene`'s meshes (which must
+// outlive the result) and its planes, camera and light fill what the message leaves out.
+Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const SceneRecord* scene,
+                                      const std::string& field);
+
+// A lixel.v1.Scene into meshes, planes, camera and light; checks sizes, indices and finiteness.
+Result<SceneRecord> DecodeScene(const v1::Scene& message, const std::string& field);
+
+void EncodeMat4(const Mat4& m, v1::Mat4* out);
+void EncodeVec3(const Vec3& v, v1::Vec3* out);
+void EncodeLightMap(const LightMap& map, v1::LightMap* out);
+void EncodeDiagnostics(const SolveDiagnostics& d, v1::SolveDiagnostics* out);
+void EncodePlan(const Plan& plan, v1::PlanResponse* out);
+void EncodeScene(const SceneRecord& record, v1::Scene* out);
+
+}  // namespace lixel::service

@@ -1,0 +1,48 @@
+// A running lixel server: the Shadow service, standard health checking (SERVING once a worker
+// has a working GL context) and reflection, optional TLS and bearer token, and the metrics
+// endpoint. server/main.cc and the tests start servers through this.
+#pragma once
+
+#include <grpcpp/grpcpp.h>
+#include <lixel/service/shadow_service.h>
+#include <lixel/solver/result.h>
+
+#include <memory>
+#include <mutex>
+#include <string>
+
+namespace lixel::service {
+
+struct ServerOptions {
+    std::string address = "127.0.0.1:50051";  // port 0 picks a free one
+    std::string metrics_address;               // "127.0.0.1:9464"; empty: not exposed
+    ServiceOptions service;
+    // TLS: PEM strings. With a client CA set, clients must present certificates it signed.
+    std::string tls_certificate;
+    std::string tls_private_key;
+    std::string tls_client_ca;
+    std::size_t max_receive_bytes = 64ull << 20;  // one request message
+};
+
+class Server {
+public:
+    static Result<std::unique_ptr<Server>> Start(const ServerOptions& options);
+    ~Server();
+
+    int port() const noexcept { return port_; }
+    ShadowService& service() noexcept { return *service_; }
+    // Blocks until Shutdown.
+    void Wait();
+    void Shutdown();
+
+private:
+    Server() = default;
+    void MarkServing();
+
+    std::mutex health_mutex_;
+    std::unique_ptr<ShadowService> service_;
+    std::unique_ptr<grpc::Server> server_;
+    int port_ = 0;
+};
+
+}  // namespace lixel::service

@@ -1,0 +1,25 @@
+// What an operator sets on a lixel server (server/main.cc maps flags onto this).
+#pragma once
+
+#include <lixel/render/context.h>
+
+#include <cstdint>
+#include <string>
+
+namespace lixel::service {
+
+struct ServiceOptions {
+    std::string instance = "lixel";  // named in every reply, for tracing calls across instances
+    int workers = 2;                 // render workers, each with its own GL context, [1, 64]
+    std::size_t queue_capacity = 64;  // tasks waiting beyond which RESOURCE_EXHAUSTED
+    std::uint64_t max_upload_bytes = 256ull << 20;    // one scene upload
+    std::uint64_t scene_cache_bytes = 1ull << 30;     // decoded scenes held (LRU)
+    std::uint64_t memory_cap_bytes = 2ull << 30;      // maps of one request (w * h * 4 * passes)
+    std::uint64_t max_response_bytes = 1ull << 30;    // bytes one Render or View may return
+    std::uint64_t max_view_pixels = 4096ull * 4096ull;  // View's viewport
+    std::string bearer_token;  // when set, every call needs "authorization: Bearer <token>"
+    render::ContextOptions gl;  // backend for the workers' contexts
+    std::uint64_t chunk_bytes = 1ull << 20;  // Render's map chunks
+};
+
+}  // namespace lixel::service

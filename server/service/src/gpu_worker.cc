@@ -1,0 +1,122 @@
+// A worker's GL state and the render jobs run on it.
+#include <lixel/render/readback.h>
+#include <lixel/service/gpu_worker.h>
+
+#include <chrono>
+
+namespace lixel::service {
+
+namespace {
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+Error Cancelled() { return Error{"request", "cancelled or past its deadline"}; }
+
+}  // namespace
+
+Result<bool> StartGpuWorker(GpuWorker& worker) {
+    auto context = render::ThreadContext(worker.options);
+    if (!context) {
+        worker.error = context.error().Message();
+        return context.error();
+    }
+    worker.context = *context;
+    auto renderer = render::Renderer::Create(*worker.context);
+    if (!renderer) {
+        worker.error = renderer.error().Message();
+        return renderer.error();
+    }
+    worker.renderer = std::move(renderer).value();
+    worker.error.clear();
+    return true;
+}
+
+Result<bool> RebuildGpuWorker(GpuWorker& worker) {
+    worker.scenes.clear();
+    worker.renderer.reset();
+    return StartGpuWorker(worker);
+}
+
+Result<std::shared_ptr<render::GpuScene>> SceneOnGpu(GpuWorker& worker, const std::string& id,
+                                                     const SceneRecord& record) {
+    for (auto it = worker.scenes.begin(); it != worker.scenes.end(); ++it) {
+        if (it->first == id) {
+            worker.scenes.splice(worker.scenes.begin(), worker.scenes, it);
+            return worker.scenes.front().second;
+        }
+    }
+    const Aabb bounds = record.scene.Bounds();
+    const Vec3 origin = (bounds.min.array() <= bounds.max.array()).all() ? bounds.Center()
+                                                                         : Vec3::Zero();
+    auto uploaded = render::UploadScene(*worker.context, record.scene.meshes, origin);
+    if (!uploaded) return Error{"scene." + uploaded.error().field, uploaded.error().reason};
+    worker.scenes.emplace_front(id, std::make_shared<render::GpuScene>(std::move(uploaded).value()));
+    while (worker.scenes.size() > kGpuScenesPerWorker) worker.scenes.pop_back();
+    return worker.scenes.front().second;
+}
+
+Result<std::vector<RenderedImage>> RenderPlanImages(GpuWorker& worker,
+                                                    const render::GpuScene& scene,
+                                                    const Plan& plan, const CancelCheck& cancelled) {
+    std::vector<RenderedImage> images;
+    for (std::size_t i = 0; i < plan.maps.size(); ++i) {
+        if (cancelled()) return Cancelled();
+        auto rendered = worker.renderer->RenderMaps(
+            scene, std::span<const PlannedMap>(&plan.maps[i], 1), plan.hull.light);
+        if (!rendered) return rendered.error();
+        render::RenderedMap& m = rendered->front();
+        auto read = [&](const render::DepthMap& depth, Pass pass) -> Result<bool> {
+            auto image = render::ReadDepth(*worker.context, depth);
+            if (!image) return image.error();
+            images.push_back({static_cast<int>(i), pass, std::move(*image)});
+            return true;
+        };
+        if (m.depth) {
+            if (auto ok = read(*m.depth, Pass::kDepth); !ok) return ok.error();
+        }
+        if (m.second_depth) {
+            if (auto ok = read(*m.second_depth, Pass::kSecondDepth); !ok) return ok.error();
+        }
+        if (m.silhouette) {
+            auto points = render::ReadSilhouettePoints(*worker.context, *m.silhouette);
+            if (!points) return points.error();
+            images.push_back({static_cast<int>(i), Pass::kSilhouetteMap, std::move(*points)});
+        }
+    }
+    return images;
+}
+
+Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene& scene,
+                                      const MaskJob& job, const CancelCheck& cancelled,
+                                      MaskTimes* times) {
+    auto start = std::chrono::steady_clock::now();
+    std::vector<render::RenderedMap> rendered;
+    for (const PlannedMap& planned : job.maps) {
+        if (cancelled()) return Cancelled();
+        auto one = worker.renderer->RenderMaps(scene, std::span<const PlannedMap>(&planned, 1),
+                                               job.light);
+        if (!one) return one.error();
+        rendered.push_back(std::move(one->front()));
+    }
+    if (times != nullptr) times->maps_seconds = Seconds(start);
+    if (cancelled()) return Cancelled();
+
+    start = std::chrono::steady_clock::now();
+    render::ViewSettings settings;
+    settings.viewer = job.viewer;
+    settings.viewport = job.viewport;
+    settings.light = job.light;
+    settings.method = job.method;
+    auto view = worker.renderer->RenderView(scene, rendered, settings);
+    if (!view) return view.error();
+    if (times != nullptr) times->view_seconds = Seconds(start);
+
+    start = std::chrono::steady_clock::now();
+    auto mask = render::ReadMask(*worker.context, *view);
+    if (times != nullptr) times->readback_seconds = Seconds(start);
+    return mask;
+}
+
+}  // namespace lixel::service

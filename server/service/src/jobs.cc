@@ -1,0 +1,503 @@
+// The work behind each RPC: decode, call the library, encode.
+#include <lixel/eval/ground_truth.h>
+#include <lixel/eval/misclassification.h>
+#include <lixel/eval/plan_metrics.h>
+#include <lixel/solver/camera.h>
+#include <lixel/eval/scene_io.h>
+#include <lixel/service/jobs.h>
+#include <lixel/solver/baselines.h>
+#include <lixel/solver/homogeneous.h>
+#include <lixel/solver/plane_map.h>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <mutex>
+
+namespace lixel::service {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+grpc::Status NotFound(const std::string& id) {
+    return grpc::Status(grpc::StatusCode::NOT_FOUND,
+                        "scene_id: no scene " + id + " on this instance; upload it again");
+}
+
+grpc::Status Exhausted(const std::string& message) {
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, message);
+}
+
+grpc::Status CancelledStatus() {
+    return grpc::Status(grpc::StatusCode::CANCELLED, "request: cancelled or past its deadline");
+}
+
+// Resolves the plan's scene: a cached upload, or none when the request carries bounds only.
+grpc::Status FindScene(ServiceState& state, const v1::PlanRequest& plan, bool required,
+                       const std::string& field, std::shared_ptr<const SceneRecord>* out) {
+    if (plan.scene_id().empty()) {
+        if (required) {
+            return InvalidArgument(Error{field + ".scene_id", "is required: upload a scene first"});
+        }
+        return grpc::Status::OK;
+    }
+    *out = state.cache.Get(plan.scene_id());
+    state.metrics.CacheLookup(*out != nullptr);
+    if (*out == nullptr) return NotFound(plan.scene_id());
+    return grpc::Status::OK;
+}
+
+// Bytes of every map a plan renders, as float32 (the memory cap of DESIGN §8).
+std::uint64_t PlanBytes(const Plan& plan) {
+    std::uint64_t bytes = 0;
+    for (const PlannedMap& m : plan.maps) {
+        bytes += static_cast<std::uint64_t>(m.map.width) * m.map.height * 4 * m.passes.size();
+    }
+    return bytes;
+}
+
+grpc::Status GpuUnavailable(GpuWorker& worker) {
+    if (worker.fault.exchange(false)) {
+        worker.scenes.clear();
+        worker.renderer.reset();
+        worker.error = "context lost";
+    }
+    if (worker.ready()) return grpc::Status::OK;
+    // A worker whose context failed is rebuilt before it is given up on (issue 8's fault case).
+    if (auto rebuilt = RebuildGpuWorker(worker); rebuilt.ok()) return grpc::Status::OK;
+    return grpc::Status(grpc::StatusCode::UNAVAILABLE, "gl: this worker has no GL context (" +
+                                                           worker.error + ")");
+}
+
+v1::PassKind PassKindOf(Pass pass) {
+    switch (pass) {
+        case Pass::kDepth: return v1::PASS_DEPTH;
+        case Pass::kSecondDepth: return v1::PASS_SECOND_DEPTH;
+        case Pass::kSilhouetteMap: return v1::PASS_SILHOUETTE_MAP;
+    }
+    return v1::PASS_DEPTH;
+}
+
+// Embree scenes for evaluation, built once per uploaded scene and kept for a few.
+class RaySceneCache {
+public:
+    Result<std::shared_ptr<const eval::RayScene>> Get(const std::string& id,
+                                                      const SceneRecord& record) {
+        std::lock_guard lock(mutex_);
+        for (const auto& [key, scene] : entries_) {
+            if (key == id) return scene;
+        }
+        auto built = eval::RayScene::Build(record.scene.meshes);
+        if (!built) return built.error();
+        auto scene = std::make_shared<const eval::RayScene>(std::move(built).value());
+        entries_.emplace_back(id, scene);
+        if (entries_.size() > 4) entries_.erase(entries_.begin());
+        return scene;
+    }
+
+private:
+    std::mutex mutex_;
+    std::vector<std::pair<std::string, std::shared_ptr<const eval::RayScene>>> entries_;
+};
+
+RaySceneCache& RayScenes() {
+    static RaySceneCache cache;
+    return cache;
+}
+
+}  // namespace
+
+grpc::Status InvalidArgument(const Error& error) {
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, error.Message());
+}
+
+grpc::Status SolveJob(const ServiceState& state, const v1::SolveRequest& request,
+                      v1::SolveResponse* response) {
+    response->set_instance(state.options.instance);
+    const std::size_t views = request.views_size();
+    const std::size_t planes = request.planes_size();
+    const std::size_t lights = request.lights_size();
+    for (const auto& [count, name] : {std::pair{views, "views"}, std::pair{planes, "planes"},
+                                      std::pair{lights, "lights"}}) {
+        if (count < 1 || count > kMaxBatchAxis) {
+            return InvalidArgument(Error{name, "needs 1 to " + std::to_string(kMaxBatchAxis) +
+                                                   " entries, got " + std::to_string(count)});
+        }
+    }
+    if (views * planes * lights > kMaxBatchTriples) {
+        return Exhausted("views x planes x lights: " + std::to_string(views * planes * lights) +
+                         " solves, over the limit of " + std::to_string(kMaxBatchTriples));
+    }
+    auto bounds = DecodeAabb(request.bounds(), request.has_bounds(), "bounds");
+    if (!bounds) return InvalidArgument(bounds.error());
+    if (!(request.scale() >= 0.0 && request.scale() <= 1.0)) {
+        return InvalidArgument(Error{"scale", "must be in (0, 1] (0 means 1)"});
+    }
+    std::vector<DecodedCamera> cameras;
+    for (std::size_t i = 0; i < views; ++i) {
+        auto c = DecodeCamera(request.views(i), true, "views[" + std::to_string(i) + "]");
+        if (!c) return InvalidArgument(c.error());
+        cameras.push_back(*c);
+    }
+    std::vector<PlaneOfInterest> plane_list;
+    for (std::size_t i = 0; i < planes; ++i) {
+        auto p = DecodePlane(request.planes(i), i, "planes[" + std::to_string(i) + "]");
+        if (!p) return InvalidArgument(p.error());
+        plane_list.push_back(*p);
+    }
+    std::vector<Vec4> light_list;
+    for (std::size_t i = 0; i < lights; ++i) {
+        auto l = DecodeLight(request.lights(i), true, "lights[" + std::to_string(i) + "]");
+        if (!l) return InvalidArgument(l.error());
+        light_list.push_back(*l);
+    }
+    for (std::size_t v = 0; v < views; ++v) {
+        for (std::size_t p = 0; p < planes; ++p) {
+            for (std::size_t l = 0; l < lights; ++l) {
+                PlaneMapRequest pr;
+                pr.input.viewer = cameras[v].viewer;
+                pr.input.viewport = cameras[v].viewport;
+                pr.input.light = light_list[l];
+                pr.input.plane = plane_list[p].plane;
+                pr.needed_polygon = plane_list[p].polygon;
+                pr.bounds = *bounds;
+                pr.crop.twist = request.twist() == v1::TWIST_MINIMIZE_AREA ? Twist::kMinimizeArea
+                                                                           : Twist::kNone;
+                pr.crop.scale = request.scale() == 0.0 ? 1.0 : request.scale();
+                pr.crop.lixel_budget = static_cast<std::int64_t>(
+                    std::min<std::uint64_t>(request.lixel_budget(), kMaxLixelBudget));
+                v1::SolveResult* result = response->add_results();
+                result->set_view_index(static_cast<std::uint32_t>(v));
+                result->set_plane_index(static_cast<std::uint32_t>(p));
+                result->set_light_index(static_cast<std::uint32_t>(l));
+                const auto solved = SolvePlaneMap(pr);
+                if (!solved) {
+                    v1::FieldError* e = result->mutable_error();
+                    e->set_field(solved.error().field);
+                    e->set_reason(solved.error().reason);
+                    continue;
+                }
+                v1::SolvedMap* m = result->mutable_map();
+                EncodeLightMap(solved->crop.map, m->mutable_map());
+                EncodeDiagnostics(solved->diagnostics, m->mutable_diagnostics());
+                m->set_scale(solved->crop.scale);
+                m->set_twist_radians(solved->crop.twist_radians);
+                for (const Vec3& x : solved->needed_polygon) EncodeVec3(x, m->add_needed_polygon());
+            }
+        }
+    }
+    return grpc::Status::OK;
+}
+
+grpc::Status PlanJob(ServiceState& state, const v1::PlanRequest& request,
+                     v1::PlanResponse* response) {
+    std::shared_ptr<const SceneRecord> scene;
+    if (auto s = FindScene(state, request, false, "plan", &scene); !s.ok()) return s;
+    auto decoded = DecodePlanRequest(request, scene.get(), "plan");
+    if (!decoded) return InvalidArgument(decoded.error());
+    auto plan = PlanShadowMaps(*decoded);
+    if (!plan) return InvalidArgument(plan.error());
+    EncodePlan(*plan, response);
+    response->set_instance(state.options.instance);
+    return grpc::Status::OK;
+}
+
+grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
+                       const std::string& content, v1::UploadSceneResponse* response) {
+    response->set_instance(state.options.instance);
+    response->set_bytes(content.size());
+    const std::string id = ContentId(header.format(), content);
+    response->set_scene_id(id);
+    if (auto held = state.cache.Get(id); held != nullptr) {
+        response->set_already_present(true);
+        std::uint64_t triangles = 0;
+        for (const Mesh& m : held->scene.meshes) triangles += m.TriangleCount();
+        response->set_triangles(triangles);
+        return grpc::Status::OK;
+    }
+
+    Result<SceneRecord> record = Error{"content", "unread"};
+    if (header.format() == v1::SCENE_FORMAT_LIXEL) {
+        v1::Scene message;
+        if (!message.ParseFromString(content)) {
+            return InvalidArgument(Error{"content", "is not a serialized lixel.v1.Scene"});
+        }
+        record = DecodeScene(message, "scene");
+    } else if (header.format() == v1::SCENE_FORMAT_OBJ ||
+               header.format() == v1::SCENE_FORMAT_GLTF) {
+        // The loaders read files: write the bytes to a private temporary one.
+        const bool obj = header.format() == v1::SCENE_FORMAT_OBJ;
+        const bool binary = !obj && content.size() >= 4 && std::memcmp(content.data(), "glTF", 4) == 0;
+        char path[] = "/tmp/lixel-upload-XXXXXX";
+        const int fd = mkstemp(path);
+        if (fd < 0) return grpc::Status(grpc::StatusCode::INTERNAL, "upload: no temporary file");
+        close(fd);
+        const std::string file = std::string(path) + (obj ? ".obj" : binary ? ".glb" : ".gltf");
+        std::rename(path, file.c_str());
+        {
+            std::ofstream out(file, std::ios::binary);
+            out.write(content.data(), static_cast<std::streamsize>(content.size()));
+        }
+        auto meshes = eval::LoadMeshes(file);
+        std::remove(file.c_str());
+        if (!meshes) return InvalidArgument(Error{"content", meshes.error().reason});
+        eval::Scene scene;
+        scene.meshes = std::move(*meshes);
+        for (int i = 0; i < header.planes_size(); ++i) {
+            auto p = DecodePlane(header.planes(i), i, "header.planes[" + std::to_string(i) + "]");
+            if (!p) return InvalidArgument(p.error());
+            scene.planes.push_back(*p);
+        }
+        const Aabb b = scene.Bounds();
+        scene.camera.target = b.Center();
+        scene.camera.eye = b.Center() + Vec3(0.0, 0.5, 1.5) * b.Diagonal();
+        scene.camera.near = 0.01 * b.Diagonal();
+        scene.camera.far = 10.0 * b.Diagonal();
+        scene.light = Point(b.Center() + Vec3(0.3, 1.0, 0.4) * b.Diagonal());
+        record = MakeSceneRecord(std::move(scene));
+    } else {
+        return InvalidArgument(Error{"header.format", "unknown scene format " +
+                                                          std::to_string(header.format())});
+    }
+    if (!record) return InvalidArgument(record.error());
+    std::uint64_t triangles = 0;
+    for (const Mesh& m : record->scene.meshes) triangles += m.TriangleCount();
+    response->set_triangles(triangles);
+    auto shared = std::make_shared<const SceneRecord>(std::move(*record));
+    if (!state.cache.Put(id, shared)) {
+        return Exhausted("content: the decoded scene (" + std::to_string(shared->bytes) +
+                         " bytes) is larger than the scene cache");
+    }
+    state.metrics.CacheBytes(static_cast<double>(state.cache.bytes()));
+    return grpc::Status::OK;
+}
+
+grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
+                       const CancelCheck& cancelled, std::vector<v1::RenderChunk>* stream) {
+    std::shared_ptr<const SceneRecord> scene;
+    if (auto s = FindScene(state, request.plan(), true, "plan", &scene); !s.ok()) return s;
+    auto decoded = DecodePlanRequest(request.plan(), scene.get(), "plan");
+    if (!decoded) return InvalidArgument(decoded.error());
+    auto plan = PlanShadowMaps(*decoded);
+    if (!plan) return InvalidArgument(plan.error());
+    const std::uint64_t bytes = PlanBytes(*plan);
+    if (bytes > state.options.memory_cap_bytes) {
+        return Exhausted("plan: its maps need " + std::to_string(bytes) + " bytes, over the " +
+                         std::to_string(state.options.memory_cap_bytes) + "-byte memory cap");
+    }
+    if (bytes > state.options.max_response_bytes) {
+        return Exhausted("plan: " + std::to_string(bytes) + " bytes of maps, over the " +
+                         std::to_string(state.options.max_response_bytes) +
+                         "-byte response limit");
+    }
+    if (auto s = GpuUnavailable(worker); !s.ok()) return s;
+    if (cancelled()) return CancelledStatus();
+    auto gpu_scene = SceneOnGpu(worker, request.plan().scene_id(), *scene);
+    if (!gpu_scene) return InvalidArgument(gpu_scene.error());
+    auto images = RenderPlanImages(worker, **gpu_scene, *plan, cancelled);
+    if (!images) {
+        if (cancelled()) return CancelledStatus();
+        return grpc::Status(grpc::StatusCode::INTERNAL, images.error().Message());
+    }
+
+    v1::RenderChunk header;
+    v1::RenderHeader* h = header.mutable_header();
+    EncodePlan(*plan, h->mutable_plan());
+    h->mutable_plan()->set_instance(state.options.instance);
+    double total = 0.0;
+    for (const RenderedImage& image : *images) {
+        v1::MapImage* m = h->add_images();
+        m->set_map_index(static_cast<std::uint32_t>(image.map_index));
+        m->set_pass(PassKindOf(image.pass));
+        m->set_width(static_cast<std::uint32_t>(image.image.width));
+        m->set_height(static_cast<std::uint32_t>(image.image.height));
+        m->set_bytes(image.image.pixels.size() * sizeof(float));
+        total += static_cast<double>(m->bytes());
+    }
+    stream->push_back(std::move(header));
+    const std::size_t chunk = std::max<std::uint64_t>(1, state.options.chunk_bytes);
+    for (std::size_t i = 0; i < images->size(); ++i) {
+        const auto& pixels = (*images)[i].image.pixels;
+        const char* data = reinterpret_cast<const char*>(pixels.data());
+        const std::size_t size = pixels.size() * sizeof(float);
+        for (std::size_t offset = 0; offset < size; offset += chunk) {
+            v1::RenderChunk c;
+            v1::MapChunk* mc = c.mutable_chunk();
+            mc->set_image_index(static_cast<std::uint32_t>(i));
+            mc->set_offset(offset);
+            mc->set_data(data + offset, std::min(chunk, size - offset));
+            stream->push_back(std::move(c));
+        }
+    }
+    state.metrics.MapsRendered(static_cast<double>(images->size()), total);
+    return grpc::Status::OK;
+}
+
+grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
+                     const CancelCheck& cancelled, v1::ViewResponse* response) {
+    response->set_instance(state.options.instance);
+    std::shared_ptr<const SceneRecord> scene;
+    if (auto s = FindScene(state, request.plan(), true, "plan", &scene); !s.ok()) return s;
+    v1::PlanRequest plan_message = request.plan();
+    render::ShadowMethod method = render::ShadowMethod::kDepth;
+    switch (request.filter()) {
+        case v1::FILTER_DEPTH: method = render::ShadowMethod::kDepth; break;
+        case v1::FILTER_PCF: method = render::ShadowMethod::kPcf; break;
+        case v1::FILTER_SECOND_DEPTH: method = render::ShadowMethod::kSecondDepth; break;
+        case v1::FILTER_SILHOUETTE_MAP: method = render::ShadowMethod::kSilhouette; break;
+        default:
+            return InvalidArgument(Error{"filter", "FILTER_VOLUMES is served by the shadow-volume "
+                                                   "renderer, which this server was built without"});
+    }
+    auto decoded = DecodePlanRequest(plan_message, scene.get(), "plan");
+    if (!decoded) return InvalidArgument(decoded.error());
+    const std::uint64_t pixels =
+        static_cast<std::uint64_t>(decoded->viewport.width) * decoded->viewport.height;
+    if (pixels > state.options.max_view_pixels) {
+        return Exhausted("plan.camera: " + std::to_string(pixels) + " pixels, over the view "
+                         "limit of " + std::to_string(state.options.max_view_pixels));
+    }
+
+    std::vector<std::pair<std::string, double>> times;
+    auto start = Clock::now();
+    auto plan = PlanShadowMaps(*decoded);
+    if (!plan) return InvalidArgument(plan.error());
+    MaskJob job;
+    job.viewer = decoded->viewer;
+    job.viewport = decoded->viewport;
+    job.light = plan->hull.light;
+    job.method = method;
+    if (request.method() == v1::METHOD_PLANE_OPTIMAL) {
+        job.maps = plan->maps;
+    } else {
+        const BaselineMethod baseline = request.method() == v1::METHOD_UNIFORM ? BaselineMethod::kUniform
+                                        : request.method() == v1::METHOD_PSM   ? BaselineMethod::kPsm
+                                                                               : BaselineMethod::kLispsm;
+        BaselineInput input{decoded->viewer, decoded->viewport, decoded->light,
+                            decoded->lixel_budget};
+        auto fitted = FitBaseline(baseline, input, plan->hull);
+        if (!fitted) return InvalidArgument(fitted.error());
+        PlannedMap m;
+        m.role = MapRole::kFallback;
+        m.name = BaselineName(baseline);
+        m.map = fitted->map;
+        m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
+        job.maps = {m};
+    }
+    // The filter decides the passes every map needs, casters or not.
+    for (PlannedMap& m : job.maps) {
+        m.passes = {Pass::kDepth};
+        if (method == render::ShadowMethod::kSecondDepth) m.passes.push_back(Pass::kSecondDepth);
+        if (method == render::ShadowMethod::kSilhouette) m.passes.push_back(Pass::kSilhouetteMap);
+    }
+    times.emplace_back("plan", Since(start));
+    Plan for_bytes;
+    for_bytes.maps = job.maps;
+    const std::uint64_t bytes = PlanBytes(for_bytes) + pixels * 4;
+    if (bytes > state.options.memory_cap_bytes) {
+        return Exhausted("plan: its maps and mask need " + std::to_string(bytes) +
+                         " bytes, over the memory cap");
+    }
+    if (auto s = GpuUnavailable(worker); !s.ok()) return s;
+    if (cancelled()) return CancelledStatus();
+    auto gpu_scene = SceneOnGpu(worker, plan_message.scene_id(), *scene);
+    if (!gpu_scene) return InvalidArgument(gpu_scene.error());
+    MaskTimes mask_times;
+    auto mask = RenderMask(worker, **gpu_scene, job, cancelled, &mask_times);
+    if (!mask) {
+        if (cancelled()) return CancelledStatus();
+        return grpc::Status(grpc::StatusCode::INTERNAL, mask.error().Message());
+    }
+    times.emplace_back("maps", mask_times.maps_seconds);
+    times.emplace_back("view", mask_times.view_seconds);
+    times.emplace_back("readback", mask_times.readback_seconds);
+    response->set_maps(static_cast<std::uint32_t>(job.maps.size()));
+    std::uint64_t lixels = 0;
+    for (const PlannedMap& m : job.maps) {
+        lixels += static_cast<std::uint64_t>(m.map.width) * m.map.height;
+    }
+    response->set_total_lixels(lixels);
+    response->set_width(static_cast<std::uint32_t>(mask->width));
+    response->set_height(static_cast<std::uint32_t>(mask->height));
+    response->set_mask(reinterpret_cast<const char*>(mask->pixels.data()),
+                       mask->pixels.size() * sizeof(float));
+    state.metrics.MapsRendered(static_cast<double>(job.maps.size()),
+                               static_cast<double>(bytes));
+
+    if (request.evaluate()) {
+        if (cancelled()) return CancelledStatus();
+        start = Clock::now();
+        auto rays = RayScenes().Get(plan_message.scene_id(), *scene);
+        if (!rays) return InvalidArgument(rays.error());
+        eval::TruthRequest truth_request;
+        truth_request.viewer = decoded->viewer;
+        truth_request.viewport = decoded->viewport;
+        truth_request.light = decoded->light;
+        truth_request.planes = decoded->planes;
+        auto truth = eval::ComputeGroundTruth(**rays, truth_request);
+        if (!truth) return InvalidArgument(truth.error());
+        eval::Mask m{mask->width, mask->height, {}};
+        m.lit.resize(mask->pixels.size() / static_cast<std::size_t>(mask->channels));
+        for (std::size_t i = 0; i < m.lit.size(); ++i) {
+            const float v = mask->pixels[i * static_cast<std::size_t>(mask->channels)];
+            m.lit[i] = v < 0.0f ? 1.0f : v;  // no surface: nothing to shadow
+        }
+        std::string states(truth->state.size(), '\0');
+        for (std::size_t i = 0; i < states.size(); ++i) {
+            states[i] = static_cast<char>(truth->state[i]);
+        }
+        response->set_truth(std::move(states));
+        auto wrong = eval::Misclassified(*truth, m);
+        if (!wrong) return InvalidArgument(wrong.error());
+        v1::Evaluation* e = response->mutable_evaluation();
+        e->set_misclassified_percent(wrong->Percent());
+        e->set_misclassified_band_percent(wrong->BandPercent());
+        e->set_decided_pixels(static_cast<std::uint64_t>(wrong->decided));
+        e->set_undecided_pixels(static_cast<std::uint64_t>(truth->Count(eval::Truth::kUndecided)));
+        if (truth->seconds > 0.0) {
+            e->set_truth_rays_per_second(
+                static_cast<double>(truth->primary_rays + truth->shadow_rays) / truth->seconds);
+        }
+        Plan evaluated;
+        evaluated.maps = job.maps;
+        const Mat4 pixel = PixelMatrix(decoded->viewer, decoded->viewport);
+        const eval::AliasingResult aliasing = eval::Aliasing(*truth, pixel, evaluated);
+        for (const auto& [stats, out] :
+             {std::pair{&aliasing.planes, e->mutable_aliasing_planes()},
+              std::pair{&aliasing.elsewhere, e->mutable_aliasing_elsewhere()}}) {
+            out->set_pixels(static_cast<std::uint64_t>(stats->pixels));
+            out->set_mean(stats->mean);
+            out->set_p95(std::isfinite(stats->p95) ? stats->p95 : 1e300);
+            out->set_over_threshold(stats->over_threshold);
+        }
+        e->set_lixel_use(eval::ComputeLixelUse(*truth, evaluated).Share());
+        times.emplace_back("truth", Since(start));
+    }
+    if (request.timings()) {
+        for (const auto& [stage, seconds] : times) {
+            v1::StageTime* t = response->add_timings();
+            t->set_stage(stage);
+            t->set_seconds(seconds);
+        }
+    }
+    return grpc::Status::OK;
+}
+
+grpc::Status SilhouettesJob(const ServiceState& state, const v1::SilhouettesRequest& request,
+                            v1::SilhouettesResponse* response) {
+    (void)request;
+    response->set_instance(state.options.instance);
+    return grpc::Status(grpc::StatusCode::UNIMPLEMENTED,
+                        "Silhouettes: this server was built without the shadow-volume library");
+}
+
+}  // namespace lixel::service

@@ -1,0 +1,365 @@
+// Messages <-> solver types, with validation that names the field.
+#include <lixel/service/proto_convert.h>
+
+#include <cmath>
+
+namespace lixel::service {
+
+namespace {
+
+std::string Index(const std::string& field, std::size_t i) {
+    return field + "[" + std::to_string(i) + "]";
+}
+
+Result<bool> Finite(double value, const std::string& field) {
+    if (!std::isfinite(value)) return Error{field, "is not finite"};
+    return true;
+}
+
+}  // namespace
+
+Result<Mat4> DecodeMat4(const v1::Mat4& m, const std::string& field) {
+    if (m.m_size() != 16) {
+        return Error{field + ".m", "needs 16 values (column-major), got " +
+                                       std::to_string(m.m_size())};
+    }
+    Mat4 out;
+    for (int i = 0; i < 16; ++i) {
+        if (auto ok = Finite(m.m(i), Index(field + ".m", i)); !ok) return ok.error();
+        out(i % 4, i / 4) = m.m(i);
+    }
+    return out;
+}
+
+Result<Vec3> DecodeVec3(const v1::Vec3& v, const std::string& field) {
+    const Vec3 out(v.x(), v.y(), v.z());
+    if (!out.allFinite()) return Error{field, "is not finite"};
+    return out;
+}
+
+Result<Vec4> DecodeVec4(const v1::Vec4& v, const std::string& field) {
+    const Vec4 out(v.x(), v.y(), v.z(), v.w());
+    if (!out.allFinite()) return Error{field, "is not finite"};
+    return out;
+}
+
+Result<Aabb> DecodeAabb(const v1::Aabb& box, bool present, const std::string& field) {
+    if (!present) return Error{field, "is required"};
+    auto min = DecodeVec3(box.min(), field + ".min");
+    if (!min) return min.error();
+    auto max = DecodeVec3(box.max(), field + ".max");
+    if (!max) return max.error();
+    if (!(min->array() <= max->array()).all()) return Error{field, "min exceeds max"};
+    return Aabb{*min, *max};
+}
+
+Result<DecodedCamera> DecodeCamera(const v1::Camera& camera, bool present,
+                                   const std::string& field) {
+    if (!present) return Error{field, "is required"};
+    auto viewer = DecodeMat4(camera.viewer(), field + ".viewer");
+    if (!viewer) return viewer.error();
+    for (const auto& [size, name] : {std::pair{camera.width(), ".width"},
+                                     std::pair{camera.height(), ".height"}}) {
+        if (size < 1 || size > static_cast<std::uint32_t>(kMaxImageSide)) {
+            return Error{field + name, "must be in [1, " + std::to_string(kMaxImageSide) +
+                                           "] pixels, got " + std::to_string(size)};
+        }
+    }
+    return DecodedCamera{*viewer, Viewport{static_cast<int>(camera.width()),
+                                           static_cast<int>(camera.height())}};
+}
+
+Result<Vec4> DecodeLight(const v1::Light& light, bool present, const std::string& field) {
+    if (!present || !light.has_position()) return Error{field + ".position", "is required"};
+    auto position = DecodeVec4(light.position(), field + ".position");
+    if (!position) return position.error();
+    if (position->isZero(0.0)) return Error{field + ".position", "is zero: not a light"};
+    return *position;
+}
+
+Result<PlaneOfInterest> DecodePlane(const v1::PlaneOfInterest& plane, std::size_t index,
+                                    const std::string& field) {
+    PlaneOfInterest out;
+    out.name = plane.name().empty() ? std::to_string(index) : plane.name();
+    if (!plane.has_plane()) return Error{field + ".plane", "is required"};
+    auto p = DecodeVec4(plane.plane(), field + ".plane");
+    if (!p) return p.error();
+    if (!(p->head<3>().norm() > 0.0)) {
+        return Error{field + ".plane", "normal (a, b, c) is zero: not a plane"};
+    }
+    out.plane = *p;
+    if (plane.polygon_size() != 0 && plane.polygon_size() < 3) {
+        return Error{field + ".polygon", "needs 0 or at least 3 vertices"};
+    }
+    if (static_cast<std::size_t>(plane.polygon_size()) > kMaxPolygonVertices) {
+        return Error{field + ".polygon", "has more than " + std::to_string(kMaxPolygonVertices) +
+                                             " vertices"};
+    }
+    for (int k = 0; k < plane.polygon_size(); ++k) {
+        auto v = DecodeVec3(plane.polygon(k), Index(field + ".polygon", k));
+        if (!v) return v.error();
+        out.polygon.push_back(*v);
+    }
+    return out;
+}
+
+SceneRecord MakeSceneRecord(eval::Scene scene) {
+    SceneRecord record;
+    record.default_viewer = scene.camera.Viewer();
+    record.default_viewport = scene.camera.viewport;
+    std::uint64_t bytes = sizeof(SceneRecord);
+    for (const Mesh& m : scene.meshes) {
+        bytes += m.positions.size() * sizeof(Eigen::Vector3f) +
+                 m.normals.size() * sizeof(Eigen::Vector3f) + m.indices.size() * 4 +
+                 m.name.size();
+    }
+    record.bytes = bytes;
+    record.scene = std::move(scene);
+    return record;
+}
+
+Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const SceneRecord* record,
+                                      const std::string& field) {
+    const eval::Scene* scene = record != nullptr ? &record->scene : nullptr;
+    PlanRequest out;
+    if (message.has_camera()) {
+        auto camera = DecodeCamera(message.camera(), true, field + ".camera");
+        if (!camera) return camera.error();
+        out.viewer = camera->viewer;
+        out.viewport = camera->viewport;
+    } else if (record != nullptr) {
+        out.viewer = record->default_viewer;
+        out.viewport = record->default_viewport;
+    } else {
+        return Error{field + ".camera", "is required"};
+    }
+    if (message.has_light()) {
+        auto light = DecodeLight(message.light(), true, field + ".light");
+        if (!light) return light.error();
+        out.light = *light;
+    } else if (scene != nullptr) {
+        out.light = scene->light;
+    } else {
+        return Error{field + ".light", "is required"};
+    }
+    for (int i = 0; i < message.planes_size(); ++i) {
+        auto plane = DecodePlane(message.planes(i), i, Index(field + ".planes", i));
+        if (!plane) return plane.error();
+        out.planes.push_back(*plane);
+    }
+    if (out.planes.empty() && scene != nullptr) out.planes = scene->planes;
+
+    if (scene != nullptr) {
+        out.objects = scene->Objects();
+    } else {
+        if (static_cast<std::size_t>(message.objects_size()) > kMaxObjects) {
+            return Error{field + ".objects", "more than " + std::to_string(kMaxObjects)};
+        }
+        for (int i = 0; i < message.objects_size(); ++i) {
+            const auto& o = message.objects(i);
+            const std::string path = Index(field + ".objects", i);
+            auto bounds = DecodeAabb(o.bounds(), o.has_bounds(), path + ".bounds");
+            if (!bounds) return bounds.error();
+            SceneObject object;
+            object.name = o.name().empty() ? "object " + std::to_string(i) : o.name();
+            object.bounds = *bounds;
+            object.closed = o.closed();
+            out.objects.push_back(object);
+        }
+        if (out.objects.empty()) {
+            return Error{field + ".objects", "empty and no scene_id: nothing bounds the scene"};
+        }
+    }
+
+    const std::uint64_t budget = message.lixel_budget() == 0 ? 512 * 512 : message.lixel_budget();
+    if (budget > kMaxLixelBudget) {
+        return Error{field + ".lixel_budget", "must be at most 2^28, got " +
+                                                  std::to_string(message.lixel_budget())};
+    }
+    out.lixel_budget = static_cast<std::int64_t>(budget);
+    const std::uint64_t floor = message.fallback_floor() == 0 ? 128 * 128 : message.fallback_floor();
+    if (floor > budget) {
+        return Error{field + ".fallback_floor", "exceeds the lixel budget"};
+    }
+    out.fallback_floor = static_cast<std::int64_t>(floor);
+    const std::uint32_t max_side =
+        message.max_texture_size() == 0 ? kMaxImageSide : message.max_texture_size();
+    if (max_side > static_cast<std::uint32_t>(kMaxImageSide)) {
+        return Error{field + ".max_texture_size", "must be in [1, 16384]"};
+    }
+    out.max_texture_size = static_cast<int>(max_side);
+    out.passes.second_depth = message.passes().second_depth();
+    out.passes.silhouette_map = message.passes().silhouette_map();
+    out.passes.volumes = message.passes().volumes();
+    return out;
+}
+
+Result<SceneRecord> DecodeScene(const v1::Scene& message, const std::string& field) {
+    eval::Scene scene;
+    scene.name = message.name();
+    if (message.meshes_size() == 0) return Error{field + ".meshes", "is empty: no geometry"};
+    for (int i = 0; i < message.meshes_size(); ++i) {
+        const v1::Mesh& m = message.meshes(i);
+        const std::string path = Index(field + ".meshes", i);
+        if (m.positions_size() == 0 || m.positions_size() % 3 != 0) {
+            return Error{path + ".positions", "needs a non-zero multiple of 3 values, got " +
+                                                  std::to_string(m.positions_size())};
+        }
+        if (m.normals_size() != 0 && m.normals_size() != m.positions_size()) {
+            return Error{path + ".normals", "needs one normal per vertex or none"};
+        }
+        if (m.indices_size() == 0 || m.indices_size() % 3 != 0) {
+            return Error{path + ".indices", "needs a non-zero multiple of 3 indices, got " +
+                                                std::to_string(m.indices_size())};
+        }
+        Mesh mesh;
+        mesh.name = m.name().empty() ? "mesh " + std::to_string(i) : m.name();
+        mesh.closed = m.closed();
+        const int vertices = m.positions_size() / 3;
+        for (int v = 0; v < vertices; ++v) {
+            const Eigen::Vector3f p(m.positions(3 * v), m.positions(3 * v + 1),
+                                    m.positions(3 * v + 2));
+            if (!p.allFinite()) return Error{Index(path + ".positions", 3 * v), "is not finite"};
+            mesh.positions.push_back(p);
+            if (m.normals_size() != 0) {
+                const Eigen::Vector3f n(m.normals(3 * v), m.normals(3 * v + 1),
+                                        m.normals(3 * v + 2));
+                if (!n.allFinite()) return Error{Index(path + ".normals", 3 * v), "is not finite"};
+                mesh.normals.push_back(n);
+            }
+        }
+        for (int k = 0; k < m.indices_size(); ++k) {
+            if (m.indices(k) >= static_cast<std::uint32_t>(vertices)) {
+                return Error{Index(path + ".indices", k),
+                             "is " + std::to_string(m.indices(k)) + ", out of range for " +
+                                 std::to_string(vertices) + " vertices"};
+            }
+            mesh.indices.push_back(m.indices(k));
+        }
+        scene.meshes.push_back(std::move(mesh));
+    }
+    for (int i = 0; i < message.planes_size(); ++i) {
+        auto plane = DecodePlane(message.planes(i), i, Index(field + ".planes", i));
+        if (!plane) return plane.error();
+        scene.planes.push_back(*plane);
+    }
+    if (message.has_default_light()) {
+        auto light = DecodeLight(message.default_light(), true, field + ".default_light");
+        if (!light) return light.error();
+        scene.light = *light;
+    }
+    SceneRecord record = MakeSceneRecord(std::move(scene));
+    if (message.has_default_camera()) {
+        auto camera = DecodeCamera(message.default_camera(), true, field + ".default_camera");
+        if (!camera) return camera.error();
+        record.default_viewer = camera->viewer;
+        record.default_viewport = camera->viewport;
+        record.scene.camera.viewport = camera->viewport;
+    }
+    return record;
+}
+
+void EncodeMat4(const Mat4& m, v1::Mat4* out) {
+    out->clear_m();
+    for (int i = 0; i < 16; ++i) out->add_m(m(i % 4, i / 4));
+}
+
+void EncodeVec3(const Vec3& v, v1::Vec3* out) {
+    out->set_x(v.x());
+    out->set_y(v.y());
+    out->set_z(v.z());
+}
+
+void EncodeLightMap(const LightMap& map, v1::LightMap* out) {
+    EncodeMat4(map.matrix, out->mutable_matrix());
+    out->set_width(static_cast<std::uint32_t>(map.width));
+    out->set_height(static_cast<std::uint32_t>(map.height));
+    EncodeMat4(GlProjection(map), out->mutable_gl_projection());
+}
+
+void EncodeDiagnostics(const SolveDiagnostics& d, v1::SolveDiagnostics* out) {
+    out->set_residual_lixels(d.residual_lixels);
+    out->set_residual_lixels_float(d.residual_lixels_float);
+    out->set_conditioning(d.conditioning);
+    out->set_horizon_in_view(d.horizon_in_view);
+    out->set_sign(d.sign);
+    out->set_depth_resolution(d.depth_resolution);
+}
+
+void EncodePlan(const Plan& plan, v1::PlanResponse* out) {
+    for (const PlannedMap& m : plan.maps) {
+        v1::PlannedMap* pm = out->add_maps();
+        pm->set_name(m.name);
+        pm->set_role(m.role == MapRole::kPlane      ? v1::MAP_ROLE_PLANE
+                     : m.role == MapRole::kFallback ? v1::MAP_ROLE_FALLBACK
+                                                    : v1::MAP_ROLE_CUBE_FACE);
+        pm->set_plane_index(m.plane_index);
+        pm->set_cube_face(m.cube_face);
+        EncodeLightMap(m.map, pm->mutable_map());
+        for (Pass p : m.passes) {
+            pm->add_passes(p == Pass::kDepth         ? v1::PASS_DEPTH
+                           : p == Pass::kSecondDepth ? v1::PASS_SECOND_DEPTH
+                                                     : v1::PASS_SILHOUETTE_MAP);
+        }
+        for (const Eigen::Vector3d& h : m.lookup.half_planes) {
+            v1::HalfPlane* hp = pm->add_lookup();
+            hp->set_a(h.x());
+            hp->set_b(h.y());
+            hp->set_c(h.z());
+        }
+        pm->set_scale(m.scale);
+        pm->set_lixels(static_cast<std::uint64_t>(m.lixels));
+        pm->set_expected_pixels(m.expected_pixels);
+        if (m.role == MapRole::kPlane) EncodeDiagnostics(m.diagnostics, pm->mutable_diagnostics());
+    }
+    for (const LeftOut& l : plan.left_out) {
+        v1::LeftOut* lo = out->add_left_out();
+        lo->set_item(l.item);
+        lo->set_reason(l.reason);
+    }
+    for (const std::string& w : plan.warnings) out->add_warnings(w);
+    out->set_total_lixels(static_cast<std::uint64_t>(plan.total_lixels));
+    out->set_plane_scale(plan.plane_scale);
+    out->set_volumes(plan.volumes);
+}
+
+void EncodeScene(const SceneRecord& record, v1::Scene* out) {
+    const eval::Scene& scene = record.scene;
+    out->set_name(scene.name);
+    for (const Mesh& mesh : scene.meshes) {
+        v1::Mesh* m = out->add_meshes();
+        m->set_name(mesh.name);
+        m->set_closed(mesh.closed);
+        for (const Eigen::Vector3f& p : mesh.positions) {
+            m->add_positions(p.x());
+            m->add_positions(p.y());
+            m->add_positions(p.z());
+        }
+        for (const Eigen::Vector3f& n : mesh.normals) {
+            m->add_normals(n.x());
+            m->add_normals(n.y());
+            m->add_normals(n.z());
+        }
+        for (std::uint32_t i : mesh.indices) m->add_indices(i);
+    }
+    for (const PlaneOfInterest& p : scene.planes) {
+        v1::PlaneOfInterest* pp = out->add_planes();
+        pp->set_name(p.name);
+        pp->mutable_plane()->set_x(p.plane.x());
+        pp->mutable_plane()->set_y(p.plane.y());
+        pp->mutable_plane()->set_z(p.plane.z());
+        pp->mutable_plane()->set_w(p.plane.w());
+        for (const Vec3& v : p.polygon) EncodeVec3(v, pp->add_polygon());
+    }
+    v1::Vec4* light = out->mutable_default_light()->mutable_position();
+    light->set_x(scene.light.x());
+    light->set_y(scene.light.y());
+    light->set_z(scene.light.z());
+    light->set_w(scene.light.w());
+    v1::Camera* camera = out->mutable_default_camera();
+    EncodeMat4(record.default_viewer, camera->mutable_viewer());
+    camera->set_width(static_cast<std::uint32_t>(record.default_viewport.width));
+    camera->set_height(static_cast<std::uint32_t>(record.default_viewport.height));
+}
+
+}  // namespace lixel::service

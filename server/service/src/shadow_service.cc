@@ -1,0 +1,314 @@
+// The gRPC reactors: authorise, queue the job on the pool, answer, log and count.
+#include <lixel/service/shadow_service.h>
+
+#include <chrono>
+#include <cstdio>
+#include <string_view>
+
+namespace lixel::service {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+const char* CodeName(grpc::StatusCode code) {
+    switch (code) {
+        case grpc::StatusCode::OK: return "OK";
+        case grpc::StatusCode::CANCELLED: return "CANCELLED";
+        case grpc::StatusCode::INVALID_ARGUMENT: return "INVALID_ARGUMENT";
+        case grpc::StatusCode::DEADLINE_EXCEEDED: return "DEADLINE_EXCEEDED";
+        case grpc::StatusCode::NOT_FOUND: return "NOT_FOUND";
+        case grpc::StatusCode::RESOURCE_EXHAUSTED: return "RESOURCE_EXHAUSTED";
+        case grpc::StatusCode::FAILED_PRECONDITION: return "FAILED_PRECONDITION";
+        case grpc::StatusCode::UNIMPLEMENTED: return "UNIMPLEMENTED";
+        case grpc::StatusCode::INTERNAL: return "INTERNAL";
+        case grpc::StatusCode::UNAVAILABLE: return "UNAVAILABLE";
+        case grpc::StatusCode::UNAUTHENTICATED: return "UNAUTHENTICATED";
+        default: return "OTHER";
+    }
+}
+
+grpc::Status QueueFull(std::size_t capacity) {
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                        "server: work queue full (" + std::to_string(capacity) +
+                            " waiting); retry later");
+}
+
+// A unary call run on the pool: authorise, submit, finish from the worker.
+template <class Job>
+grpc::ServerUnaryReactor* RunUnary(ShadowService& service, grpc::CallbackServerContext* context,
+                                   const char* rpc, Job job) {
+    grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+    const auto start = Clock::now();
+    grpc::Status status;
+    if (!service.Authorized(context, &status)) {
+        service.Record(rpc, status, Since(start), "");
+        reactor->Finish(status);
+        return reactor;
+    }
+    const bool queued = service.pool().TrySubmit([&service, reactor, context, rpc, start,
+                                                  job = std::move(job)](int worker) mutable {
+        grpc::Status s = context->IsCancelled() ? grpc::Status(grpc::StatusCode::CANCELLED,
+                                                                "request: cancelled before work")
+                                                 : job(worker);
+        service.Record(rpc, s, Since(start), "");
+        reactor->Finish(s);
+    });
+    service.state().metrics.QueueDepth(static_cast<double>(service.pool().queued()));
+    if (!queued) {
+        status = QueueFull(service.state().options.queue_capacity);
+        service.Record(rpc, status, Since(start), "");
+        reactor->Finish(status);
+    }
+    return reactor;
+}
+
+class UploadReactor final : public grpc::ServerReadReactor<v1::SceneChunk> {
+public:
+    UploadReactor(ShadowService& service, grpc::CallbackServerContext* context,
+                  v1::UploadSceneResponse* response)
+        : service_(service), context_(context), response_(response), start_(Clock::now()) {
+        grpc::Status status;
+        if (!service_.Authorized(context_, &status)) {
+            Done(status);
+            return;
+        }
+        StartRead(&chunk_);
+    }
+
+    void OnReadDone(bool ok) override {
+        if (!ok) {  // the client finished sending
+            Complete();
+            return;
+        }
+        const std::uint64_t limit = service_.state().options.max_upload_bytes;
+        if (!have_header_) {
+            if (!chunk_.has_header()) {
+                Done(InvalidArgument(Error{"chunks[0]", "must be the header"}));
+                return;
+            }
+            header_ = chunk_.header();
+            have_header_ = true;
+            if (header_.total_bytes() == 0) {
+                Done(InvalidArgument(Error{"header.total_bytes", "must be at least 1"}));
+                return;
+            }
+            if (header_.total_bytes() > limit) {
+                Done(grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                                  "header.total_bytes: " + std::to_string(header_.total_bytes()) +
+                                      " bytes, over the upload limit of " +
+                                      std::to_string(limit)));
+                return;
+            }
+            content_.reserve(header_.total_bytes());
+        } else {
+            if (chunk_.has_header()) {
+                Done(InvalidArgument(Error{"chunks[" + std::to_string(chunks_) + "]",
+                                           "a second header"}));
+                return;
+            }
+            if (content_.size() + chunk_.data().size() > header_.total_bytes()) {
+                Done(InvalidArgument(Error{"chunks[" + std::to_string(chunks_) + "]",
+                                           "more bytes than header.total_bytes announced"}));
+                return;
+            }
+            content_ += chunk_.data();
+        }
+        ++chunks_;
+        StartRead(&chunk_);
+    }
+
+    void OnDone() override { delete this; }
+
+private:
+    void Complete() {
+        if (!have_header_) {
+            Done(InvalidArgument(Error{"chunks", "empty upload: no header"}));
+            return;
+        }
+        if (content_.size() != header_.total_bytes()) {
+            Done(InvalidArgument(Error{"chunks", "ended after " + std::to_string(content_.size()) +
+                                                     " of " +
+                                                     std::to_string(header_.total_bytes()) +
+                                                     " bytes"}));
+            return;
+        }
+        const bool queued = service_.pool().TrySubmit([this](int) {
+            Done(UploadJob(service_.state(), header_, content_, response_));
+        });
+        if (!queued) Done(QueueFull(service_.state().options.queue_capacity));
+    }
+
+    void Done(const grpc::Status& status) {
+        service_.Record("UploadScene", status, Since(start_),
+                        status.ok() ? response_->scene_id() : std::string());
+        Finish(status);
+    }
+
+    ShadowService& service_;
+    grpc::CallbackServerContext* context_;
+    v1::UploadSceneResponse* response_;
+    Clock::time_point start_;
+    v1::SceneChunk chunk_;
+    v1::SceneHeader header_;
+    bool have_header_ = false;
+    std::size_t chunks_ = 0;
+    std::string content_;
+};
+
+class RenderReactor final : public grpc::ServerWriteReactor<v1::RenderChunk> {
+public:
+    RenderReactor(ShadowService& service, grpc::CallbackServerContext* context,
+                  const v1::RenderRequest* request)
+        : service_(service), context_(context), request_(*request), start_(Clock::now()) {
+        grpc::Status status;
+        if (!service_.Authorized(context_, &status)) {
+            Done(status);
+            return;
+        }
+        const bool queued = service_.pool().TrySubmit([this](int worker) {
+            const grpc::Status s =
+                RenderJob(service_.state(), service_.gpu(worker), request_,
+                          [this] { return cancelled_.load() || context_->IsCancelled(); },
+                          &stream_);
+            if (!s.ok()) {
+                Done(s);
+                return;
+            }
+            NextWrite();
+        });
+        if (!queued) Done(QueueFull(service_.state().options.queue_capacity));
+    }
+
+    void OnWriteDone(bool ok) override {
+        if (!ok) {  // the client went away mid-stream
+            Done(grpc::Status(grpc::StatusCode::CANCELLED, "stream: the client stopped reading"));
+            return;
+        }
+        NextWrite();
+    }
+
+    void OnCancel() override { cancelled_ = true; }
+    void OnDone() override { delete this; }
+
+private:
+    void NextWrite() {
+        if (next_ == stream_.size()) {
+            Done(grpc::Status::OK);
+            return;
+        }
+        StartWrite(&stream_[next_++]);
+    }
+
+    void Done(const grpc::Status& status) {
+        service_.Record("Render", status, Since(start_),
+                        std::to_string(stream_.size()) + " messages");
+        Finish(status);
+    }
+
+    ShadowService& service_;
+    grpc::CallbackServerContext* context_;
+    v1::RenderRequest request_;
+    Clock::time_point start_;
+    std::vector<v1::RenderChunk> stream_;
+    std::size_t next_ = 0;
+    std::atomic<bool> cancelled_{false};
+};
+
+}  // namespace
+
+ShadowService::ShadowService(ServiceOptions options, const std::string& metrics_address,
+                             std::function<void(bool, const std::string&)> on_gl_ready)
+    : state_(std::move(options), metrics_address), on_gl_ready_(std::move(on_gl_ready)) {
+    for (int i = 0; i < state_.options.workers; ++i) {
+        auto worker = std::make_unique<GpuWorker>();
+        worker->options = state_.options.gl;
+        gpus_.push_back(std::move(worker));
+    }
+    pool_ = std::make_unique<WorkPool>(
+        state_.options.workers, state_.options.queue_capacity, [this](int worker) {
+            GpuWorker& gpu = *gpus_[worker];
+            const auto started = StartGpuWorker(gpu);
+            std::fprintf(stderr, "lixel[%s] worker %d: %s\n", state_.options.instance.c_str(),
+                         worker,
+                         started.ok() ? gpu.context->info().Summary().c_str()
+                                      : ("no GL context: " + gpu.error).c_str());
+            if (started.ok() && !gl_reported_.exchange(true) && on_gl_ready_) {
+                on_gl_ready_(true, gpu.context->info().Summary());
+            }
+        });
+}
+
+ShadowService::~ShadowService() { pool_.reset(); }
+
+bool ShadowService::Authorized(grpc::CallbackServerContext* context, grpc::Status* status) const {
+    const std::string& token = state_.options.bearer_token;
+    if (token.empty()) return true;
+    const auto& metadata = context->client_metadata();
+    const auto it = metadata.find("authorization");
+    if (it != metadata.end() &&
+        std::string_view(it->second.data(), it->second.size()) == "Bearer " + token) {
+        return true;
+    }
+    *status = grpc::Status(grpc::StatusCode::UNAUTHENTICATED,
+                           "authorization: missing or wrong bearer token");
+    return false;
+}
+
+void ShadowService::Record(const char* rpc, const grpc::Status& status, double seconds,
+                           const std::string& detail) {
+    state_.metrics.Request(rpc, CodeName(status.error_code()), seconds);
+    state_.metrics.QueueDepth(static_cast<double>(pool_ ? pool_->queued() : 0));
+    std::fprintf(stderr, "lixel[%s] %s %s %.2f ms%s%s%s%s\n", state_.options.instance.c_str(),
+                 rpc, CodeName(status.error_code()), seconds * 1e3, detail.empty() ? "" : " ",
+                 detail.c_str(), status.ok() ? "" : ": ", status.error_message().c_str());
+}
+
+void ShadowService::BreakWorkerContext(int worker) { gpus_.at(worker)->fault = true; }
+
+grpc::ServerUnaryReactor* ShadowService::Solve(grpc::CallbackServerContext* context,
+                                               const v1::SolveRequest* request,
+                                               v1::SolveResponse* response) {
+    return RunUnary(*this, context, "Solve",
+                    [this, request, response](int) { return SolveJob(state_, *request, response); });
+}
+
+grpc::ServerUnaryReactor* ShadowService::Plan(grpc::CallbackServerContext* context,
+                                              const v1::PlanRequest* request,
+                                              v1::PlanResponse* response) {
+    return RunUnary(*this, context, "Plan",
+                    [this, request, response](int) { return PlanJob(state_, *request, response); });
+}
+
+grpc::ServerReadReactor<v1::SceneChunk>* ShadowService::UploadScene(
+    grpc::CallbackServerContext* context, v1::UploadSceneResponse* response) {
+    return new UploadReactor(*this, context, response);
+}
+
+grpc::ServerWriteReactor<v1::RenderChunk>* ShadowService::Render(
+    grpc::CallbackServerContext* context, const v1::RenderRequest* request) {
+    return new RenderReactor(*this, context, request);
+}
+
+grpc::ServerUnaryReactor* ShadowService::View(grpc::CallbackServerContext* context,
+                                              const v1::ViewRequest* request,
+                                              v1::ViewResponse* response) {
+    return RunUnary(*this, context, "View", [this, context, request, response](int worker) {
+        return ViewJob(state_, *gpus_[worker], *request,
+                       [context] { return context->IsCancelled(); }, response);
+    });
+}
+
+grpc::ServerUnaryReactor* ShadowService::Silhouettes(grpc::CallbackServerContext* context,
+                                                     const v1::SilhouettesRequest* request,
+                                                     v1::SilhouettesResponse* response) {
+    return RunUnary(*this, context, "Silhouettes", [this, request, response](int) {
+        return SilhouettesJob(state_, *request, response);
+    });
+}
+
+}  // namespace lixel::service

@@ -1,0 +1,94 @@
+// The stencil shadow-volume view (DESIGN §5-6, paper 001): the viewer's depth, then every
+// volume counted into the stencil buffer (z-pass, or z-fail with caps), then the pixels whose
+// count is zero marked lit. The result is the view pass's interface (render::ViewImages): a
+// lit-fraction mask of exactly 0 or 1, a preview, no maps.
+#pragma once
+
+#include <lixel/render/context.h>
+#include <lixel/render/gl_objects.h>
+#include <lixel/render/gpu_scene.h>
+#include <lixel/render/program.h>
+#include <lixel/render/view_pass.h>
+#include <lixel/solver/result.h>
+#include <lixel/solver/types.h>
+#include <lixel/volumes/counting_mode.h>
+#include <lixel/volumes/gl/volume_gl_api.h>
+#include <lixel/volumes/gl/volume_scene.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace lixel::volumes::gl {
+
+enum class CountingChoice {
+    kAuto,   // z-pass where ChooseCountingMode proves it safe, else z-fail
+    kZPass,  // forced (wrong where the near plane cuts a volume; for tests and timing)
+    kZFail,  // forced
+};
+
+struct VolumeRequest {
+    Mat4 viewer = Mat4::Identity();  // Mv, world -> clip, [0, 1] clip depth
+    Viewport viewport;               // pixels
+    Vec4 light = Vec4::Zero();       // w = 1 point, w = 0 direction toward the light
+    CountingChoice counting = CountingChoice::kAuto;
+    // Also count the volume fragments rasterised (overdraw O, paper 000 Table 1): one more
+    // draw of the volumes with the depth test off, under a GL_SAMPLES_PASSED query.
+    bool measure_overdraw = false;
+};
+
+struct VolumeRenderInfo {
+    CountingMode mode = CountingMode::kZFail;
+    std::size_t patches = 0;        // edge patches drawn (robust silhouettes)
+    std::size_t cap_triangles = 0;  // triangles drawn for caps (z-fail)
+    std::uint64_t volume_fragments = 0;  // with measure_overdraw
+    double overdraw = 0.0;               // volume_fragments / pixels
+};
+
+class VolumePass {
+public:
+    // Builds the programs; `context` must outlive the pass and be current.
+    static Result<VolumePass> Create(render::GlContext& context);
+
+    // Robust silhouette volumes of `volumes` (multiplicity in the tessellation control shader,
+    // extrusion in the evaluation shader, caps in a geometry shader). `surfaces` is the same
+    // scene uploaded by render::UploadScene with the same origin. `target.depth` becomes a
+    // GL_DEPTH32F_STENCIL8 texture. Errors: "viewer", "viewport", "light", "origin" (scenes
+    // uploaded with different origins), or the GL debug message.
+    Result<VolumeRenderInfo> Render(const render::GpuScene& surfaces, const VolumeScene& volumes,
+                                    const VolumeRequest& request, render::ViewImages& target);
+
+    // A volume built on the CPU (smooth silhouettes: ExtrudeSmoothVolume), drawn as triangles.
+    // z-fail needs the volume built with Caps::kLightAndDark ("volume.caps" otherwise).
+    Result<VolumeRenderInfo> Render(const render::GpuScene& surfaces, const VolumeScene& volumes,
+                                    const GpuVolumeMesh& volume, const VolumeRequest& request,
+                                    render::ViewImages& target);
+
+    // Each patch's multiplicity as the tessellation control shader computes it (same order as
+    // volumes.patch_edges()), read back from a storage buffer; for tests against the CPU.
+    Result<std::vector<int>> PatchMultiplicities(const VolumeScene& volumes, const Vec4& light);
+
+private:
+    VolumePass() = default;
+    Result<VolumeRenderInfo> Draw(const render::GpuScene& surfaces, const VolumeScene& volumes,
+                                  const GpuVolumeMesh* volume, const VolumeRequest& request,
+                                  render::ViewImages& target);
+    void DrawPatches(const VolumeScene& volumes);
+    void DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume, CountingMode mode,
+                     const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
+                     VolumeRenderInfo& info);
+
+    render::GlContext* context_ = nullptr;
+    VolumeGlApi api_;
+    render::Program surface_;
+    render::Program sides_;
+    render::Program caps_;
+    render::Program mesh_;
+    render::GlFramebuffer framebuffer_;
+    render::GlFramebuffer discard_framebuffer_;
+    render::GlTexture discard_target_;
+    GLuint own_depth_ = 0;
+    // Indices per GL_PATCHES draw; 0 draws every patch in one call (see volume_pass.cc).
+    std::size_t patch_indices_per_draw_ = 0;  // the depth-stencil texture this pass last put in a ViewImages
+};
+
+}  // namespace lixel::volumes::gl

@@ -1,0 +1,90 @@
+// The GPU side of robust silhouette volumes (paper 001 §2.2): per mesh its edge adjacency, and
+// for the whole scene one buffer of welded points (relative to the scene's origin, as
+// render::GpuScene stores positions, so caps and surfaces rasterise to identical depths), one of
+// edge patches and one of kept triangles for the caps. Independent of the light: upload once,
+// draw for any light.
+#pragma once
+
+#include <lixel/render/context.h>
+#include <lixel/render/gl_objects.h>
+#include <lixel/solver/mesh.h>
+#include <lixel/solver/result.h>
+#include <lixel/solver/types.h>
+#include <lixel/volumes/edge_adjacency.h>
+#include <lixel/volumes/volume_mesh.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace lixel::volumes::gl {
+
+struct PatchEdge {
+    std::uint32_t mesh = 0;
+    std::uint32_t edge = 0;  // into adjacency[mesh].edges
+};
+
+class VolumeScene {
+public:
+    const Vec3& origin() const noexcept { return origin_; }
+    const std::vector<EdgeAdjacency>& adjacency() const noexcept { return adjacency_; }
+    // Vertices per patch: A, B and up to patch_vertices() - 2 opposite points.
+    int patch_vertices() const noexcept { return patch_vertices_; }
+    std::size_t patch_count() const noexcept { return patch_edges_.size(); }
+    // Which edge each patch draws; an edge with more opposite points than a patch holds is split
+    // over several patches, whose multiplicities add up.
+    const std::vector<PatchEdge>& patch_edges() const noexcept { return patch_edges_; }
+    std::size_t split_edges() const noexcept { return split_edges_; }
+    std::size_t cap_triangles() const noexcept { return cap_triangles_; }
+    GLuint patches() const noexcept { return patch_vao_.id(); }  // position at location 0
+    GLuint caps() const noexcept { return cap_vao_.id(); }
+
+private:
+    friend Result<VolumeScene> UploadVolumeScene(render::GlContext&, std::span<const Mesh>,
+                                                 const Vec3&, int);
+    Vec3 origin_ = Vec3::Zero();
+    std::vector<EdgeAdjacency> adjacency_;
+    int patch_vertices_ = 0;
+    std::vector<PatchEdge> patch_edges_;
+    std::size_t split_edges_ = 0;
+    std::size_t cap_triangles_ = 0;
+    render::GlBuffer points_;
+    render::GlBuffer patch_indices_;
+    render::GlBuffer cap_indices_;
+    render::GlVertexArray patch_vao_;
+    render::GlVertexArray cap_vao_;
+};
+
+// Builds every mesh's adjacency and uploads it. `max_opposites` per patch defaults (0) to what
+// the context allows: min(GL_MAX_PATCH_VERTICES - 2, (GL_MAX_TESS_GEN_LEVEL + 1) / 2), 30 on
+// llvmpipe (32 patch vertices, level 64), so 2|m| - 1 never exceeds the tessellation limit.
+// Errors name the field: "meshes" (none), "meshes[2].indices[7]", "origin", "max_opposites".
+Result<VolumeScene> UploadVolumeScene(render::GlContext& context, std::span<const Mesh> meshes,
+                                      const Vec3& origin = Vec3::Zero(), int max_opposites = 0);
+
+// A volume built on the CPU (smooth silhouettes, or any VolumeMesh), uploaded for drawing:
+// homogeneous points relative to the origin, sides and caps as separate index ranges.
+class GpuVolumeMesh {
+public:
+    std::size_t side_indices() const noexcept { return sides_; }
+    std::size_t cap_indices() const noexcept { return caps_; }
+    GLuint vertex_array() const noexcept { return vao_.id(); }  // vec4 position at location 0
+    // The finite triangles (light caps and gap strips) for the z-pass test, world coordinates.
+    const VolumeMesh& source() const noexcept { return source_; }
+
+private:
+    friend Result<GpuVolumeMesh> UploadVolumeMesh(render::GlContext&, const VolumeMesh&,
+                                                  const Vec3&);
+    std::size_t sides_ = 0;
+    std::size_t caps_ = 0;
+    VolumeMesh source_;
+    render::GlBuffer vertices_;
+    render::GlBuffer indices_;
+    render::GlVertexArray vao_;
+};
+
+Result<GpuVolumeMesh> UploadVolumeMesh(render::GlContext& context, const VolumeMesh& volume,
+                                       const Vec3& origin = Vec3::Zero());
+
+}  // namespace lixel::volumes::gl

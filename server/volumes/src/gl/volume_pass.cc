@@ -1,0 +1,351 @@
+// Depth, stencil counting, lit marking. GL state is restored to the renderer's defaults (depth
+// test LESS with writes, no stencil, no depth clamp, colour writes on) after each call.
+#include <lixel/render/map_transform.h>
+#include <lixel/solver/camera.h>
+#include <lixel/volumes/gl/volume_pass.h>
+#include <lixel/volumes/gl/volume_shaders.h>
+#include <lixel/volumes/multiplicity.h>
+
+#include <algorithm>
+#include <string>
+
+namespace lixel::volumes::gl {
+namespace {
+
+// Polygon offset of the light caps: a cap lies on its own triangle, and must count as behind
+// that surface (z-fail counts faces behind a pixel), or every lit surface would shadow itself.
+constexpr float kCapOffsetFactor = 1.0f;
+constexpr float kCapOffsetUnits = 4.0f;
+
+constexpr std::size_t kSoftwarePatchIndicesPerDraw = 1024;
+
+Result<bool> Validate(const VolumeRequest& r, int max_texture_size) {
+    if (auto ok = ValidateViewer(r.viewer, r.viewport, "viewer"); !ok) return ok;
+    if (r.viewport.width > max_texture_size || r.viewport.height > max_texture_size) {
+        return Error{"viewport", "larger than the GL maximum texture size " +
+                                     std::to_string(max_texture_size)};
+    }
+    if (auto l = NormalizeLight(r.light); !l) return l.error();
+    return true;
+}
+
+}  // namespace
+
+Result<VolumePass> VolumePass::Create(render::GlContext& context) {
+    VolumePass pass;
+    pass.context_ = &context;
+    auto api = LoadVolumeGlApi(context);
+    if (!api) return api.error();
+    pass.api_ = *api;
+    const render::ShaderLookup lookup = VolumeShaderLookup();
+    auto surface = render::BuildProgram(context, {"volume_surface.vert", "volume_surface.frag"},
+                                        {}, lookup);
+    if (!surface) return surface.error();
+    auto sides = render::BuildProgram(context,
+                                      {"shadow_volume.vert", "shadow_volume.tesc",
+                                       "shadow_volume.tese", "shadow_volume.frag"},
+                                      {}, lookup);
+    if (!sides) return sides.error();
+    auto caps = render::BuildProgram(
+        context, {"volume_caps.vert", "volume_caps.geom", "shadow_volume.frag"}, {}, lookup);
+    if (!caps) return caps.error();
+    auto mesh = render::BuildProgram(context, {"volume_mesh.vert", "shadow_volume.frag"}, {},
+                                     lookup);
+    if (!mesh) return mesh.error();
+    pass.surface_ = std::move(surface.value());
+    pass.sides_ = std::move(sides.value());
+    pass.caps_ = std::move(caps.value());
+    pass.mesh_ = std::move(mesh.value());
+    const render::GlApi& gl = context.gl();
+    GLuint fbo = 0;
+    gl.CreateFramebuffers(1, &fbo);
+    const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    gl.NamedFramebufferDrawBuffers(fbo, 3, buffers);
+    pass.framebuffer_ = render::GlFramebuffer(gl, fbo);
+    // PatchMultiplicities draws with rasterisation off, but still needs a complete framebuffer.
+    gl.CreateFramebuffers(1, &fbo);
+    pass.discard_framebuffer_ = render::GlFramebuffer(gl, fbo);
+    pass.discard_target_ = render::CreateTexture2D(gl, GL_R8, 1, 1);
+    gl.NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, pass.discard_target_.id(), 0);
+    // Mesa's llvmpipe (22.3) feeds the tessellation control stage the wrong vertices in indexed
+    // GL_PATCHES draws of more than 1024 indices (found by the GPU-vs-CPU multiplicity test);
+    // such draws are split there. Other drivers draw all patches at once.
+    if (context.info().renderer.find("llvmpipe") != std::string::npos ||
+        context.info().renderer.find("softpipe") != std::string::npos) {
+        pass.patch_indices_per_draw_ = kSoftwarePatchIndicesPerDraw;
+    }
+    if (auto ok = context.Check("volume pass setup"); !ok) return ok.error();
+    return pass;
+}
+
+void VolumePass::DrawPatches(const VolumeScene& volumes) {
+    const render::GlApi& gl = context_->gl();
+    const auto per_patch = static_cast<std::size_t>(volumes.patch_vertices());
+    const std::size_t count = volumes.patch_count();
+    const std::size_t chunk = patch_indices_per_draw_ == 0
+                                  ? count
+                                  : std::max<std::size_t>(1, patch_indices_per_draw_ / per_patch);
+    const GLuint p = sides_.id();
+    api_.PatchParameteri(GL_PATCH_VERTICES, volumes.patch_vertices());
+    gl.BindVertexArray(volumes.patches());
+    for (std::size_t first = 0; first < count; first += chunk) {
+        const std::size_t n = std::min(chunk, count - first);
+        // gl_PrimitiveID restarts with every draw; u_patch_base keeps recorded ids global.
+        gl.ProgramUniform1i(p, sides_.Uniform("u_patch_base"), static_cast<GLint>(first));
+        gl.DrawElements(GL_PATCHES, static_cast<GLsizei>(n * per_patch), GL_UNSIGNED_INT,
+                        reinterpret_cast<const void*>(first * per_patch * sizeof(GLuint)));
+    }
+}
+
+void VolumePass::DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
+                             CountingMode mode, const Eigen::Matrix4f& viewer,
+                             const Eigen::Vector4f& light, VolumeRenderInfo& info) {
+    const render::GlApi& gl = context_->gl();
+    const bool caps = mode == CountingMode::kZFail;
+    if (volume != nullptr) {
+        const GLuint p = mesh_.id();
+        gl.UseProgram(p);
+        gl.ProgramUniformMatrix4fv(p, mesh_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
+        gl.BindVertexArray(volume->vertex_array());
+        gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(volume->side_indices()),
+                        GL_UNSIGNED_INT, nullptr);
+        if (caps && volume->cap_indices() > 0) {
+            gl.Enable(GL_POLYGON_OFFSET_FILL);
+            api_.PolygonOffset(kCapOffsetFactor, kCapOffsetUnits);
+            gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(volume->cap_indices()),
+                            GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(volume->side_indices() * sizeof(GLuint)));
+            gl.Disable(GL_POLYGON_OFFSET_FILL);
+            info.cap_triangles = volume->cap_indices() / 3;
+        }
+        return;
+    }
+    GLuint p = sides_.id();
+    gl.UseProgram(p);
+    gl.ProgramUniformMatrix4fv(p, sides_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
+    gl.ProgramUniform4fv(p, sides_.Uniform("u_light"), 1, light.data());
+    gl.ProgramUniform1i(p, sides_.Uniform("u_record"), 0);
+    DrawPatches(volumes);
+    info.patches = volumes.patch_count();
+    if (!caps) return;
+    p = caps_.id();
+    gl.UseProgram(p);
+    gl.ProgramUniformMatrix4fv(p, caps_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
+    gl.ProgramUniform4fv(p, caps_.Uniform("u_light"), 1, light.data());
+    gl.Enable(GL_POLYGON_OFFSET_FILL);
+    api_.PolygonOffset(kCapOffsetFactor, kCapOffsetUnits);
+    gl.BindVertexArray(volumes.caps());
+    gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * volumes.cap_triangles()),
+                    GL_UNSIGNED_INT, nullptr);
+    gl.Disable(GL_POLYGON_OFFSET_FILL);
+    info.cap_triangles = volumes.cap_triangles();
+}
+
+Result<VolumeRenderInfo> VolumePass::Render(const render::GpuScene& surfaces,
+                                            const VolumeScene& volumes,
+                                            const VolumeRequest& request,
+                                            render::ViewImages& target) {
+    return Draw(surfaces, volumes, nullptr, request, target);
+}
+
+Result<VolumeRenderInfo> VolumePass::Render(const render::GpuScene& surfaces,
+                                            const VolumeScene& volumes,
+                                            const GpuVolumeMesh& volume,
+                                            const VolumeRequest& request,
+                                            render::ViewImages& target) {
+    return Draw(surfaces, volumes, &volume, request, target);
+}
+
+Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
+                                          const VolumeScene& volumes, const GpuVolumeMesh* volume,
+                                          const VolumeRequest& request,
+                                          render::ViewImages& target) {
+    if (auto ok = Validate(request, context_->info().max_texture_size); !ok) return ok.error();
+    if (surfaces.origin() != volumes.origin()) {
+        return Error{"origin", "surfaces and volumes were uploaded with different origins"};
+    }
+    VolumeRenderInfo info;
+    // Which counting: z-pass only where no occluder can reach the near plane's volume.
+    if (request.counting == CountingChoice::kAuto) {
+        std::vector<const EdgeAdjacency*> meshes;
+        for (const EdgeAdjacency& a : volumes.adjacency()) meshes.push_back(&a);
+        auto mode = ChooseCountingMode(meshes, request.light, request.viewer);
+        if (!mode) return mode.error();
+        info.mode = *mode;
+        if (volume != nullptr && info.mode == CountingMode::kZPass) {
+            mode = ChooseCountingMode(volume->source(), request.light, request.viewer);
+            if (!mode) return mode.error();
+            info.mode = *mode;
+        }
+    } else {
+        info.mode = request.counting == CountingChoice::kZPass ? CountingMode::kZPass
+                                                                : CountingMode::kZFail;
+    }
+    if (volume != nullptr && info.mode == CountingMode::kZFail && volume->cap_indices() == 0 &&
+        volume->side_indices() > 0) {
+        return Error{"volume.caps", "z-fail needs a volume built with Caps::kLightAndDark"};
+    }
+
+    const render::GlApi& gl = context_->gl();
+    const Viewport& size = request.viewport;
+    const bool resize = size.width != target.viewport.width ||
+                        size.height != target.viewport.height;
+    if (!target.mask || resize) target.mask = render::CreateTexture2D(gl, GL_R32F, size.width,
+                                                                       size.height);
+    if (!target.preview || resize) {
+        target.preview = render::CreateTexture2D(gl, GL_RGBA8, size.width, size.height);
+    }
+    if (!target.map_index || resize) {
+        target.map_index = render::CreateTexture2D(gl, GL_R32I, size.width, size.height);
+    }
+    if (!target.depth || resize || target.depth.id() != own_depth_) {
+        target.depth = render::CreateTexture2D(gl, GL_DEPTH32F_STENCIL8, size.width, size.height);
+        own_depth_ = target.depth.id();
+    }
+    target.viewport = size;
+    const GLuint fbo = framebuffer_.id();
+    gl.NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, target.mask.id(), 0);
+    gl.NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT1, target.preview.id(), 0);
+    gl.NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT2, target.map_index.id(), 0);
+    gl.NamedFramebufferTexture(fbo, GL_DEPTH_STENCIL_ATTACHMENT, target.depth.id(), 0);
+    const GLenum status = gl.CheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        return Error{"volume pass", "framebuffer incomplete (status " + std::to_string(status) +
+                                        ")"};
+    }
+    const Vec3& origin = volumes.origin();
+    const Eigen::Matrix4f viewer = render::RelativeMatrix(request.viewer, origin);
+    const Vec4 light_world = *NormalizeLight(request.light);
+    const Eigen::Vector4f light = render::RelativePoint(light_world, origin).cast<float>();
+
+    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
+    gl.Viewport(0, 0, size.width, size.height);
+    const float no_surface[4] = {render::kNoSurface, 0.0f, 0.0f, 0.0f};
+    const float background[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    const GLint no_map[4] = {render::kNoMap, 0, 0, 0};
+    gl.ClearNamedFramebufferfv(fbo, GL_COLOR, 0, no_surface);
+    gl.ClearNamedFramebufferfv(fbo, GL_COLOR, 1, background);
+    gl.ClearNamedFramebufferiv(fbo, GL_COLOR, 2, no_map);
+    api_.ClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, static_cast<float>(kClipDepthFar), 0);
+
+    // 1. Depth of the visible surfaces; every surface pixel starts as shadowed (mask 0).
+    const GLuint sp = surface_.id();
+    gl.ProgramUniformMatrix4fv(sp, surface_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
+    gl.ProgramUniform4fv(sp, surface_.Uniform("u_light"), 1, light.data());
+    gl.ProgramUniform1f(sp, surface_.Uniform("u_lit"), 0.0f);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LESS);
+    gl.DepthMask(GL_TRUE);
+    gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_BLEND);
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    auto draw_surfaces = [&]() {
+        gl.UseProgram(sp);
+        gl.BindVertexArray(surfaces.triangles());
+        for (const render::GpuMeshRange& range : surfaces.ranges()) {
+            gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count),
+                            GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
+        }
+    };
+    draw_surfaces();
+
+    // 2. Volumes into the stencil buffer, wrapping (Everitt and Kilgard). Depth clamp keeps the
+    // dark caps and the far ends of the sides, at infinity, from being clipped.
+    gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gl.DepthMask(GL_FALSE);
+    gl.Enable(GL_DEPTH_CLAMP);
+    gl.Enable(GL_STENCIL_TEST);
+    gl.FrontFace(GL_CCW);
+    api_.StencilMask(0xff);
+    api_.StencilFunc(GL_ALWAYS, 0, 0xff);
+    if (info.mode == CountingMode::kZPass) {
+        api_.StencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
+        api_.StencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
+    } else {
+        api_.StencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
+        api_.StencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+    }
+    DrawVolumes(volumes, volume, info.mode, viewer, light, info);
+
+    // 3. Lit where the count is zero: the same surfaces, same depth (invariant), mask 1.
+    gl.Disable(GL_DEPTH_CLAMP);
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    api_.StencilFunc(GL_EQUAL, 0, 0xff);
+    api_.StencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
+    gl.DepthFunc(GL_EQUAL);
+    gl.ProgramUniform1f(sp, surface_.Uniform("u_lit"), 1.0f);
+    draw_surfaces();
+
+    // Overdraw: every volume fragment, depth and stencil tests off, nothing written.
+    if (request.measure_overdraw) {
+        gl.Disable(GL_STENCIL_TEST);
+        gl.Disable(GL_DEPTH_TEST);
+        gl.Enable(GL_DEPTH_CLAMP);
+        gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+        GLuint query = 0;
+        api_.CreateQueries(GL_SAMPLES_PASSED, 1, &query);
+        api_.BeginQuery(GL_SAMPLES_PASSED, query);
+        VolumeRenderInfo ignored;
+        DrawVolumes(volumes, volume, info.mode, viewer, light, ignored);
+        api_.EndQuery(GL_SAMPLES_PASSED);
+        GLuint64 samples = 0;
+        api_.GetQueryObjectui64v(query, GL_QUERY_RESULT, &samples);
+        api_.DeleteQueries(1, &query);
+        info.volume_fragments = samples;
+        info.overdraw = static_cast<double>(samples) /
+                        (static_cast<double>(size.width) * static_cast<double>(size.height));
+        gl.Disable(GL_DEPTH_CLAMP);
+        gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
+
+    gl.Disable(GL_STENCIL_TEST);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LESS);
+    gl.DepthMask(GL_TRUE);
+    gl.BindVertexArray(0);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (auto ok = context_->Check(std::string("volume pass (") + CountingModeName(info.mode) +
+                                  ")");
+        !ok) {
+        return ok.error();
+    }
+    return info;
+}
+
+Result<std::vector<int>> VolumePass::PatchMultiplicities(const VolumeScene& volumes,
+                                                         const Vec4& light) {
+    auto l = NormalizeLight(light);
+    if (!l) return l.error();
+    const render::GlApi& gl = context_->gl();
+    const std::size_t count = volumes.patch_count();
+    std::vector<int> out(count, 0);
+    if (count == 0) return out;
+    GLuint buffer = 0;
+    gl.CreateBuffers(1, &buffer);
+    const render::GlBuffer storage(gl, buffer);
+    gl.NamedBufferStorage(buffer, static_cast<GLsizeiptr>(count * sizeof(int)), out.data(), 0);
+    api_.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, buffer);
+    const Eigen::Vector4f relative = render::RelativePoint(*l, volumes.origin()).cast<float>();
+    const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+    const GLuint p = sides_.id();
+    gl.UseProgram(p);
+    gl.ProgramUniformMatrix4fv(p, sides_.Uniform("u_viewer"), 1, GL_FALSE, identity.data());
+    gl.ProgramUniform4fv(p, sides_.Uniform("u_light"), 1, relative.data());
+    gl.ProgramUniform1i(p, sides_.Uniform("u_record"), 1);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, discard_framebuffer_.id());
+    gl.Enable(GL_RASTERIZER_DISCARD);
+    DrawPatches(volumes);
+    gl.Disable(GL_RASTERIZER_DISCARD);
+    gl.ProgramUniform1i(p, sides_.Uniform("u_record"), 0);
+    gl.BindVertexArray(0);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    api_.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // shader writes before the read-back
+    api_.GetNamedBufferSubData(buffer, 0, static_cast<GLsizeiptr>(count * sizeof(int)),
+                               out.data());
+    api_.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
+    if (auto ok = context_->Check("patch multiplicities"); !ok) return ok.error();
+    return out;
+}
+
+}  // namespace lixel::volumes::gl

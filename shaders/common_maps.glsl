@@ -1,0 +1,40 @@
+// The plan's maps as the view pass sees them, and the lookup rule that picks one (scheduler.h
+// LookupRule; paper 004 §3): maps are tried in plan order; a point belongs to the first map whose
+// q > 0, whose lixel lies in [0, W) x [0, H) and whose half-planes a x + b y + c >= 0 all hold.
+// Expects LIXEL_MAX_MAPS and LIXEL_MAX_HALF_PLANES from the program's defines.
+
+uniform int u_map_count;
+// Relative world position -> (x q, y q, z q, q): x, y in lixels, z in [0, 1].
+uniform mat4 u_map_lixel[LIXEL_MAX_MAPS];
+// ((u_map_lixel)^-1)^T: carries a world plane into light-screen coordinates (paper 003 §3.4).
+uniform mat4 u_map_plane[LIXEL_MAX_MAPS];
+uniform ivec2 u_map_size[LIXEL_MAX_MAPS];
+uniform int u_map_half_plane_count[LIXEL_MAX_MAPS];
+uniform vec3 u_map_half_planes[LIXEL_MAX_MAPS * LIXEL_MAX_HALF_PLANES];
+
+// Index of the map that holds relative position p, or -1; `light_point` gets (x, y, depth).
+int select_map(vec3 p, out vec3 light_point) {
+    for (int m = 0; m < u_map_count; ++m) {
+        vec4 h = u_map_lixel[m] * vec4(p, 1.0);
+        if (!(h.w > 0.0)) continue;
+        vec3 s = h.xyz / h.w;
+        if (s.x < 0.0 || s.y < 0.0 || s.x >= float(u_map_size[m].x) ||
+            s.y >= float(u_map_size[m].y)) {
+            continue;
+        }
+        bool inside = true;
+        for (int k = 0; k < u_map_half_plane_count[m]; ++k) {
+            vec3 hp = u_map_half_planes[m * LIXEL_MAX_HALF_PLANES + k];
+            if (hp.x * s.x + hp.y * s.y + hp.z < 0.0) {
+                inside = false;
+                break;
+            }
+        }
+        if (inside) {
+            light_point = s;
+            return m;
+        }
+    }
+    light_point = vec3(0.0);
+    return -1;
+}

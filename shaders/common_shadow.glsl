@@ -1,0 +1,120 @@
+// The shadow tests of the view pass, one small function each (STYLE.md): hard_shadow, pcf,
+// second_depth_test, silhouette_test. `s` is (x, y, depth) in the chosen map's light screen: x, y
+// in lixels with texel edges at integers, depth z/q in [0, 1] growing away from the light.
+// Each returns the lit fraction in [0, 1]. Needs common_maps.glsl and common_textures.glsl.
+
+float lit_if(bool lit) { return lit ? 1.0 : 0.0; }
+
+// Williams' test with a bias: the nearest texel's depth.
+float hard_shadow(int map, vec3 s, float bias) {
+    return lit_if(s.z <= fetch_a(map, ivec2(floor(s.xy))).r + bias);
+}
+
+// Weight of tap i (of 2r along an axis) in the tent filter: the mean of (2r - 1)^2 bilinear
+// lookups, which is what hardware PCF does for r = 1 (Reeves et al. 1987).
+float tent_weight(int i, int r, float f) {
+    if (i == 0) return 1.0 - f;
+    if (i == 2 * r - 1) return f;
+    return 1.0;
+}
+
+// Percentage-closer filtering over the 2r x 2r texels whose centres surround s.
+float pcf(int map, vec3 s, float bias, int r) {
+    vec2 g = s.xy - 0.5;
+    ivec2 base = ivec2(floor(g)) - (r - 1);
+    vec2 f = g - floor(g);
+    float sum = 0.0;
+    for (int j = 0; j < 2 * r; ++j) {
+        for (int i = 0; i < 2 * r; ++i) {
+            float w = tent_weight(i, r, f.x) * tent_weight(j, r, f.y);
+            sum += w * lit_if(s.z <= fetch_a(map, base + ivec2(i, j)).r + bias);
+        }
+    }
+    return sum / float((2 * r - 1) * (2 * r - 1));
+}
+
+// Paper 003 Fig. 10 against a second-depth map. `plane` is the pixel's tangent plane carried
+// into light-screen coordinates, T_L = ((M_PL M_L)^-1)^T T_W (§3.4), so a x + b y + c z + d = 0.
+// Trivial accept/reject when all nearby comparisons agree; virtual samples on the tangent plane,
+// filtered like PCF, only when they are mixed. The comparison is <= (§3.3: two-sided planar
+// surfaces then compare equal to themselves); `bias` defaults to 0.
+float second_depth_test(int map, vec3 s, vec4 plane, float bias, int r) {
+    vec2 g = s.xy - 0.5;
+    ivec2 base = ivec2(floor(g)) - (r - 1);
+    vec2 f = g - floor(g);
+    int illuminated = 0;
+    float filtered = 0.0;
+    for (int j = 0; j < 2 * r; ++j) {
+        for (int i = 0; i < 2 * r; ++i) {
+            bool lit = s.z <= fetch_a(map, base + ivec2(i, j)).r + bias;
+            illuminated += lit ? 1 : 0;
+            filtered += tent_weight(i, r, f.x) * tent_weight(j, r, f.y) * lit_if(lit);
+        }
+    }
+    float norm = 1.0 / float((2 * r - 1) * (2 * r - 1));
+    if (illuminated == 0) return 0.0;
+    if (illuminated == 4 * r * r) return 1.0;
+    // A tangent plane that contains the light rays (c ~ 0) has no depth to resample (Fig. 9):
+    // keep the ordinary comparisons.
+    if (abs(plane.z) <= 1e-6 * max(abs(plane.x), max(abs(plane.y), abs(plane.w)))) {
+        return filtered * norm;
+    }
+    float virtual_lit = 0.0;
+    for (int j = 0; j < 2 * r; ++j) {
+        for (int i = 0; i < 2 * r; ++i) {
+            vec2 centre = vec2(base + ivec2(i, j)) + 0.5;
+            float z_virtual = -(plane.x * centre.x + plane.y * centre.y + plane.w) / plane.z;
+            float z_second = fetch_a(map, base + ivec2(i, j)).r;
+            virtual_lit += tent_weight(i, r, f.x) * tent_weight(j, r, f.y) *
+                           lit_if(z_virtual <= z_second + bias);
+        }
+    }
+    return virtual_lit * norm;
+}
+
+// Silhouette point stored in `texel` (texel-local, empty -> the centre, paper 000 §2), as an
+// offset from the texel's lower-left corner. Texels outside the map count as empty.
+vec2 silhouette_point(int map, ivec2 texel) {
+    if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, u_map_size[map]))) {
+        return vec2(0.5);
+    }
+    vec2 p = fetch_b(map, texel).rg;
+    return p.x < 0.0 ? vec2(0.5) : p;
+}
+
+float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
+
+// Paper 000 §3.2, Fig. 5. u_tex_a holds depth at texel corners (the depth map offset by half a
+// texel: corner (i, j) is its texel (i, j)); u_tex_b the silhouette points. When the four corner
+// tests agree, they decide. Otherwise the segments from this texel's point to its four
+// neighbours' points cut the texel into four skewed quadrants, each shaded like its corner; the
+// quadrant is found among eight pie slices (the four corner rays, each triangle split by the
+// segment to the neighbour across its side).
+float silhouette_test(int map, vec3 s, float bias) {
+    ivec2 t = ivec2(floor(s.xy));
+    vec2 q = s.xy - vec2(t);
+    // Corners counter-clockwise from the lower-left.
+    const ivec2 corner[4] = ivec2[4](ivec2(0, 0), ivec2(1, 0), ivec2(1, 1), ivec2(0, 1));
+    float lit[4];
+    for (int k = 0; k < 4; ++k) lit[k] = lit_if(s.z <= fetch_a(map, t + corner[k]).r + bias);
+    if (lit[0] == lit[1] && lit[1] == lit[2] && lit[2] == lit[3]) return lit[0];
+
+    // Neighbour across side k (between corner k and k + 1): below, right, above, left.
+    const ivec2 side[4] = ivec2[4](ivec2(0, -1), ivec2(1, 0), ivec2(0, 1), ivec2(-1, 0));
+    vec2 centre_point = silhouette_point(map, t);
+    vec2 v = q - centre_point;
+    for (int k = 0; k < 4; ++k) {
+        vec2 a = vec2(corner[k]) - centre_point;
+        vec2 b = vec2(corner[(k + 1) % 4]) - centre_point;
+        if (cross2(a, v) >= 0.0 && cross2(v, b) >= 0.0) {
+            vec2 n = silhouette_point(map, t + side[k]) + vec2(side[k]) - centre_point;
+            return cross2(n, v) >= 0.0 ? lit[(k + 1) % 4] : lit[k];
+        }
+    }
+    // Only when the point sits exactly on the centre point: take the nearest corner.
+    ivec2 nearest = ivec2(greaterThanEqual(q, vec2(0.5)));
+    for (int k = 0; k < 4; ++k) {
+        if (corner[k] == nearest) return lit[k];
+    }
+    return lit[0];
+}

@@ -1,0 +1,87 @@
+#version 450 core
+// Silhouette-map pass (paper 000 §3.1, Fig. 3): silhouette edges as seen from the light, each
+// drawn as a conservative quad. llvmpipe has no conservative rasterisation and wide lines miss
+// texels, so the quad is widened here: every texel the edge touches has its centre within
+// sqrt(2)/2 lixel of the edge, and the corner rule (silhouette_map.frag) needs a little more.
+// Input is GL_TRIANGLES_ADJACENCY (gpu_scene.h): vertices 0, 2, 4 the triangle, 1, 3, 5 the
+// vertex opposite edges 0-2, 2-4, 4-0 in the neighbouring triangle, or a copy of the triangle's
+// own opposite vertex at an open boundary.
+
+layout(triangles_adjacency) in;
+layout(triangle_strip, max_vertices = 12) out;
+
+in vec3 v_position[];
+
+uniform mat4 u_lixel;   // relative position -> (x q, y q, z q, q)
+uniform vec4 u_light;   // relative to the origin: (l_xyz - l_w origin, l_w)
+uniform vec2 u_size;    // map width, height in lixels
+
+// Half-width and end extension of the quad, lixels: sqrt(2)/2 plus the corner margin.
+const float kHalfWidth = 0.75;
+
+flat out vec4 f_segment;  // the clipped edge's endpoints in lixels: (a.x, a.y, b.x, b.y)
+flat out vec2 f_depth;    // their depths, z/q
+
+bool faces_light(vec3 a, vec3 b, vec3 c) {
+    vec3 n = cross(b - a, c - a);
+    return dot(n, u_light.xyz - u_light.w * a) > 0.0;
+}
+
+// Clips the homogeneous segment h0-h1 to q > 0 (in front of the light). Depth is not clipped:
+// the depth passes clamp it (GL_DEPTH_CLAMP, depth_row.h), and so does f_depth.
+bool clip_front(inout vec4 h0, inout vec4 h1) {
+    float eps = 1e-6 * max(abs(h0.w), abs(h1.w));
+    float d0 = h0.w - eps;
+    float d1 = h1.w - eps;
+    if (d0 < 0.0 && d1 < 0.0) return false;
+    if (d0 < 0.0) h0 = mix(h0, h1, d0 / (d0 - d1));
+    if (d1 < 0.0) h1 = mix(h0, h1, d0 / (d0 - d1));
+    return true;
+}
+
+// Outputs are undefined after EmitVertex, so the flat ones are written with every vertex.
+void emit_corner(vec2 lixel, vec4 segment, vec2 depth) {
+    f_segment = segment;
+    f_depth = depth;
+    gl_Position = vec4(lixel / u_size * 2.0 - 1.0, 0.5, 1.0);
+    EmitVertex();
+}
+
+void emit_edge(vec3 p0, vec3 p1) {
+    vec4 h0 = u_lixel * vec4(p0, 1.0);
+    vec4 h1 = u_lixel * vec4(p1, 1.0);
+    if (!clip_front(h0, h1)) return;
+    vec2 a = h0.xy / h0.w;
+    vec2 b = h1.xy / h1.w;
+    vec2 d = b - a;
+    float len = length(d);
+    vec2 dir = len > 1e-6 ? d / len : vec2(1.0, 0.0);
+    vec2 perp = vec2(-dir.y, dir.x) * kHalfWidth;
+    vec2 ext = dir * kHalfWidth;
+    vec4 segment = vec4(a, b);
+    vec2 depth = clamp(vec2(h0.z / h0.w, h1.z / h1.w), 0.0, 1.0);
+    emit_corner(a - ext - perp, segment, depth);
+    emit_corner(a - ext + perp, segment, depth);
+    emit_corner(b + ext - perp, segment, depth);
+    emit_corner(b + ext + perp, segment, depth);
+    EndPrimitive();
+}
+
+void main() {
+    vec3 p[6];
+    for (int i = 0; i < 6; ++i) p[i] = v_position[i];
+    bool facing = faces_light(p[0], p[2], p[4]);
+    for (int e = 0; e < 3; ++e) {
+        vec3 a = p[2 * e];
+        vec3 b = p[(2 * e + 2) % 6];
+        vec3 across = p[2 * e + 1];
+        vec3 own_opposite = p[(2 * e + 4) % 6];
+        if (across == own_opposite) {
+            // Open boundary: an outline of the surface from every direction.
+            emit_edge(a, b);
+        } else if (facing && !faces_light(a, across, b)) {
+            // Light-facing here, away-facing across: a silhouette, drawn once from this side.
+            emit_edge(a, b);
+        }
+    }
+}

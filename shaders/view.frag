@@ -1,0 +1,85 @@
+#version 450 core
+// View pass: per viewer pixel, the map chosen by the plan's lookup rule and the shadow test of
+// the method asked for. Outputs the lit fraction (the mask), a shaded preview and the map used.
+#include "common_maps.glsl"
+#include "common_textures.glsl"
+#include "common_shadow.glsl"
+
+in vec3 v_position;
+
+// Matches ShadowMethod in view_pass.h.
+const int kMethodDepth = 0;
+const int kMethodPcf = 1;
+const int kMethodSecondDepth = 2;
+const int kMethodSilhouette = 3;
+
+uniform int u_method;
+uniform vec4 u_light;  // relative to the origin: (l_xyz - l_w origin, l_w)
+uniform vec4 u_eye;    // the viewer's centre of projection, same convention
+uniform float u_depth_bias;   // clip-depth units
+uniform float u_slope_bias;   // multiple of the tangent plane's depth change over the reach
+uniform float u_max_bias;     // clip-depth units; caps the slope term near grazing
+uniform float u_second_depth_bias;  // paper 003 §3.3; 0 for solids
+uniform int u_pcf_radius;
+uniform int u_tint_maps;
+
+layout(location = 0) out float o_mask;
+layout(location = 1) out vec4 o_preview;
+layout(location = 2) out int o_map;
+
+// Farthest sample of each test from the point, lixels: the nearest texel's centre, the 2r x 2r
+// PCF taps' centres (per unit r), a texel's corners.
+const float kReachNearest = 0.70710678;
+const float kReachPerRadius = 1.41421356;
+const float kReachCorners = 1.41421356;
+
+float biased(float slope_len, float reach) {
+    return min(u_depth_bias + u_slope_bias * reach * slope_len, u_max_bias);
+}
+
+vec3 map_tint(int map) {
+    const vec3 palette[4] = vec3[4](vec3(1.0, 0.85, 0.85), vec3(0.85, 1.0, 0.85),
+                                    vec3(0.85, 0.85, 1.0), vec3(1.0, 1.0, 0.8));
+    return map < 0 ? vec3(1.0, 0.6, 1.0) : palette[map % 4];
+}
+
+void main() {
+    vec3 p = v_position;
+    // The facet's own plane: exact for polygons, so virtual samples on it are exact (§3.2).
+    vec3 n = cross(dFdx(p), dFdy(p));
+    if (dot(n, u_eye.xyz - u_eye.w * p) < 0.0) n = -n;  // the side the viewer sees
+    n = normalize(n);
+    vec3 to_light = normalize(u_light.xyz - u_light.w * p);
+    float n_dot_l = dot(n, to_light);
+
+    vec3 s;
+    int map = select_map(p, s);
+    float lit;
+    if (!(n_dot_l > 0.0)) {
+        lit = 0.0;  // faces away from the light: shadowed by the illumination model (§3.1)
+    } else if (map < 0) {
+        lit = 1.0;  // no map holds the point's light ray, so nothing planned casts onto it
+    } else {
+        vec4 plane = u_map_plane[map] * vec4(n, -dot(n, p));
+        // Slope-scaled bias: the tangent plane's depth change per lixel times how far the
+        // test's farthest sample lies from the point (reach, lixels), so a planar receiver
+        // never shadows itself; the boundary moves by at most slope_bias * reach lixels.
+        vec2 slope = abs(plane.z) > 0.0 ? -plane.xy / plane.z : vec2(1e30);
+        float slope_len = length(slope);
+        if (u_method == kMethodDepth) {
+            lit = hard_shadow(map, s, biased(slope_len, kReachNearest));
+        } else if (u_method == kMethodPcf) {
+            lit = pcf(map, s, biased(slope_len, kReachPerRadius * float(u_pcf_radius)),
+                      u_pcf_radius);
+        } else if (u_method == kMethodSecondDepth) {
+            lit = second_depth_test(map, s, plane, u_second_depth_bias, u_pcf_radius);
+        } else {
+            lit = silhouette_test(map, s, biased(slope_len, kReachCorners));
+        }
+    }
+    o_mask = lit;
+    o_map = map;
+    vec3 albedo = vec3(0.8) * (u_tint_maps != 0 ? map_tint(map) : vec3(1.0));
+    vec3 colour = albedo * (0.2 + 0.8 * max(n_dot_l, 0.0) * lit);
+    o_preview = vec4(pow(colour, vec3(1.0 / 2.2)), 1.0);  // sRGB-ish for people
+}

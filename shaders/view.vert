@@ -1,0 +1,14 @@
+#version 450 core
+// View pass (DESIGN §5): the scene from the viewer; positions relative to the scene's origin,
+// u_viewer = Mv * Translate(origin) in float.
+
+layout(location = 0) in vec3 a_position;
+
+uniform mat4 u_viewer;
+
+out vec3 v_position;
+
+void main() {
+    v_position = a_position;
+    gl_Position = u_viewer * vec4(a_position, 1.0);
+}

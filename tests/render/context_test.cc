@@ -1,0 +1,78 @@
+// Tests for context.h: the 4.5 core context, its limits, KHR_debug errors, one per thread.
+#include <lixel/render/context.h>
+
+#include <thread>
+
+#include "gl_environment.h"
+
+namespace lixel::render {
+namespace {
+
+TEST(GlContext, ReportsCoreProfileAndLimits) {
+    const ContextInfo& info = testing::Context().info();
+    EXPECT_FALSE(info.renderer.empty());
+    EXPECT_NE(info.version.find("4.5"), std::string::npos) << info.version;
+    EXPECT_NE(info.version.find("Core"), std::string::npos) << info.version;
+    EXPECT_GE(info.max_texture_size, 4096);
+    EXPECT_GE(info.max_patch_vertices, 32);
+    EXPECT_GE(info.max_tess_gen_level, 64);
+    EXPECT_GE(info.max_geometry_output_vertices, 12);  // silhouette_map.geom emits 12
+    EXPECT_TRUE(info.khr_debug);
+    EXPECT_NE(info.Summary().find(info.renderer), std::string::npos);
+}
+
+TEST(GlContext, GlErrorsBecomeErrorsWithTheDebugMessage) {
+    GlContext& context = testing::Context();
+    ASSERT_TRUE(context.Check("before").ok());
+    context.gl().Enable(0x1234);  // not a capability
+    auto checked = context.Check("enable");
+    ASSERT_FALSE(checked.ok());
+    EXPECT_EQ(checked.error().field, "enable");
+    EXPECT_NE(checked.error().reason.find("GL_INVALID_ENUM"), std::string::npos)
+        << checked.error().reason;
+    EXPECT_TRUE(context.Check("after").ok()) << "errors are reported once";
+}
+
+TEST(GlContext, ThreadContextIsCreatedOnceAndReused) {
+    auto a = ThreadContext({testing::TestBackend()});
+    auto b = ThreadContext({testing::TestBackend()});
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(*a, *b);
+    EXPECT_EQ(*a, &testing::Context());
+    const Backend other =
+        testing::TestBackend() == Backend::kEgl ? Backend::kOsmesa : Backend::kEgl;
+    auto refused = ThreadContext({other});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "gl");
+}
+
+TEST(GlContext, OtherThreadsGetTheirOwnContext) {
+    GlContext* here = &testing::Context();
+    GlContext* there = nullptr;
+    std::string error;
+    std::thread worker([&] {
+        auto c = ThreadContext({testing::TestBackend()});
+        if (c.ok()) {
+            there = *c;
+        } else {
+            error = c.error().Message();
+        }
+    });
+    worker.join();
+    ASSERT_TRUE(error.empty()) << error;
+    EXPECT_NE(there, nullptr);
+    EXPECT_NE(there, here);
+    ASSERT_TRUE(here->MakeCurrent().ok());
+}
+
+TEST(ParseBackend, AcceptsTheTwoNamesAndRefusesOthers) {
+    EXPECT_EQ(*ParseBackend("egl"), Backend::kEgl);
+    EXPECT_EQ(*ParseBackend("osmesa"), Backend::kOsmesa);
+    auto bad = ParseBackend("glx", "flags.gl");
+    ASSERT_FALSE(bad.ok());
+    EXPECT_EQ(bad.error().field, "flags.gl");
+    EXPECT_NE(bad.error().reason.find("glx"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace lixel::render

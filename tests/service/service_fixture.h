@@ -1,0 +1,68 @@
+// Shared set-up for the service tests: in-process servers on loopback ports and clients that
+// talk to them over real gRPC connections.
+#pragma once
+
+#include <grpcpp/grpcpp.h>
+#include <gtest/gtest.h>
+#include <lixel/client/client.h>
+#include <lixel/eval/builtin_scenes.h>
+#include <lixel/service/proto_convert.h>
+#include <lixel/service/server.h>
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <thread>
+
+namespace lixel::testing {
+
+inline service::ServerOptions SmallServerOptions(const std::string& instance) {
+    service::ServerOptions options;
+    options.address = "127.0.0.1:0";
+    options.service.instance = instance;
+    options.service.workers = 1;
+    options.service.queue_capacity = 16;
+    return options;
+}
+
+inline std::unique_ptr<service::Server> StartServer(const service::ServerOptions& options) {
+    auto server = service::Server::Start(options);
+    EXPECT_TRUE(server.ok()) << (server.ok() ? "" : server.error().Message());
+    return server.ok() ? std::move(server).value() : nullptr;
+}
+
+inline std::unique_ptr<client::Client> Connect(const std::string& target,
+                                               const std::string& token = "") {
+    client::ClientOptions options;
+    options.target = target;
+    options.bearer_token = token;
+    options.deadline_seconds = 60.0;
+    auto c = client::Client::Connect(options);
+    EXPECT_TRUE(c.ok());
+    return std::move(c).value();
+}
+
+inline std::string Target(const service::Server& server) {
+    return "127.0.0.1:" + std::to_string(const_cast<service::Server&>(server).port());
+}
+
+// A small built-in scene as a message: the floor/wall room seen at 128 x 128 pixels.
+inline v1::Scene SmallScene() {
+    eval::Scene scene = eval::FloorWallScene();
+    scene.camera.viewport = {128, 128};
+    v1::Scene message;
+    service::EncodeScene(service::MakeSceneRecord(std::move(scene)), &message);
+    return message;
+}
+
+// A raw stub without the client's retries, to see statuses as the server sends them.
+inline std::unique_ptr<v1::Shadow::Stub> RawStub(const std::string& target) {
+    return v1::Shadow::NewStub(grpc::CreateChannel(target, grpc::InsecureChannelCredentials()));
+}
+
+inline void WithDeadline(grpc::ClientContext& context, double seconds = 60.0) {
+    context.set_deadline(std::chrono::system_clock::now() +
+                         std::chrono::milliseconds(static_cast<long>(seconds * 1000)));
+}
+
+}  // namespace lixel::testing

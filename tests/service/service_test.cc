@@ -1,0 +1,563 @@
+// Tests for lixel::service over real loopback connections: every RPC, health and reflection,
+// limits, access, the scene cache, and the bad-input catalog (each followed by a request that
+// must still succeed on the same server).
+#include <grpcpp/generic/generic_stub.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <lixel/solver/camera.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numbers>
+
+#include "service_fixture.h"
+
+namespace lixel {
+namespace {
+
+using testing::Connect;
+using testing::RawStub;
+using testing::SmallScene;
+using testing::SmallServerOptions;
+using testing::StartServer;
+using testing::Target;
+using testing::WithDeadline;
+
+class ServiceTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        server_ = StartServer(SmallServerOptions("test-a")).release();
+        client_ = Connect(Target(*server_)).release();
+        auto uploaded = client_->UploadScene(SmallScene());
+        ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
+        scene_id_ = new std::string(uploaded->scene_id());
+    }
+    static void TearDownTestSuite() {
+        delete client_;
+        delete server_;
+        delete scene_id_;
+    }
+
+    static v1::PlanRequest ScenePlan() {
+        v1::PlanRequest plan;
+        plan.set_scene_id(*scene_id_);
+        plan.set_lixel_budget(256 * 256);
+        return plan;
+    }
+
+    // A request that must succeed after each refusal: the server is still serving.
+    static void ExpectStillServing() {
+        auto plan = client_->Plan(ScenePlan());
+        ASSERT_TRUE(plan.ok()) << plan.error().Message();
+        EXPECT_GE(plan->maps_size(), 1);
+    }
+
+    static v1::SolveRequest FloorSolve() {
+        v1::SolveRequest request;
+        v1::Camera* camera = request.add_views();
+        service::EncodeMat4(Perspective(1.0, 1.0, 0.1, 100.0) *
+                                LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY()),
+                            camera->mutable_viewer());
+        camera->set_width(256);
+        camera->set_height(256);
+        v1::PlaneOfInterest* floor = request.add_planes();
+        floor->set_name("floor");
+        floor->mutable_plane()->set_y(1.0);
+        v1::Light* light = request.add_lights();
+        light->mutable_position()->set_x(4);
+        light->mutable_position()->set_y(9);
+        light->mutable_position()->set_z(3);
+        light->mutable_position()->set_w(1);
+        service::EncodeVec3(Vec3(-10, 0, -5), request.mutable_bounds()->mutable_min());
+        service::EncodeVec3(Vec3(10, 8, 10), request.mutable_bounds()->mutable_max());
+        return request;
+    }
+
+    static service::Server* server_;
+    static client::Client* client_;
+    static std::string* scene_id_;
+};
+
+service::Server* ServiceTest::server_ = nullptr;
+client::Client* ServiceTest::client_ = nullptr;
+std::string* ServiceTest::scene_id_ = nullptr;
+
+TEST_F(ServiceTest, HealthIsServingOnceAWorkerHasAGlContext) {
+    auto channel = grpc::CreateChannel(Target(*server_), grpc::InsecureChannelCredentials());
+    grpc::GenericStub stub(channel);
+    // grpc.health.v1.HealthCheckRequest{} is empty; the response's field 1 is the status
+    // (1 = SERVING), encoded as the two bytes 0x08 0x01.
+    bool serving = false;
+    for (int attempt = 0; attempt < 100 && !serving; ++attempt) {
+        grpc::ClientContext context;
+        WithDeadline(context, 5.0);
+        grpc::ByteBuffer request;
+        grpc::ByteBuffer response;
+        grpc::Status status;
+        std::atomic<bool> done{false};
+        grpc::Slice empty;
+        request = grpc::ByteBuffer(&empty, 1);
+        stub.UnaryCall(&context, "/grpc.health.v1.Health/Check", grpc::StubOptions(), &request,
+                       &response, [&](grpc::Status s) {
+                           status = s;
+                           done = true;
+                       });
+        while (!done) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        ASSERT_TRUE(status.ok()) << status.error_message();
+        std::vector<grpc::Slice> slices;
+        ASSERT_TRUE(response.Dump(&slices).ok());
+        std::string bytes;
+        for (const grpc::Slice& s : slices) bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
+        serving = bytes == std::string("\x08\x01", 2);
+        if (!serving) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    EXPECT_TRUE(serving);
+}
+
+TEST_F(ServiceTest, ReflectionListsTheShadowService) {
+    auto channel = grpc::CreateChannel(Target(*server_), grpc::InsecureChannelCredentials());
+    grpc::GenericStub stub(channel);
+    grpc::ClientContext context;
+    WithDeadline(context, 10.0);
+    grpc::CompletionQueue cq;
+    auto call = stub.PrepareCall(&context,
+                                 "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo",
+                                 &cq);
+    void* tag = nullptr;
+    bool ok = false;
+    call->StartCall(reinterpret_cast<void*>(1));
+    ASSERT_TRUE(cq.Next(&tag, &ok) && ok);
+    // ServerReflectionRequest{list_services: ""}: field 7, length-delimited, empty.
+    const std::string raw("\x3a\x00", 2);
+    grpc::Slice slice(raw);
+    grpc::ByteBuffer request(&slice, 1);
+    call->Write(request, reinterpret_cast<void*>(2));
+    ASSERT_TRUE(cq.Next(&tag, &ok) && ok);
+    grpc::ByteBuffer response;
+    call->Read(&response, reinterpret_cast<void*>(3));
+    ASSERT_TRUE(cq.Next(&tag, &ok) && ok);
+    std::vector<grpc::Slice> slices;
+    ASSERT_TRUE(response.Dump(&slices).ok());
+    std::string bytes;
+    for (const grpc::Slice& s : slices) bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
+    EXPECT_NE(bytes.find("lixel.v1.Shadow"), std::string::npos);
+    EXPECT_NE(bytes.find("grpc.health.v1.Health"), std::string::npos);
+    call->WritesDone(reinterpret_cast<void*>(4));
+    cq.Next(&tag, &ok);
+    grpc::Status status;
+    call->Finish(&status, reinterpret_cast<void*>(5));
+    cq.Next(&tag, &ok);
+    cq.Shutdown();
+    while (cq.Next(&tag, &ok)) {
+    }
+}
+
+TEST_F(ServiceTest, SolveAnswersEveryTripleOfABatch) {
+    v1::SolveRequest request = FloorSolve();
+    *request.add_views() = request.views(0);
+    request.mutable_views(1)->set_width(512);
+    v1::PlaneOfInterest* wall = request.add_planes();
+    wall->set_name("wall");
+    wall->mutable_plane()->set_z(1.0);
+    wall->mutable_plane()->set_w(5.0);
+    *request.add_lights() = request.lights(0);
+    request.mutable_lights(1)->mutable_position()->set_w(0.0);  // directional
+    auto solved = client_->Solve(request);
+    ASSERT_TRUE(solved.ok()) << solved.error().Message();
+    ASSERT_EQ(solved->results_size(), 8);
+    EXPECT_EQ(solved->instance(), "test-a");
+    for (const v1::SolveResult& r : solved->results()) {
+        ASSERT_TRUE(r.has_map()) << r.error().field() << ": " << r.error().reason();
+        EXPECT_LT(r.map().diagnostics().residual_lixels(), 1e-6);
+        EXPECT_EQ(r.map().map().matrix().m_size(), 16);
+    }
+}
+
+TEST_F(ServiceTest, SolveRefusesOnlyTheTripleWhoseLightLiesOnThePlane) {
+    v1::SolveRequest request = FloorSolve();
+    *request.add_lights() = request.lights(0);
+    request.mutable_lights(1)->mutable_position()->set_y(0.0);  // on the floor
+    auto solved = client_->Solve(request);
+    ASSERT_TRUE(solved.ok()) << solved.error().Message();
+    ASSERT_EQ(solved->results_size(), 2);
+    EXPECT_TRUE(solved->results(0).has_map());
+    ASSERT_TRUE(solved->results(1).has_error());
+    EXPECT_EQ(solved->results(1).error().field(), "light");
+    EXPECT_NE(solved->results(1).error().reason().find("lies on the plane"), std::string::npos);
+}
+
+TEST_F(ServiceTest, PlanWithBoundsOnlyAndWithAnUploadedScene) {
+    v1::PlanRequest bare;
+    const v1::SolveRequest s = FloorSolve();
+    *bare.mutable_camera() = s.views(0);
+    *bare.mutable_light() = s.lights(0);
+    *bare.add_planes() = s.planes(0);
+    v1::ObjectBounds* floor = bare.add_objects();
+    service::EncodeVec3(Vec3(-10, -0.1, -5), floor->mutable_bounds()->mutable_min());
+    service::EncodeVec3(Vec3(10, 0, 10), floor->mutable_bounds()->mutable_max());
+    v1::ObjectBounds* box = bare.add_objects();
+    service::EncodeVec3(Vec3(-1, 0, -2), box->mutable_bounds()->mutable_min());
+    service::EncodeVec3(Vec3(0, 1, -1), box->mutable_bounds()->mutable_max());
+    auto plan = client_->Plan(bare);
+    ASSERT_TRUE(plan.ok()) << plan.error().Message();
+    ASSERT_GE(plan->maps_size(), 1);
+    EXPECT_EQ(plan->maps(0).name(), "plane floor");
+    EXPECT_LE(plan->total_lixels(), 512u * 512u);
+
+    auto scene_plan = client_->Plan(ScenePlan());
+    ASSERT_TRUE(scene_plan.ok()) << scene_plan.error().Message();
+    EXPECT_LE(scene_plan->total_lixels(), 256u * 256u);
+    EXPECT_FALSE(scene_plan->left_out().empty());
+}
+
+TEST_F(ServiceTest, UploadIsContentAddressedAndIdempotent) {
+    auto again = client_->UploadScene(SmallScene());
+    ASSERT_TRUE(again.ok()) << again.error().Message();
+    EXPECT_EQ(again->scene_id(), *scene_id_);
+    EXPECT_TRUE(again->already_present());
+    EXPECT_GT(again->triangles(), 0u);
+    v1::Scene other = SmallScene();
+    other.set_name("another");
+    auto different = client_->UploadScene(other);
+    ASSERT_TRUE(different.ok());
+    EXPECT_NE(different->scene_id(), *scene_id_);
+}
+
+TEST_F(ServiceTest, RenderStreamsAHeaderThenEveryMapInChunks) {
+    v1::RenderRequest request;
+    *request.mutable_plan() = ScenePlan();
+    request.mutable_plan()->mutable_passes()->set_second_depth(true);
+    std::uint64_t last = 0;
+    auto maps = client_->Render(request, [&](std::uint64_t done, std::uint64_t) { last = done; });
+    ASSERT_TRUE(maps.ok()) << maps.error().Message();
+    const v1::RenderHeader& header = maps->header;
+    ASSERT_GE(header.images_size(), header.plan().maps_size());
+    std::uint64_t bytes = 0;
+    for (int i = 0; i < header.images_size(); ++i) {
+        const v1::MapImage& meta = header.images(i);
+        const v1::PlannedMap& map = header.plan().maps(static_cast<int>(meta.map_index()));
+        EXPECT_EQ(meta.width(), map.map().width());
+        EXPECT_EQ(meta.height(), map.map().height());
+        ASSERT_EQ(maps->images[i].size() * 4, meta.bytes());
+        bytes += meta.bytes();
+        // Depth maps hold z/w in [0, 1] (1 where nothing was drawn).
+        std::size_t drawn = 0;
+        for (float z : maps->images[i]) {
+            ASSERT_GE(z, 0.0f);
+            ASSERT_LE(z, 1.0f);
+            drawn += z < 1.0f;
+        }
+        EXPECT_GT(drawn, 0u) << map.name();
+    }
+    EXPECT_EQ(last, bytes);
+}
+
+TEST_F(ServiceTest, ViewReturnsAMaskAndItsEvaluation) {
+    v1::ViewRequest request;
+    *request.mutable_plan() = ScenePlan();
+    request.set_evaluate(true);
+    request.set_timings(true);
+    auto view = client_->View(request);
+    ASSERT_TRUE(view.ok()) << view.error().Message();
+    EXPECT_EQ(view->width(), 128u);
+    EXPECT_EQ(view->height(), 128u);
+    EXPECT_EQ(view->mask().size(), 128u * 128u * 4u);
+    ASSERT_TRUE(view->has_evaluation());
+    EXPECT_GT(view->evaluation().decided_pixels(), 1000u);
+    EXPECT_LT(view->evaluation().misclassified_percent(), 5.0);
+    EXPECT_EQ(view->truth().size(), 128u * 128u);
+    EXPECT_GE(view->timings_size(), 4);
+    for (v1::Method method : {v1::METHOD_UNIFORM, v1::METHOD_PSM, v1::METHOD_LISPSM}) {
+        request.set_method(method);
+        request.set_filter(v1::FILTER_PCF);
+        auto baseline = client_->View(request);
+        ASSERT_TRUE(baseline.ok()) << baseline.error().Message();
+        EXPECT_EQ(baseline->maps(), 1u);
+    }
+}
+
+TEST_F(ServiceTest, UnknownSceneIsNotFoundAndTheClientReuploadsItsOwn) {
+    auto stub = RawStub(Target(*server_));
+    v1::PlanRequest request = ScenePlan();
+    request.set_scene_id("sha256:0000");
+    grpc::ClientContext context;
+    WithDeadline(context);
+    v1::PlanResponse response;
+    const grpc::Status status = stub->Plan(&context, request, &response);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+    EXPECT_NE(status.error_message().find("scene_id"), std::string::npos);
+    ExpectStillServing();
+}
+
+// The bad-input catalog: each refused with the right status, naming the field; the server then
+// serves the next request.
+struct BadSolve {
+    const char* name;
+    std::function<void(v1::SolveRequest&)> spoil;
+    grpc::StatusCode code;
+    const char* field;
+};
+
+TEST_F(ServiceTest, BadSolveInputIsRefusedNamingTheField) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<BadSolve> catalog = {
+        {"non-finite viewer", [&](auto& r) { r.mutable_views(0)->mutable_viewer()->set_m(5, nan); },
+         grpc::StatusCode::INVALID_ARGUMENT, "views[0].viewer.m[5]"},
+        {"short matrix", [](auto& r) { r.mutable_views(0)->mutable_viewer()->mutable_m()->RemoveLast(); },
+         grpc::StatusCode::INVALID_ARGUMENT, "views[0].viewer.m"},
+        {"zero viewport", [](auto& r) { r.mutable_views(0)->set_width(0); },
+         grpc::StatusCode::INVALID_ARGUMENT, "views[0].width"},
+        {"oversized viewport", [](auto& r) { r.mutable_views(0)->set_height(20000); },
+         grpc::StatusCode::INVALID_ARGUMENT, "views[0].height"},
+        {"infinite light", [](auto& r) {
+             r.mutable_lights(0)->mutable_position()->set_x(std::numeric_limits<double>::infinity());
+         }, grpc::StatusCode::INVALID_ARGUMENT, "lights[0].position"},
+        {"zero light", [](auto& r) { r.mutable_lights(0)->mutable_position()->Clear(); },
+         grpc::StatusCode::INVALID_ARGUMENT, "lights[0].position"},
+        {"plane without normal", [](auto& r) { r.mutable_planes(0)->mutable_plane()->Clear(); },
+         grpc::StatusCode::INVALID_ARGUMENT, "planes[0].plane"},
+        {"no bounds", [](auto& r) { r.clear_bounds(); }, grpc::StatusCode::INVALID_ARGUMENT,
+         "bounds"},
+        {"inverted bounds", [](auto& r) { r.mutable_bounds()->mutable_min()->set_x(50); },
+         grpc::StatusCode::INVALID_ARGUMENT, "bounds"},
+        {"no views", [](auto& r) { r.clear_views(); }, grpc::StatusCode::INVALID_ARGUMENT,
+         "views"},
+        {"scale out of range", [](auto& r) { r.set_scale(1.5); },
+         grpc::StatusCode::INVALID_ARGUMENT, "scale"},
+        {"batch too large", [](auto& r) {
+             for (int i = 0; i < 300; ++i) *r.add_views() = r.views(0);
+             for (int i = 0; i < 300; ++i) *r.add_planes() = r.planes(0);
+         }, grpc::StatusCode::RESOURCE_EXHAUSTED, "views x planes x lights"},
+    };
+    auto stub = RawStub(Target(*server_));
+    for (const BadSolve& bad : catalog) {
+        v1::SolveRequest request = FloorSolve();
+        bad.spoil(request);
+        grpc::ClientContext context;
+        WithDeadline(context);
+        v1::SolveResponse response;
+        const grpc::Status status = stub->Solve(&context, request, &response);
+        EXPECT_EQ(status.error_code(), bad.code) << bad.name << ": " << status.error_message();
+        EXPECT_EQ(status.error_message().rfind(bad.field, 0), 0u)
+            << bad.name << ": " << status.error_message();
+        ExpectStillServing();
+    }
+    // A singular camera is refused per triple (the batch's other triples still solve).
+    v1::SolveRequest singular = FloorSolve();
+    for (int i = 0; i < 16; ++i) singular.mutable_views(0)->mutable_viewer()->set_m(i, i < 4 ? 1 : 0);
+    auto solved = client_->Solve(singular);
+    ASSERT_TRUE(solved.ok());
+    ASSERT_TRUE(solved->results(0).has_error());
+    EXPECT_EQ(solved->results(0).error().field(), "viewer");
+}
+
+TEST_F(ServiceTest, BadPlanAndSceneInputIsRefusedNamingTheField) {
+    auto stub = RawStub(Target(*server_));
+    auto plan_status = [&](const v1::PlanRequest& request) {
+        grpc::ClientContext context;
+        WithDeadline(context);
+        v1::PlanResponse response;
+        return stub->Plan(&context, request, &response);
+    };
+    v1::PlanRequest huge = ScenePlan();
+    huge.set_lixel_budget(1ull << 40);
+    grpc::Status s = plan_status(huge);
+    EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_EQ(s.error_message().rfind("plan.lixel_budget", 0), 0u) << s.error_message();
+    v1::PlanRequest polygon = ScenePlan();
+    v1::PlaneOfInterest* p = polygon.add_planes();
+    p->mutable_plane()->set_y(1);
+    p->add_polygon();
+    s = plan_status(polygon);
+    EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_EQ(s.error_message().rfind("plan.planes[0].polygon", 0), 0u) << s.error_message();
+    v1::PlanRequest empty;
+    s = plan_status(empty);
+    EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    ExpectStillServing();
+
+    // Meshes: an index out of range, an empty mesh list, a non-finite position.
+    v1::Scene scene = SmallScene();
+    scene.mutable_meshes(0)->set_indices(2, 1u << 30);
+    auto uploaded = client_->UploadScene(scene);
+    ASSERT_FALSE(uploaded.ok());
+    EXPECT_EQ(uploaded.error().field, "INVALID_ARGUMENT");
+    EXPECT_EQ(uploaded.error().reason.rfind("scene.meshes[0].indices[2]", 0), 0u)
+        << uploaded.error().reason;
+    v1::Scene no_meshes = SmallScene();
+    no_meshes.clear_meshes();
+    uploaded = client_->UploadScene(no_meshes);
+    ASSERT_FALSE(uploaded.ok());
+    EXPECT_EQ(uploaded.error().reason.rfind("scene.meshes", 0), 0u) << uploaded.error().reason;
+    v1::Scene nan_scene = SmallScene();
+    nan_scene.mutable_meshes(0)->set_positions(4, std::numeric_limits<float>::quiet_NaN());
+    uploaded = client_->UploadScene(nan_scene);
+    ASSERT_FALSE(uploaded.ok());
+    EXPECT_EQ(uploaded.error().reason.rfind("scene.meshes[0].positions[3]", 0), 0u)
+        << uploaded.error().reason;
+    ExpectStillServing();
+    // The scene uploaded before is untouched.
+    auto plan = client_->Plan(ScenePlan());
+    ASSERT_TRUE(plan.ok());
+}
+
+TEST_F(ServiceTest, CancellingARenderMidStreamLeavesTheServerServing) {
+    auto stub = RawStub(Target(*server_));
+    v1::RenderRequest request;
+    *request.mutable_plan() = ScenePlan();
+    request.mutable_plan()->set_lixel_budget(2048 * 2048);
+    grpc::ClientContext context;
+    WithDeadline(context);
+    auto reader = stub->Render(&context, request);
+    v1::RenderChunk chunk;
+    ASSERT_TRUE(reader->Read(&chunk));
+    EXPECT_TRUE(chunk.has_header());
+    context.TryCancel();
+    while (reader->Read(&chunk)) {
+    }
+    EXPECT_EQ(reader->Finish().error_code(), grpc::StatusCode::CANCELLED);
+    ExpectStillServing();
+}
+
+TEST_F(ServiceTest, ContextLossInAWorkerIsRepaired) {
+    server_->service().BreakWorkerContext(0);
+    v1::ViewRequest request;
+    *request.mutable_plan() = ScenePlan();
+    auto view = client_->View(request);
+    ASSERT_TRUE(view.ok()) << view.error().Message();
+    EXPECT_EQ(view->width(), 128u);
+}
+
+TEST_F(ServiceTest, MetricsCountRequestsByRpcAndStatus) {
+    ExpectStillServing();
+    const std::string text = server_->service().state().metrics.Serialize();
+    EXPECT_NE(text.find("lixel_requests_total{code=\"OK\",rpc=\"Plan\"}"), std::string::npos)
+        << text.substr(0, 2000);
+    EXPECT_NE(text.find("lixel_request_seconds_bucket"), std::string::npos);
+    EXPECT_NE(text.find("lixel_queue_depth"), std::string::npos);
+    EXPECT_NE(text.find("lixel_scene_cache_lookups_total"), std::string::npos);
+}
+
+TEST(ServiceLimits, OversizedUploadAndResponseAreResourceExhausted) {
+    service::ServerOptions options = SmallServerOptions("test-limits");
+    options.service.max_upload_bytes = 1000;
+    options.service.max_response_bytes = 10000;
+    auto server = StartServer(options);
+    auto client = Connect(Target(*server));
+    auto uploaded = client->UploadScene(SmallScene());
+    ASSERT_FALSE(uploaded.ok());
+    EXPECT_EQ(uploaded.error().field, "RESOURCE_EXHAUSTED");
+    EXPECT_NE(uploaded.error().reason.find("header.total_bytes"), std::string::npos);
+
+    // A tiny scene fits the upload limit; its maps do not fit the response limit.
+    v1::Scene tiny;
+    v1::Mesh* mesh = tiny.add_meshes();
+    for (float v : {-5.f, 0.f, -5.f, 5.f, 0.f, -5.f, 0.f, 0.f, 5.f, 0.f, 1.f, 0.f}) {
+        mesh->add_positions(v);
+    }
+    for (std::uint32_t i : {0u, 2u, 1u, 0u, 1u, 3u}) mesh->add_indices(i);
+    v1::PlaneOfInterest* floor = tiny.add_planes();
+    floor->mutable_plane()->set_y(1);
+    auto small = client->UploadScene(tiny);
+    ASSERT_TRUE(small.ok()) << small.error().Message();
+    v1::RenderRequest render;
+    render.mutable_plan()->set_scene_id(small->scene_id());
+    v1::Camera* camera = render.mutable_plan()->mutable_camera();
+    service::EncodeMat4(Perspective(1.0, 1.0, 0.1, 100.0) *
+                            LookAt(Vec3(0, 3, 8), Vec3(0, 0, 0), Vec3::UnitY()),
+                        camera->mutable_viewer());
+    camera->set_width(256);
+    camera->set_height(256);
+    render.mutable_plan()->mutable_light()->mutable_position()->set_y(10);
+    render.mutable_plan()->mutable_light()->mutable_position()->set_w(1);
+    auto maps = client->Render(render);
+    ASSERT_FALSE(maps.ok());
+    EXPECT_EQ(maps.error().field, "RESOURCE_EXHAUSTED");
+    EXPECT_NE(maps.error().reason.find("response limit"), std::string::npos);
+    auto plan = client->Plan(render.plan());
+    EXPECT_TRUE(plan.ok());
+}
+
+TEST(ServiceLimits, FullQueueAnswersResourceExhausted) {
+    service::ServerOptions options = SmallServerOptions("test-queue");
+    options.service.queue_capacity = 1;
+    auto server = StartServer(options);
+    auto client = Connect(Target(*server));
+    auto uploaded = client->UploadScene(SmallScene());
+    ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
+    std::atomic<int> exhausted{0};
+    std::atomic<int> ok{0};
+    std::vector<std::thread> callers;
+    for (int i = 0; i < 12; ++i) {
+        callers.emplace_back([&] {
+            auto stub = RawStub(Target(*server));
+            grpc::ClientContext context;
+            WithDeadline(context);
+            v1::ViewRequest request;
+            request.mutable_plan()->set_scene_id(uploaded->scene_id());
+            request.set_evaluate(true);
+            v1::ViewResponse response;
+            const grpc::Status s = stub->View(&context, request, &response);
+            if (s.ok()) ++ok;
+            if (s.error_code() == grpc::StatusCode::RESOURCE_EXHAUSTED) ++exhausted;
+        });
+    }
+    for (std::thread& t : callers) t.join();
+    EXPECT_GT(exhausted.load(), 0);
+    EXPECT_GT(ok.load(), 0);
+    EXPECT_EQ(ok.load() + exhausted.load(), 12);
+}
+
+TEST(ServiceAccess, BearerTokenIsCheckedOnEveryCall) {
+    service::ServerOptions options = SmallServerOptions("test-token");
+    options.service.bearer_token = "s3cret";
+    auto server = StartServer(options);
+    auto anonymous = Connect(Target(*server));
+    auto refused = anonymous->UploadScene(SmallScene());
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "UNAUTHENTICATED");
+    v1::SolveRequest solve;
+    auto refused_solve = anonymous->Solve(solve);
+    ASSERT_FALSE(refused_solve.ok());
+    EXPECT_EQ(refused_solve.error().field, "UNAUTHENTICATED");
+    auto wrong = Connect(Target(*server), "guess");
+    EXPECT_EQ(wrong->UploadScene(SmallScene()).error().field, "UNAUTHENTICATED");
+    auto member = Connect(Target(*server), "s3cret");
+    auto uploaded = member->UploadScene(SmallScene());
+    EXPECT_TRUE(uploaded.ok()) << uploaded.error().Message();
+}
+
+TEST(ServiceCache, EvictionThenNotFoundThenReupload) {
+    service::ServerOptions options = SmallServerOptions("test-cache");
+    auto server = StartServer(options);
+    auto client = Connect(Target(*server));
+    const v1::Scene a = SmallScene();
+    v1::Scene b = SmallScene();
+    b.set_name("b");
+    auto first = client->UploadScene(a);
+    ASSERT_TRUE(first.ok());
+    const std::uint64_t one_scene = server->service().state().cache.bytes();
+    ASSERT_GT(one_scene, 0u);
+    // Squeeze the cache to one scene by re-creating the server with that cap.
+    server.reset();
+    options.service.scene_cache_bytes = one_scene + one_scene / 2;
+    server = StartServer(options);
+    client = Connect(Target(*server));
+    ASSERT_TRUE(client->UploadScene(a).ok());
+    ASSERT_TRUE(client->UploadScene(b).ok());  // evicts a
+    EXPECT_EQ(server->service().state().cache.evictions(), 1u);
+    auto stub = RawStub(Target(*server));
+    grpc::ClientContext context;
+    WithDeadline(context);
+    v1::PlanRequest request;
+    request.set_scene_id(first->scene_id());
+    v1::PlanResponse response;
+    EXPECT_EQ(stub->Plan(&context, request, &response).error_code(), grpc::StatusCode::NOT_FOUND);
+    auto replanned = client->Plan(request);  // re-uploads a, evicting b
+    ASSERT_TRUE(replanned.ok()) << replanned.error().Message();
+    EXPECT_TRUE(server->service().state().cache.Contains(first->scene_id()));
+}
+
+}  // namespace
+}  // namespace lixel

@@ -1,0 +1,241 @@
+// Test meshes, built in double and stored in float like every lixel mesh.
+#include "fixtures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace lixel::volumes::testing {
+namespace {
+
+Eigen::Vector3f F(const Vec3& v) { return v.cast<float>(); }
+
+void AddQuad(Mesh& m, std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+    m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
+}
+
+// Moller-Trumbore in double: the ray parameter, or +inf for a miss.
+double HitT(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c) {
+    constexpr double kMiss = std::numeric_limits<double>::infinity();
+    const Vec3 e1 = b - a;
+    const Vec3 e2 = c - a;
+    const Vec3 p = d.cross(e2);
+    const double det = e1.dot(p);
+    if (std::abs(det) < 1e-300) return kMiss;
+    const Vec3 s = o - a;
+    const double u = s.dot(p) / det;
+    if (u < 0.0 || u > 1.0) return kMiss;
+    const Vec3 q = s.cross(e1);
+    const double v = d.dot(q) / det;
+    if (v < 0.0 || u + v > 1.0) return kMiss;
+    return e2.dot(q) / det;
+}
+
+bool Hits(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c,
+          double t_max) {
+    const double t = HitT(o, d, a, b, c);
+    return t > 1e-9 && t < t_max;
+}
+
+}  // namespace
+
+Mesh Sphere(const Vec3& centre, double radius, int stacks, int slices) {
+    Mesh m;
+    m.name = "sphere";
+    m.closed = true;
+    const double pi = std::numbers::pi;
+    m.positions.push_back(F(centre + Vec3(0, radius, 0)));
+    m.normals.push_back(Eigen::Vector3f(0, 1, 0));
+    for (int i = 1; i < stacks; ++i) {
+        const double theta = pi * i / stacks;
+        for (int j = 0; j < slices; ++j) {
+            const double phi = 2.0 * pi * j / slices;
+            const Vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                         -std::sin(theta) * std::sin(phi));
+            m.positions.push_back(F(centre + radius * n));
+            m.normals.push_back(F(n));
+        }
+    }
+    m.positions.push_back(F(centre - Vec3(0, radius, 0)));
+    m.normals.push_back(Eigen::Vector3f(0, -1, 0));
+    const auto bottom = static_cast<std::uint32_t>(m.positions.size() - 1);
+    auto ring = [&](int i, int j) {
+        return static_cast<std::uint32_t>(1 + (i - 1) * slices + (j % slices));
+    };
+    for (int j = 0; j < slices; ++j) {
+        m.indices.insert(m.indices.end(), {0u, ring(1, j), ring(1, j + 1)});
+        for (int i = 1; i + 1 < stacks; ++i) {
+            AddQuad(m, ring(i, j), ring(i + 1, j), ring(i + 1, j + 1), ring(i, j + 1));
+        }
+        m.indices.insert(m.indices.end(), {ring(stacks - 1, j), bottom, ring(stacks - 1, j + 1)});
+    }
+    return m;
+}
+
+Mesh SphereGrid(int n, double radius, int stacks, int slices) {
+    std::vector<Mesh> parts;
+    for (int i = 0; i < n; ++i) {
+        for (int k = 0; k < n; ++k) {
+            parts.push_back(Sphere(Vec3(3.0 * radius * i, radius, 3.0 * radius * k), radius,
+                                   stacks, slices));
+        }
+    }
+    Mesh m = Merge(parts);
+    m.name = "sphere_grid";
+    return m;
+}
+
+Mesh Box(const Vec3& lo, const Vec3& hi) {
+    Mesh m;
+    m.name = "box";
+    m.closed = true;
+    // Per face: normal, and four corners counter-clockwise seen from outside.
+    const Vec3 c[8] = {{lo.x(), lo.y(), lo.z()}, {hi.x(), lo.y(), lo.z()},
+                       {hi.x(), hi.y(), lo.z()}, {lo.x(), hi.y(), lo.z()},
+                       {lo.x(), lo.y(), hi.z()}, {hi.x(), lo.y(), hi.z()},
+                       {hi.x(), hi.y(), hi.z()}, {lo.x(), hi.y(), hi.z()}};
+    const int faces[6][4] = {{4, 5, 6, 7}, {1, 0, 3, 2}, {5, 1, 2, 6},
+                             {0, 4, 7, 3}, {3, 7, 6, 2}, {0, 1, 5, 4}};
+    const Vec3 normals[6] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+    for (int f = 0; f < 6; ++f) {
+        const auto base = static_cast<std::uint32_t>(m.positions.size());
+        for (int k = 0; k < 4; ++k) {
+            m.positions.push_back(F(c[faces[f][k]]));
+            m.normals.push_back(F(normals[f]));
+        }
+        AddQuad(m, base, base + 1, base + 2, base + 3);
+    }
+    return m;
+}
+
+Mesh Cylinder(const Vec3& base, double radius, double height, int slices) {
+    Mesh m;
+    m.name = "cylinder";
+    m.closed = true;
+    const double pi = std::numbers::pi;
+    auto rim = [&](int j, double y) -> Vec3 {
+        const double phi = 2.0 * pi * (j % slices) / slices;
+        return base + Vec3(radius * std::cos(phi), y, -radius * std::sin(phi));
+    };
+    auto radial = [&](int j) -> Vec3 {
+        const double phi = 2.0 * pi * (j % slices) / slices;
+        return Vec3(std::cos(phi), 0, -std::sin(phi));
+    };
+    // Side: smooth normals.
+    for (int j = 0; j < slices; ++j) {
+        m.positions.push_back(F(rim(j, 0)));
+        m.normals.push_back(F(radial(j)));
+        m.positions.push_back(F(rim(j, height)));
+        m.normals.push_back(F(radial(j)));
+    }
+    for (int j = 0; j < slices; ++j) {
+        const auto b0 = static_cast<std::uint32_t>(2 * j);
+        const auto b1 = static_cast<std::uint32_t>(2 * ((j + 1) % slices));
+        AddQuad(m, b0, b1, b1 + 1, b0 + 1);
+    }
+    // Caps: their own vertices with flat normals, fans around a centre.
+    for (int cap = 0; cap < 2; ++cap) {
+        const double y = cap == 0 ? 0.0 : height;
+        const Vec3 n = cap == 0 ? Vec3(0, -1, 0) : Vec3(0, 1, 0);
+        const auto centre = static_cast<std::uint32_t>(m.positions.size());
+        m.positions.push_back(F(base + Vec3(0, y, 0)));
+        m.normals.push_back(F(n));
+        for (int j = 0; j < slices; ++j) {
+            m.positions.push_back(F(rim(j, y)));
+            m.normals.push_back(F(n));
+        }
+        for (int j = 0; j < slices; ++j) {
+            const auto a = static_cast<std::uint32_t>(centre + 1 + j);
+            const auto b = static_cast<std::uint32_t>(centre + 1 + (j + 1) % slices);
+            if (cap == 0) {
+                m.indices.insert(m.indices.end(), {centre, b, a});
+            } else {
+                m.indices.insert(m.indices.end(), {centre, a, b});
+            }
+        }
+    }
+    return m;
+}
+
+Mesh Fan(const std::vector<double>& angles) {
+    Mesh m;
+    m.name = "fan";
+    m.positions = {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(0, 0, 1)};
+    for (double a : angles) {
+        m.positions.push_back(F(Vec3(std::cos(a), std::sin(a), 0.4)));
+        const auto o = static_cast<std::uint32_t>(m.positions.size() - 1);
+        m.indices.insert(m.indices.end(), {0u, 1u, o});
+    }
+    return m;
+}
+
+Mesh Square(double half, double height) {
+    Mesh m;
+    m.name = "square";
+    m.positions = {F(Vec3(-half, height, -half)), F(Vec3(-half, height, half)),
+                   F(Vec3(half, height, half)), F(Vec3(half, height, -half))};
+    m.normals.assign(4, Eigen::Vector3f(0, 1, 0));
+    AddQuad(m, 0, 1, 2, 3);
+    return m;
+}
+
+Mesh Merge(const std::vector<Mesh>& meshes) {
+    Mesh out;
+    out.closed = true;
+    for (const Mesh& m : meshes) {
+        const auto base = static_cast<std::uint32_t>(out.positions.size());
+        out.positions.insert(out.positions.end(), m.positions.begin(), m.positions.end());
+        if (m.normals.size() == m.positions.size()) {
+            out.normals.insert(out.normals.end(), m.normals.begin(), m.normals.end());
+        }
+        for (std::uint32_t i : m.indices) out.indices.push_back(base + i);
+        out.closed = out.closed && m.closed;
+    }
+    if (out.normals.size() != out.positions.size()) out.normals.clear();
+    return out;
+}
+
+Mesh Shuffled(const Mesh& mesh, std::uint32_t seed, bool flip) {
+    std::mt19937 rng(seed);
+    std::vector<std::size_t> order(mesh.TriangleCount());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), rng);
+    Mesh out = mesh;
+    out.indices.clear();
+    for (std::size_t t : order) {
+        std::uint32_t c[3] = {mesh.indices[3 * t], mesh.indices[3 * t + 1],
+                              mesh.indices[3 * t + 2]};
+        std::rotate(c, c + rng() % 3, c + 3);
+        if (flip && rng() % 2 == 1) std::swap(c[1], c[2]);
+        out.indices.insert(out.indices.end(), c, c + 3);
+    }
+    return out;
+}
+
+int ShadowRayHits(const Mesh& mesh, const Vec3& point, const Vec4& light) {
+    const Vec3 dir = light.w() != 0.0 ? Vec3(light.head<3>() / light.w() - point)
+                                      : Vec3(light.head<3>());
+    const double t_max = light.w() != 0.0 ? 1.0 : std::numeric_limits<double>::infinity();
+    int hits = 0;
+    for (std::size_t t = 0; t < mesh.TriangleCount(); ++t) {
+        const Vec3 a = mesh.positions[mesh.indices[3 * t]].cast<double>();
+        const Vec3 b = mesh.positions[mesh.indices[3 * t + 1]].cast<double>();
+        const Vec3 c = mesh.positions[mesh.indices[3 * t + 2]].cast<double>();
+        if (Hits(point, dir, a, b, c, t_max)) ++hits;
+    }
+    return hits;
+}
+
+double NearestHit(const Mesh& mesh, const Vec3& origin, const Vec3& dir) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < mesh.TriangleCount(); ++t) {
+        const double hit = HitT(origin, dir, mesh.positions[mesh.indices[3 * t]].cast<double>(),
+                                mesh.positions[mesh.indices[3 * t + 1]].cast<double>(),
+                                mesh.positions[mesh.indices[3 * t + 2]].cast<double>());
+        if (hit > 0.0 && hit < best) best = hit;
+    }
+    return best;
+}
+
+}  // namespace lixel::volumes::testing

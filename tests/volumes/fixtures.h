@@ -1,0 +1,49 @@
+// Meshes for the volumes tests: closed spheres and grids of them, a box and a cylinder with
+// creases, non-manifold fans, open pieces; and a brute-force shadow-ray count as ground truth.
+#pragma once
+
+#include <lixel/solver/mesh.h>
+#include <lixel/solver/types.h>
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace lixel::volumes::testing {
+
+// A closed UV sphere sharing its seam and pole vertices, with exact unit normals.
+Mesh Sphere(const Vec3& centre, double radius, int stacks, int slices);
+
+// n x n spheres of radius r on a grid with spacing 3r in x and z, one mesh.
+Mesh SphereGrid(int n, double radius, int stacks, int slices);
+
+// A closed box with one normal per face (24 vertices): every edge is a crease.
+Mesh Box(const Vec3& min, const Vec3& max);
+
+// A closed cylinder about the y axis: smooth side normals, flat caps with their own vertices,
+// so both rims are creases.
+Mesh Cylinder(const Vec3& base, double radius, double height, int slices);
+
+// `count` triangles sharing the edge (0,0,0)-(0,0,1), fanned around it at the given angles
+// (radians about the z axis); an edge of `count` triangles.
+Mesh Fan(const std::vector<double>& angles);
+
+// An open square in the plane y = height, [-half, half]^2, two triangles.
+Mesh Square(double half, double height);
+
+// Meshes merged into one (indices offset).
+Mesh Merge(const std::vector<Mesh>& meshes);
+
+// The same triangles in a seeded random order, each with its corners rotated at random and, when
+// `flip` is set, some windings reversed.
+Mesh Shuffled(const Mesh& mesh, std::uint32_t seed, bool flip);
+
+// Ground truth: how many triangles of `mesh` (degenerate ones included, none are expected) the
+// shadow ray from `point` toward the light crosses (w = 1: the segment to the light; w = 0: the
+// ray along the direction).
+int ShadowRayHits(const Mesh& mesh, const Vec3& point, const Vec4& light);
+
+// The nearest hit of the ray origin + t dir, t > 0, with any triangle of `mesh`; t or +inf.
+double NearestHit(const Mesh& mesh, const Vec3& origin, const Vec3& dir);
+
+}  // namespace lixel::volumes::testing

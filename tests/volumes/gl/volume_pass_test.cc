@@ -1,0 +1,356 @@
+// Tests for lixel::volumes_gl (volume_pass.h, shaders/shadow_volume.*, volume_caps.*): GPU and
+// CPU multiplicities agree on every edge; masks equal exact ray-cast visibility outside a
+// one-pixel band, for z-pass and z-fail, point and directional lights, the eye in shadow;
+// smooth volumes against the analytic sphere shadow; a light in a triangle's plane.
+#include <lixel/render/gpu_scene.h>
+#include <lixel/render/readback.h>
+#include <lixel/solver/camera.h>
+#include <lixel/solver/homogeneous.h>
+#include <lixel/volumes/multiplicity.h>
+#include <lixel/volumes/smooth_silhouette.h>
+#include <lixel/volumes/smooth_volume.h>
+
+#include <Eigen/LU>
+
+#include <cmath>
+#include <numbers>
+
+#include "../fixtures.h"
+#include "gl_environment.h"
+
+namespace lixel::volumes::gl {
+namespace {
+
+using volumes::testing::Merge;
+using volumes::testing::Sphere;
+
+// GPU patch multiplicities summed per edge against Arithmetic::kFloat on the CPU.
+void ExpectGpuMatchesCpu(const std::vector<Mesh>& meshes, const Vec4& light, int max_opposites) {
+    render::GlContext& context = testing::Context();
+    auto scene = UploadVolumeScene(context, meshes, Vec3::Zero(), max_opposites);
+    ASSERT_TRUE(scene.ok()) << scene.error().Message();
+    auto gpu = testing::Pass().PatchMultiplicities(*scene, light);
+    ASSERT_TRUE(gpu.ok()) << gpu.error().Message();
+    std::vector<std::vector<int>> per_edge(scene->adjacency().size());
+    for (std::size_t m = 0; m < per_edge.size(); ++m) {
+        per_edge[m].assign(scene->adjacency()[m].edges.size(), 0);
+    }
+    for (std::size_t p = 0; p < gpu->size(); ++p) {
+        const PatchEdge& e = scene->patch_edges()[p];
+        per_edge[e.mesh][e.edge] += (*gpu)[p];
+    }
+    std::size_t silhouette = 0;
+    for (std::size_t m = 0; m < per_edge.size(); ++m) {
+        const auto cpu = ComputeMultiplicities(scene->adjacency()[m], light, Arithmetic::kFloat);
+        ASSERT_EQ(cpu.size(), per_edge[m].size());
+        for (std::size_t e = 0; e < cpu.size(); ++e) {
+            EXPECT_EQ(per_edge[m][e], cpu[e]) << "mesh " << m << " edge " << e;
+            silhouette += cpu[e] != 0;
+        }
+    }
+    EXPECT_GT(silhouette, 0u);
+}
+
+TEST(VolumePassMultiplicity, GpuAgreesWithCpuOnEveryEdge) {
+    const Mesh grid = volumes::testing::SphereGrid(3, 0.5, 12, 18);
+    const Mesh fans = Merge({volumes::testing::Fan({0.5, 1.5, 2.5}),
+                             volumes::testing::Fan({0.3, 1.9, 3.1, 4.4})});
+    const Mesh open = Merge({volumes::testing::Square(2.0, 0.0),
+                             volumes::testing::Cylinder(Vec3(0, 0.5, 0), 0.5, 1.0, 13)});
+    for (const Vec4& light : {Vec4(2, 6, 1, 1), Vec4(-3, 4, 5, 1), Vec4(0.3, 1, 0.2, 0),
+                              Vec4(5, 0.2, 0.5, 1)}) {
+        ExpectGpuMatchesCpu({grid}, light, 0);
+        ExpectGpuMatchesCpu({fans, open}, light, 0);
+    }
+}
+
+TEST(VolumePassMultiplicity, SplitEdgesAddUp) {
+    // Patches of two opposite points: the four-triangle edge is split over two patches.
+    const Mesh fans = Merge({volumes::testing::Fan({0.3, 1.9, 3.1, 4.4}),
+                             volumes::testing::Fan({0.5, 1.5, 2.5})});
+    auto scene = UploadVolumeScene(testing::Context(), std::vector<Mesh>{fans}, Vec3::Zero(), 2);
+    ASSERT_TRUE(scene.ok());
+    EXPECT_EQ(scene->patch_vertices(), 4);
+    EXPECT_EQ(scene->split_edges(), 1u);  // both fans share their spine: one edge of 7
+    ExpectGpuMatchesCpu({fans}, Vec4(5, 0.2, 0.5, 1), 2);
+    ExpectGpuMatchesCpu({fans}, Vec4(-1, 3, 2, 1), 1);
+}
+
+TEST(VolumePassMultiplicity, RefusesImpossiblePatchSizes) {
+    const Mesh square = volumes::testing::Square(1.0, 0.0);
+    auto scene = UploadVolumeScene(testing::Context(), std::vector<Mesh>{square}, Vec3::Zero(),
+                                   1000);
+    ASSERT_FALSE(scene.ok());
+    EXPECT_EQ(scene.error().field, "max_opposites");
+    scene = UploadVolumeScene(testing::Context(), std::vector<Mesh>{}, Vec3::Zero());
+    ASSERT_FALSE(scene.ok());
+    EXPECT_EQ(scene.error().field, "meshes");
+}
+
+// --- masks ---------------------------------------------------------------------------------
+
+struct MaskCase {
+    std::vector<Mesh> meshes;
+    Mat4 viewer;
+    Viewport viewport{96, 96};
+    Vec4 light;
+    Vec3 origin = Vec3(0.25, 0.0, -0.5);  // camera-relative rendering is exercised
+};
+
+Mat4 Viewer(const Vec3& eye, const Vec3& target) {
+    return Perspective(45.0 * std::numbers::pi / 180.0, 1.0, 0.1, 50.0) *
+           LookAt(eye, target, Vec3::UnitY());
+}
+
+// Per pixel: -1 no surface, 0 shadowed, 1 lit, by ray casting the merged meshes exactly.
+std::vector<int> TruthMask(const MaskCase& c) {
+    const Mesh all = Merge(c.meshes);
+    const Mat4 inverse = PixelMatrix(c.viewer, c.viewport).inverse();
+    std::vector<int> truth(static_cast<std::size_t>(c.viewport.width) * c.viewport.height);
+    for (int y = 0; y < c.viewport.height; ++y) {
+        for (int x = 0; x < c.viewport.width; ++x) {
+            const Vec4 n = inverse * Vec4(x + 0.5, y + 0.5, 0.0, 1.0);
+            const Vec4 f = inverse * Vec4(x + 0.5, y + 0.5, 1.0, 1.0);
+            const Vec3 origin = n.head<3>() / n.w();
+            const Vec3 dir = f.head<3>() / f.w() - origin;
+            const double t = volumes::testing::NearestHit(all, origin, dir);
+            int& out = truth[static_cast<std::size_t>(y) * c.viewport.width + x];
+            if (!std::isfinite(t)) {
+                out = -1;
+                continue;
+            }
+            const Vec3 p = origin + t * dir;
+            out = volumes::testing::ShadowRayHits(all, p, c.light) > 0 ? 0 : 1;
+        }
+    }
+    return truth;
+}
+
+struct Comparison {
+    int compared = 0;
+    int wrong = 0;
+    int shadowed = 0;
+};
+
+// Pixels whose 3 x 3 neighbourhood in the truth is uniform (outside a one-pixel band around
+// every boundary, shadow or silhouette) must match exactly.
+Comparison Compare(const MaskCase& c, const render::FloatImage& mask,
+                   const std::vector<int>& truth) {
+    Comparison out;
+    const int w = c.viewport.width;
+    const int h = c.viewport.height;
+    for (int y = 1; y + 1 < h; ++y) {
+        for (int x = 1; x + 1 < w; ++x) {
+            const int v = truth[static_cast<std::size_t>(y) * w + x];
+            bool uniform = true;
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    uniform = uniform && truth[static_cast<std::size_t>(y + dy) * w + x + dx] == v;
+                }
+            }
+            if (!uniform) continue;
+            const float m = mask.at(x, y);
+            const int got = m == render::kNoSurface ? -1 : (m > 0.5f ? 1 : 0);
+            ++out.compared;
+            out.wrong += got != v;
+            out.shadowed += v == 0;
+        }
+    }
+    return out;
+}
+
+struct Rendered {
+    render::FloatImage mask;
+    VolumeRenderInfo info;
+};
+
+Rendered RenderMask(const MaskCase& c, CountingChoice counting) {
+    render::GlContext& context = testing::Context();
+    auto surfaces = render::UploadScene(context, c.meshes, c.origin);
+    EXPECT_TRUE(surfaces.ok()) << surfaces.error().Message();
+    auto volumes = UploadVolumeScene(context, c.meshes, c.origin);
+    EXPECT_TRUE(volumes.ok()) << volumes.error().Message();
+    VolumeRequest request;
+    request.viewer = c.viewer;
+    request.viewport = c.viewport;
+    request.light = c.light;
+    request.counting = counting;
+    request.measure_overdraw = true;
+    render::ViewImages images;
+    auto info = testing::Pass().Render(*surfaces, *volumes, request, images);
+    EXPECT_TRUE(info.ok()) << info.error().Message();
+    auto mask = render::ReadMask(context, images);
+    EXPECT_TRUE(mask.ok()) << mask.error().Message();
+    return {*mask, *info};
+}
+
+MaskCase SquareOverFloor() {
+    MaskCase c;
+    Mesh plate = volumes::testing::Square(0.5, 1.2);
+    for (Eigen::Vector3f& p : plate.positions) p += Eigen::Vector3f(0.2f, 0.0f, 0.1f);
+    c.meshes = {volumes::testing::Square(4.0, 0.0), plate};
+    c.viewer = Viewer(Vec3(0.0, 5.0, 5.0), Vec3(0.0, 0.0, 0.3));
+    c.light = Point(Vec3(1.5, 6.0, 1.0));
+    return c;
+}
+
+MaskCase SphereOverFloor() {
+    MaskCase c;
+    c.meshes = {volumes::testing::Square(4.0, 0.0), Sphere(Vec3(0, 1.3, 0), 0.6, 10, 16)};
+    c.viewer = Viewer(Vec3(0.5, 4.5, 5.0), Vec3(0.0, 0.5, 0.0));
+    c.light = Point(Vec3(1.5, 6.0, 1.0));
+    return c;
+}
+
+void ExpectMaskExact(const MaskCase& c, CountingChoice counting, CountingMode expected_mode,
+                     const char* name) {
+    const Rendered r = RenderMask(c, counting);
+    EXPECT_EQ(r.info.mode, expected_mode) << name;
+    const Comparison cmp = Compare(c, r.mask, TruthMask(c));
+    EXPECT_GT(cmp.compared, c.viewport.width * c.viewport.height / 2) << name;
+    EXPECT_GT(cmp.shadowed, 100) << name;
+    EXPECT_EQ(cmp.wrong, 0) << name << " (" << CountingModeName(r.info.mode) << ")";
+    EXPECT_GT(r.info.overdraw, 0.0) << name;
+}
+
+TEST(VolumePassMask, SquareOccluderZPassAndZFail) {
+    const MaskCase c = SquareOverFloor();
+    ExpectMaskExact(c, CountingChoice::kAuto, CountingMode::kZPass, "square auto");
+    ExpectMaskExact(c, CountingChoice::kZFail, CountingMode::kZFail, "square z-fail");
+    ExpectMaskExact(c, CountingChoice::kZPass, CountingMode::kZPass, "square z-pass");
+}
+
+TEST(VolumePassMask, SphereOverFloorPointAndDirectional) {
+    MaskCase c = SphereOverFloor();
+    ExpectMaskExact(c, CountingChoice::kAuto, CountingMode::kZPass, "sphere auto");
+    ExpectMaskExact(c, CountingChoice::kZFail, CountingMode::kZFail, "sphere z-fail");
+    c.light = Vec4(0.4, 1.0, 0.3, 0.0);
+    ExpectMaskExact(c, CountingChoice::kZFail, CountingMode::kZFail, "sphere directional");
+}
+
+TEST(VolumePassMask, SphereGrid) {
+    MaskCase c;
+    c.meshes = {volumes::testing::Square(6.0, 0.0), volumes::testing::SphereGrid(3, 0.5, 8, 12)};
+    c.viewer = Viewer(Vec3(1.5, 6.0, 7.0), Vec3(1.5, 0.0, 1.5));
+    c.light = Point(Vec3(4.0, 7.0, -1.0));
+    ExpectMaskExact(c, CountingChoice::kAuto, CountingMode::kZPass, "grid auto");
+    ExpectMaskExact(c, CountingChoice::kZFail, CountingMode::kZFail, "grid z-fail");
+}
+
+TEST(VolumePassMask, EyeInShadowNeedsZFail) {
+    // The camera sits under the plate, in its shadow, looking across the floor: z-pass counts
+    // from a shadowed eye and inverts the shadows; the automatic choice must take z-fail.
+    MaskCase c = SquareOverFloor();
+    c.viewer = Viewer(Vec3(0.3, 0.6, 0.2), Vec3(-3.0, 0.0, -2.0));
+    ExpectMaskExact(c, CountingChoice::kAuto, CountingMode::kZFail, "eye in shadow");
+    const Rendered zpass = RenderMask(c, CountingChoice::kZPass);
+    const Comparison wrong = Compare(c, zpass.mask, TruthMask(c));
+    EXPECT_GT(wrong.wrong, wrong.compared / 4);
+}
+
+TEST(VolumePassMask, LightInATrianglesPlaneCastsNothing) {
+    // A vertical triangle whose plane holds the light: no shadow on the floor at all.
+    MaskCase c;
+    Mesh wall;
+    wall.positions = {Eigen::Vector3f(-0.5f, 0.5f, 0.0f), Eigen::Vector3f(0.5f, 0.5f, 0.0f),
+                      Eigen::Vector3f(0.0f, 1.5f, 0.0f)};
+    wall.indices = {0, 1, 2};
+    c.meshes = {volumes::testing::Square(4.0, 0.0), wall};
+    c.viewer = Viewer(Vec3(0.0, 5.0, 5.0), Vec3(0.0, 0.0, 0.3));
+    c.light = Point(Vec3(0.3, 6.0, 0.0));
+    for (CountingChoice counting : {CountingChoice::kZPass, CountingChoice::kZFail}) {
+        const Rendered r = RenderMask(c, counting);
+        int shadowed = 0;
+        for (float m : r.mask.pixels) shadowed += m == 0.0f;
+        EXPECT_EQ(shadowed, 0);
+    }
+}
+
+// --- smooth silhouettes on the GPU ----------------------------------------------------------
+
+TEST(VolumePassSmooth, SmoothVolumeFollowsTheAnalyticSphereShadow) {
+    // A coarse sphere: its discrete shadow is a polygon, the true smooth sphere's a conic. On
+    // floor pixels away from the conic by more than a pixel, the smooth volume must be right.
+    const Vec3 centre(0, 1.5, 0);
+    const double radius = 1.0;
+    MaskCase c;
+    const Mesh sphere = Sphere(centre, radius, 6, 8);
+    const Mesh floor = volumes::testing::Square(4.0, 0.0);
+    c.meshes = {floor, sphere};
+    c.viewer = Viewer(Vec3(0.5, 8.0, 2.0), Vec3(0.3, 0.0, 0.0));
+    c.viewport = {160, 160};
+    c.light = Point(Vec3(0.6, 4.0, 0.4));
+    render::GlContext& context = testing::Context();
+    auto surfaces = render::UploadScene(context, std::vector<Mesh>{floor}, c.origin);
+    ASSERT_TRUE(surfaces.ok());
+    auto volumes = UploadVolumeScene(context, std::vector<Mesh>{sphere}, c.origin);
+    ASSERT_TRUE(volumes.ok());
+    SmoothOptions options;
+    options.epsilon = 0.001;
+    auto smooth = ComputeSmoothSilhouette(sphere, volumes->adjacency()[0], c.light, options);
+    ASSERT_TRUE(smooth.ok());
+    auto gpu_volume = UploadVolumeMesh(
+        context,
+        ExtrudeSmoothVolume(sphere, volumes->adjacency()[0], *smooth, c.light,
+                            Caps::kLightAndDark),
+        c.origin);
+    ASSERT_TRUE(gpu_volume.ok()) << gpu_volume.error().Message();
+    VolumeRequest request;
+    request.viewer = c.viewer;
+    request.viewport = c.viewport;
+    request.light = c.light;
+    // Only the floor is drawn (the sphere would hide part of its own shadow). With the occluder
+    // not drawn, z-pass (which relies on the occluder hiding what lies behind its light cap) does
+    // not apply: z-fail, forced.
+    request.counting = CountingChoice::kZFail;
+    const Mat4 inverse = PixelMatrix(c.viewer, c.viewport).inverse();
+    const Vec3 l = c.light.head<3>();
+    const double alpha = std::asin(radius / (centre - l).norm());
+    {
+        render::ViewImages smooth_images;
+        render::ViewImages discrete_images;
+        ASSERT_TRUE(testing::Pass().Render(*surfaces, *volumes, *gpu_volume, request,
+                                           smooth_images).ok());
+        ASSERT_TRUE(testing::Pass().Render(*surfaces, *volumes, request, discrete_images).ok());
+        auto smooth_mask = render::ReadMask(context, smooth_images);
+        auto discrete_mask = render::ReadMask(context, discrete_images);
+        ASSERT_TRUE(smooth_mask.ok() && discrete_mask.ok());
+        int compared = 0;
+        int smooth_wrong = 0;
+        int discrete_wrong = 0;
+        for (int y = 0; y < c.viewport.height; ++y) {
+            for (int x = 0; x < c.viewport.width; ++x) {
+                if (smooth_mask->at(x, y) == render::kNoSurface) continue;
+                // The floor point under the pixel centre and its pixel footprint.
+                auto floor_point = [&](double px, double py) {
+                    const Vec4 n = inverse * Vec4(px, py, 0.0, 1.0);
+                    const Vec4 f = inverse * Vec4(px, py, 1.0, 1.0);
+                    const Vec3 o = n.head<3>() / n.w();
+                    const Vec3 d = f.head<3>() / f.w() - o;
+                    return Vec3(o + (-o.y() / d.y()) * d);
+                };
+                const Vec3 p = floor_point(x + 0.5, y + 0.5);
+                const double footprint = (floor_point(x + 1.5, y + 0.5) - p).norm();
+                const Vec3 to = (p - l).normalized();
+                const double angle = std::acos(to.dot((centre - l).normalized()));
+                const double distance = std::abs(angle - alpha) * (p - l).norm();
+                if (distance < 1.5 * footprint) continue;  // one-pixel band around the conic
+                ++compared;
+                const bool truth_lit = angle >= alpha;
+                smooth_wrong += (smooth_mask->at(x, y) > 0.5f) != truth_lit;
+                if ((smooth_mask->at(x, y) > 0.5f) != truth_lit) {
+                    std::printf("smooth wrong at %d %d: p %g %g %g distance %g footprint %g lit %d\n", x, y, p.x(), p.y(), p.z(), distance, footprint, int(truth_lit));
+                }
+                discrete_wrong += (discrete_mask->at(x, y) > 0.5f) != truth_lit;
+            }
+        }
+        EXPECT_GT(compared, 10000);
+        EXPECT_EQ(smooth_wrong, 0);
+        EXPECT_GT(discrete_wrong, 20);
+        std::printf("[ measured ] smooth vs conic: %d wrong, discrete %d wrong, of %d pixels\n",
+                    smooth_wrong, discrete_wrong, compared);
+    }
+}
+
+}  // namespace
+}  // namespace lixel::volumes::gl
