@@ -338,9 +338,6 @@ TEST(VolumePassSmooth, SmoothVolumeFollowsTheAnalyticSphereShadow) {
                 ++compared;
                 const bool truth_lit = angle >= alpha;
                 smooth_wrong += (smooth_mask->at(x, y) > 0.5f) != truth_lit;
-                if ((smooth_mask->at(x, y) > 0.5f) != truth_lit) {
-                    std::printf("smooth wrong at %d %d: p %g %g %g distance %g footprint %g lit %d\n", x, y, p.x(), p.y(), p.z(), distance, footprint, int(truth_lit));
-                }
                 discrete_wrong += (discrete_mask->at(x, y) > 0.5f) != truth_lit;
             }
         }
