@@ -41,10 +41,9 @@ Mesh SphereGrid(int grid) {
                 const double t = pi * i / kStacks;
                 for (int j = 0; j < kSlices; ++j) {
                     const double p = 2.0 * pi * j / kSlices;
-                    m.positions.push_back(
-                        (c + r * Vec3(std::sin(t) * std::cos(p), std::cos(t),
-                                      -std::sin(t) * std::sin(p)))
-                            .cast<float>());
+                    m.positions.push_back((c + r * Vec3(std::sin(t) * std::cos(p), std::cos(t),
+                                                        -std::sin(t) * std::sin(p)))
+                                              .cast<float>());
                 }
             }
             m.positions.push_back((c - Vec3(0, r, 0)).cast<float>());
@@ -73,7 +72,7 @@ const Vec4 kLight = Direction(Vec3(std::sin(0.35), std::cos(0.35), 0.0));
 
 LightMap GridMap(int side) {
     // Orthographic along kLight: u along x', v along z, depth along -kLight.
-    const Vec3 d = -kLight.head<3>();         // propagation
+    const Vec3 d = -kLight.head<3>();  // propagation
     const Vec3 u = Vec3::UnitZ().cross(d).normalized();
     const Vec3 v = d.cross(u);
     LightMap m;
@@ -92,7 +91,7 @@ struct Fixture {
     std::unique_ptr<Renderer> renderer;
     Program bare;
     GlFramebuffer framebuffer;
-    std::map<int, GpuScene> scenes;  // by sphere-grid side
+    std::map<int, GpuScene> scenes;    // by sphere-grid side
     std::map<int, GlTexture> targets;  // bare draw's depth texture by map side
 };
 
@@ -141,7 +140,7 @@ void SetCounters(benchmark::State& state, const GpuScene& scene, int side) {
 // The baseline: what any depth-only shadow pass must do at least. One draw of all indices into a
 // cleared float depth texture of the map's size, then glFinish.
 class BareDraw {
-public:
+  public:
     BareDraw(const GpuScene& scene, int side) : scene_(scene), side_(side) {
         Fixture& f = Get();
         const GlApi& gl = f.context->gl();
@@ -171,7 +170,7 @@ public:
         gl.Finish();
     }
 
-private:
+  private:
     const GpuScene& scene_;
     int side_;
     GLuint texture_ = 0;
@@ -246,8 +245,8 @@ void BM_SilhouettePass(benchmark::State& state) {
     const LightMap map = GridMap(side);
     SilhouetteMap target;
     TimePaired(state, scene, side, [&] {
-        auto ok = f.renderer->silhouette().Render(scene, map, kLight, {}, f.renderer->depth(),
-                                                  target);
+        auto ok =
+            f.renderer->silhouette().Render(scene, map, kLight, {}, f.renderer->depth(), target);
         f.context->gl().Finish();
         benchmark::DoNotOptimize(ok);
     });

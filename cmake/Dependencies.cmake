@@ -40,6 +40,11 @@ find_program(LIXEL_PROTOC protoc REQUIRED)                # protobuf-compiler
 find_program(LIXEL_GRPC_CPP_PLUGIN grpc_cpp_plugin REQUIRED)        # protobuf-compiler-grpc
 find_program(LIXEL_GRPC_PYTHON_PLUGIN grpc_python_plugin)           # protobuf-compiler-grpc
 
+# --- server/volumes: shadow volumes ---------------------------------------------------------
+# lixel::volumes (adjacency, multiplicity, smooth silhouettes) needs Eigen only. lixel::volumes_gl
+# loads its extra GL entry points through the EGL and OSMesa libraries found for server/render
+# above (PkgConfig::LIXEL_EGL, PkgConfig::LIXEL_OSMESA); nothing new is looked up.
+
 # Warnings shared by every lixel target.
 add_library(lixel_warnings INTERFACE)
 target_compile_options(lixel_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wconversion

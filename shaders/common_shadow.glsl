@@ -37,8 +37,9 @@ float pcf(int map, vec3 s, float bias, int r) {
 // into light-screen coordinates, T_L = ((M_PL M_L)^-1)^T T_W (§3.4), so a x + b y + c z + d = 0.
 // Trivial accept/reject when all nearby comparisons agree; virtual samples on the tangent plane,
 // filtered like PCF, only when they are mixed. The comparison is <= (§3.3: two-sided planar
-// surfaces then compare equal to themselves); `bias` defaults to 0.
-float second_depth_test(int map, vec3 s, vec4 plane, float bias, int r) {
+// surfaces then compare equal to themselves); `bias` defaults to 0. Without `virtual_samples`
+// mixed comparisons are filtered as they are (for comparison with §3.2's gain).
+float second_depth_test(int map, vec3 s, vec4 plane, float bias, int r, bool virtual_samples) {
     vec2 g = s.xy - 0.5;
     ivec2 base = ivec2(floor(g)) - (r - 1);
     vec2 f = g - floor(g);
@@ -56,7 +57,8 @@ float second_depth_test(int map, vec3 s, vec4 plane, float bias, int r) {
     if (illuminated == 4 * r * r) return 1.0;
     // A tangent plane that contains the light rays (c ~ 0) has no depth to resample (Fig. 9):
     // keep the ordinary comparisons.
-    if (abs(plane.z) <= 1e-6 * max(abs(plane.x), max(abs(plane.y), abs(plane.w)))) {
+    if (!virtual_samples ||
+        abs(plane.z) <= 1e-6 * max(abs(plane.x), max(abs(plane.y), abs(plane.w)))) {
         return filtered * norm;
     }
     float virtual_lit = 0.0;

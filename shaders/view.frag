@@ -21,6 +21,7 @@ uniform float u_slope_bias;   // multiple of the tangent plane's depth change ov
 uniform float u_max_bias;     // clip-depth units; caps the slope term near grazing
 uniform float u_second_depth_bias;  // paper 003 §3.3; 0 for solids
 uniform int u_pcf_radius;
+uniform int u_virtual_samples;
 uniform int u_tint_maps;
 
 layout(location = 0) out float o_mask;
@@ -72,7 +73,8 @@ void main() {
             lit = pcf(map, s, biased(slope_len, kReachPerRadius * float(u_pcf_radius)),
                       u_pcf_radius);
         } else if (u_method == kMethodSecondDepth) {
-            lit = second_depth_test(map, s, plane, u_second_depth_bias, u_pcf_radius);
+            lit = second_depth_test(map, s, plane, u_second_depth_bias, u_pcf_radius,
+                                    u_virtual_samples != 0);
         } else {
             lit = silhouette_test(map, s, biased(slope_len, kReachCorners));
         }

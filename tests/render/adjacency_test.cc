@@ -1,7 +1,6 @@
 // Tests for adjacency.h: welded edge adjacency of closed, open and non-manifold meshes.
-#include <lixel/render/adjacency.h>
-
 #include <gtest/gtest.h>
+#include <lixel/render/adjacency.h>
 
 #include "scenes.h"
 

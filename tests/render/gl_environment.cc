@@ -13,7 +13,7 @@ GlContext* context = nullptr;
 std::unique_ptr<Renderer> renderer;
 
 class GlEnvironment : public ::testing::Environment {
-public:
+  public:
     void SetUp() override {
         auto c = ThreadContext(ContextOptions{TestBackend()});
         ASSERT_TRUE(c.ok()) << c.error().Message();

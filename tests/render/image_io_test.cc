@@ -1,7 +1,6 @@
 // Tests for image_io.h: PFM, OpenEXR and PNG round trips keep values and row order.
-#include <lixel/render/image_io.h>
-
 #include <gtest/gtest.h>
+#include <lixel/render/image_io.h>
 
 #include <filesystem>
 #include <random>

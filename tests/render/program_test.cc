@@ -18,8 +18,9 @@ ShaderLookup FromMap(const std::map<std::string, std::string_view>& files) {
 }
 
 TEST(ExpandShader, InlinesIncludesOnceWithLineDirectives) {
-    const auto lookup = FromMap({{"main.frag", "#version 450 core\n#include \"common_a.glsl\"\n"
-                                               "#include \"common_a.glsl\"\nvoid main() {}\n"},
+    const auto lookup = FromMap({{"main.frag",
+                                  "#version 450 core\n#include \"common_a.glsl\"\n"
+                                  "#include \"common_a.glsl\"\nvoid main() {}\n"},
                                  {"common_a.glsl", "float a() { return 1.0; }\n"}});
     auto expanded = ExpandShader("main.frag", lookup, {"#define N 3"});
     ASSERT_TRUE(expanded.ok()) << expanded.error().Message();
@@ -42,10 +43,11 @@ TEST(ExpandShader, RefusesMissingIncludesAndFilesWithoutVersion) {
 }
 
 TEST(BuildProgram, CompileErrorsNameTheFileAndLine) {
-    const auto lookup = FromMap(
-        {{"broken.frag", "#version 450 core\n#include \"common_bad.glsl\"\nout vec4 c;\n"
-                         "void main() { c = vec4(f()); }\n"},
-         {"common_bad.glsl", "// a helper\nfloat f() { return undefined_name; }\n"}});
+    const auto lookup =
+        FromMap({{"broken.frag",
+                  "#version 450 core\n#include \"common_bad.glsl\"\nout vec4 c;\n"
+                  "void main() { c = vec4(f()); }\n"},
+                 {"common_bad.glsl", "// a helper\nfloat f() { return undefined_name; }\n"}});
     auto program = BuildProgram(testing::Context(), {"broken.frag"}, {}, lookup);
     ASSERT_FALSE(program.ok());
     EXPECT_EQ(program.error().field, "shader broken.frag");
@@ -55,10 +57,11 @@ TEST(BuildProgram, CompileErrorsNameTheFileAndLine) {
 }
 
 TEST(BuildProgram, ErrorsInTheMainFileKeepTheirLineAfterIncludes) {
-    const auto lookup = FromMap(
-        {{"main.frag", "#version 450 core\n#include \"common_ok.glsl\"\nout vec4 c;\n"
-                       "void main() { c = vec4(g()); }\n"},
-         {"common_ok.glsl", "float f() { return 1.0; }\nfloat h() { return 2.0; }\n"}});
+    const auto lookup =
+        FromMap({{"main.frag",
+                  "#version 450 core\n#include \"common_ok.glsl\"\nout vec4 c;\n"
+                  "void main() { c = vec4(g()); }\n"},
+                 {"common_ok.glsl", "float f() { return 1.0; }\nfloat h() { return 2.0; }\n"}});
     auto program = BuildProgram(testing::Context(), {"main.frag"}, {}, lookup);
     ASSERT_FALSE(program.ok());
     EXPECT_NE(program.error().reason.find("main.frag:4"), std::string::npos)

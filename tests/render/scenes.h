@@ -8,7 +8,6 @@
 #include <lixel/solver/types.h>
 
 #include <Eigen/LU>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -109,14 +108,12 @@ struct Hit {
 // One analytic primitive: a box, a sphere, or a bounded horizontal rectangle (floor, square).
 struct Shape {
     enum Kind { kBox, kSphere, kRectangle } kind = kBox;
-    Vec3 lo = Vec3::Zero();   // box / rectangle (lo.y == hi.y) bounds
+    Vec3 lo = Vec3::Zero();  // box / rectangle (lo.y == hi.y) bounds
     Vec3 hi = Vec3::Zero();
     Vec3 centre = Vec3::Zero();  // sphere
     double radius = 0.0;
 
-    static Shape Box(const Vec3& lo, const Vec3& hi) {
-        return {kBox, lo, hi, Vec3::Zero(), 0.0};
-    }
+    static Shape Box(const Vec3& lo, const Vec3& hi) { return {kBox, lo, hi, Vec3::Zero(), 0.0}; }
     static Shape Sphere(const Vec3& c, double r) {
         return {kSphere, Vec3::Zero(), Vec3::Zero(), c, r};
     }

@@ -8,10 +8,9 @@
 #include <lixel/solver/homogeneous.h>
 
 #include <Eigen/LU>
-
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <numbers>
 
 #include "view_setup.h"
@@ -105,7 +104,8 @@ TEST(SilhouetteMap, StoredPointsLieOnTheSilhouetteAndCoverEveryCrossedTexel) {
                         local.y() <= 1.0)
                 << "texel-local coordinates, clamped into the texel";
             const Vec2 p = Vec2(i, j) + local;
-            worst = std::max(worst, std::min(OutlineDistance(p, square), OutlineDistance(p, floor)));
+            worst =
+                std::max(worst, std::min(OutlineDistance(p, square), OutlineDistance(p, floor)));
         }
     }
     EXPECT_GT(stored, 20);
@@ -147,18 +147,17 @@ TEST(SilhouetteMap, EdgesHiddenFromTheLightAreNotStored) {
     const LightMap map = testing::UniformMap(s, 64 * 64);
     auto points = ReadSilhouettePoints(testing::Context(), RenderSilhouettes(s, map));
     ASSERT_TRUE(points.ok());
-    const std::vector<Vec2> hidden =
-        Project(map, {Vec3(-0.3, 0.8, 0.3), Vec3(0.3, 0.8, 0.3), Vec3(0.3, 0.8, -0.3),
-                      Vec3(-0.3, 0.8, -0.3)});
-    const std::vector<Vec2> plate =
-        Project(map, {Vec3(-1.2, 1.4, 1.2), Vec3(1.2, 1.4, 1.2), Vec3(1.2, 1.4, -1.2),
-                      Vec3(-1.2, 1.4, -1.2)});
+    const std::vector<Vec2> hidden = Project(map, {Vec3(-0.3, 0.8, 0.3), Vec3(0.3, 0.8, 0.3),
+                                                   Vec3(0.3, 0.8, -0.3), Vec3(-0.3, 0.8, -0.3)});
+    const std::vector<Vec2> plate = Project(map, {Vec3(-1.2, 1.4, 1.2), Vec3(1.2, 1.4, 1.2),
+                                                  Vec3(1.2, 1.4, -1.2), Vec3(-1.2, 1.4, -1.2)});
     int on_plate = 0;
     for (int j = 0; j < map.height; ++j) {
         for (int i = 0; i < map.width; ++i) {
             if (points->at(i, j, 0) == kNoSilhouettePoint) continue;
             const Vec2 p = Vec2(i, j) + Vec2(points->at(i, j, 0), points->at(i, j, 1));
-            EXPECT_GT(OutlineDistance(p, hidden), 0.1) << "hidden edge stored at " << i << ", " << j;
+            EXPECT_GT(OutlineDistance(p, hidden), 0.1)
+                << "hidden edge stored at " << i << ", " << j;
             if (OutlineDistance(p, plate) < 0.05) ++on_plate;
         }
     }
@@ -172,8 +171,8 @@ LightMap DownwardMap(double x0, double z0, double cell, int size) {
     m.width = size;
     m.height = size;
     m.matrix << 1.0 / cell, 0, 0, -x0 / cell,  //
-        0, 0, 1.0 / cell, -z0 / cell,           //
-        0, -1.0 / 3.0, 0, 2.0 / 3.0,            // depth (2 - y) / 3: 0 at y = 2, 1 at y = -1
+        0, 0, 1.0 / cell, -z0 / cell,          //
+        0, -1.0 / 3.0, 0, 2.0 / 3.0,           // depth (2 - y) / 3: 0 at y = 2, 1 at y = -1
         0, 0, 0, 1;
     return m;
 }
@@ -188,14 +187,14 @@ TEST(SilhouetteMap, LineThroughTexelCornersIsStoredInAllFourNeighbours) {
     auto world = [&](double u, double v) { return Vec3(x0 + cell * u, 1.0, z0 + cell * v); };
     TestScene s = testing::OpenSquareOverFloor(64);
     s.light = Direction(Vec3(0, 1, 0));
-    s.meshes[1] = testing::QuadMesh("triangle", {world(8, 8), world(24, 8), world(24, 24),
-                                                  world(24, 24)});
+    s.meshes[1] =
+        testing::QuadMesh("triangle", {world(8, 8), world(24, 8), world(24, 24), world(24, 24)});
     const SilhouetteMap sil = RenderSilhouettes(s, map);
     auto points = ReadSilhouettePoints(testing::Context(), sil);
     ASSERT_TRUE(points.ok());
     for (int k = 10; k <= 22; ++k) {
-        for (const auto& [i, j] : {std::pair{k, k}, std::pair{k - 1, k - 1}, std::pair{k, k - 1},
-                                   std::pair{k - 1, k}}) {
+        for (const auto& [i, j] :
+             {std::pair{k, k}, std::pair{k - 1, k - 1}, std::pair{k, k - 1}, std::pair{k - 1, k}}) {
             ASSERT_NE(points->at(i, j, 0), kNoSilhouettePoint)
                 << "texel " << i << ", " << j << " around corner " << k << ", " << k;
             const Vec2 p = Vec2(i, j) + Vec2(points->at(i, j, 0), points->at(i, j, 1));
@@ -252,10 +251,10 @@ TEST(SilhouetteMap, ReconstructedBoundaryWithinHalfALixelWherePlainMapIsNot) {
             BoundaryErrorLixels(s, map, ShadowMethod::kDepth, occluder, &plain_count);
         const double silhouette =
             BoundaryErrorLixels(s, map, ShadowMethod::kSilhouette, occluder, &silhouette_count);
-        std::printf("[ measured ] square turned %.0f deg, %d x %d map: boundary error plain %.3f "
-                    "lixel (%d px), silhouette map %.3f lixel (%d px)\n",
-                    degrees, map.width, map.height, plain, plain_count, silhouette,
-                    silhouette_count);
+        std::printf(
+            "[ measured ] square turned %.0f deg, %d x %d map: boundary error plain %.3f "
+            "lixel (%d px), silhouette map %.3f lixel (%d px)\n",
+            degrees, map.width, map.height, plain, plain_count, silhouette, silhouette_count);
         EXPECT_LT(silhouette, 0.5);
         EXPECT_GT(plain, 0.4) << "nearest-texel staircase";
         EXPECT_LT(silhouette_count, plain_count / 3);

@@ -1,8 +1,7 @@
 // Tests for view_pass.h on analytic scenes: every method's mask against the closed-form shadow
 // of a square and of a sphere over a floor, except within a stated band of the true boundary.
-#include <lixel/render/view_pass.h>
-
 #include <lixel/render/image_io.h>
+#include <lixel/render/view_pass.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -29,14 +28,13 @@ constexpr int kView = 128;
 constexpr std::int64_t kBudget = 160 * 160;
 
 void ExpectMatchesTruth(const TestScene& s, const Case& c, const char* scene) {
-    const std::vector<PlannedMap> maps = {testing::Planned(testing::UniformMap(s, kBudget),
-                                                           {Pass::kDepth, c.pass})};
+    const std::vector<PlannedMap> maps = {
+        testing::Planned(testing::UniformMap(s, kBudget), {Pass::kDepth, c.pass})};
     const auto view = testing::RenderView(s, maps, c.method);
     const FloatImage truth = testing::TruthMask(s.shapes, s.viewer, s.viewport, s.light);
     const testing::MaskComparison cmp = testing::CompareMasks(view.mask, truth, c.band_pixels);
     std::printf("[ measured ] %s %s: %d of %d pixels differ, max %.2f px from the boundary\n",
-                scene, ShadowMethodName(c.method), cmp.mismatched, cmp.compared,
-                cmp.max_distance);
+                scene, ShadowMethodName(c.method), cmp.mismatched, cmp.compared, cmp.max_distance);
     if (const char* dir = std::getenv("LIXEL_TEST_IMAGES")) {
         const std::string base = std::string(dir) + "/" + scene + "_" + ShadowMethodName(c.method);
         (void)WritePng(base + "_mask.png", MaskPreview(view.mask));

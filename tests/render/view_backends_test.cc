@@ -39,9 +39,9 @@ Outputs RenderAll(Renderer& renderer, const TestScene& s, const std::vector<Plan
 
 TEST(Backends, EglAndOsmesaGiveIdenticalMapsAndMasks) {
     const TestScene s = testing::SphereOverFloor(128);
-    const std::vector<PlannedMap> maps = {testing::Planned(
-        testing::UniformMap(s, 128 * 128), {Pass::kDepth, Pass::kSecondDepth,
-                                            Pass::kSilhouetteMap})};
+    const std::vector<PlannedMap> maps = {
+        testing::Planned(testing::UniformMap(s, 128 * 128),
+                         {Pass::kDepth, Pass::kSecondDepth, Pass::kSilhouetteMap})};
     const Outputs here = RenderAll(testing::TheRenderer(), s, maps);
 
     const Backend other_backend =

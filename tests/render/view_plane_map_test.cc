@@ -76,9 +76,9 @@ TEST(ViewPlan, HalfPlanesAndFallbackFollowTheRule) {
     const TestScene s = testing::SquareOverFloor(128);
     const LightMap floor = testing::FloorMap(s, 128 * 128);
     Plan plan;
-    plan.maps = {testing::Planned(floor, {Pass::kDepth},
-                                  {Eigen::Vector3d(1.0, 0.0, -0.6 * floor.width)}),
-                 testing::Planned(testing::UniformMap(s, 96 * 96), {Pass::kDepth})};
+    plan.maps = {
+        testing::Planned(floor, {Pass::kDepth}, {Eigen::Vector3d(1.0, 0.0, -0.6 * floor.width)}),
+        testing::Planned(testing::UniformMap(s, 96 * 96), {Pass::kDepth})};
     const auto view = testing::RenderView(s, plan.maps, ShadowMethod::kDepth);
     const auto hits = testing::PrimaryHits(s.shapes, s.viewer, s.viewport);
     int differ = 0;
@@ -89,9 +89,10 @@ TEST(ViewPlan, HalfPlanesAndFallbackFollowTheRule) {
         ++used[static_cast<std::size_t>(expected + 1)];
         if (view.map_index[i] != expected) ++differ;
     }
-    std::printf("[ measured ] half-plane + fallback: %d pixels differ; plane map %d, fallback %d, "
-                "none %d\n",
-                differ, used[1], used[2], used[0]);
+    std::printf(
+        "[ measured ] half-plane + fallback: %d pixels differ; plane map %d, fallback %d, "
+        "none %d\n",
+        differ, used[1], used[2], used[0]);
     EXPECT_GT(used[1], 1000);
     EXPECT_GT(used[2], 1000);
     EXPECT_LE(differ, (used[1] + used[2]) / 500);
@@ -126,11 +127,12 @@ Errors CompareOnFloor(const TestScene& s, std::int64_t budget) {
 }
 
 void Print(const char* name, const Errors& e) {
-    std::printf("[ measured ] %s, %lld lixels: plane-optimal %d px wrong (max %.2f, mean %.2f px "
-                "from the boundary), uniform %d px wrong (max %.2f, mean %.2f)\n",
-                name, static_cast<long long>(e.lixels), e.plane.mismatched,
-                e.plane.max_distance, e.plane.mean_distance, e.uniform.mismatched,
-                e.uniform.max_distance, e.uniform.mean_distance);
+    std::printf(
+        "[ measured ] %s, %lld lixels: plane-optimal %d px wrong (max %.2f, mean %.2f px "
+        "from the boundary), uniform %d px wrong (max %.2f, mean %.2f)\n",
+        name, static_cast<long long>(e.lixels), e.plane.mismatched, e.plane.max_distance,
+        e.plane.mean_distance, e.uniform.mismatched, e.uniform.max_distance,
+        e.uniform.mean_distance);
 }
 
 // The boundary error is the share of floor pixels misclassified (DESIGN §7) and how far they

@@ -57,10 +57,11 @@ TEST(SecondDepth, ClosedBoxOnFloorHasNoAcneWithoutBiasWhereFirstDepthDoes) {
     const auto second = testing::RenderView(s, maps, ShadowMethod::kSecondDepth, no_bias);
     const Acne first_acne = MeasureAcne(first.mask, truth, 1.5);
     const Acne second_acne = MeasureAcne(second.mask, truth, 1.5);
-    std::printf("[ measured ] acne without bias at 256^2: first depth %.4f (%d of %d lit pixels), "
-                "second depth %.4f (%d of %d)\n",
-                first_acne.Fraction(), first_acne.shadowed, first_acne.lit,
-                second_acne.Fraction(), second_acne.shadowed, second_acne.lit);
+    std::printf(
+        "[ measured ] acne without bias at 256^2: first depth %.4f (%d of %d lit pixels), "
+        "second depth %.4f (%d of %d)\n",
+        first_acne.Fraction(), first_acne.shadowed, first_acne.lit, second_acne.Fraction(),
+        second_acne.shadowed, second_acne.lit);
     EXPECT_GT(first_acne.lit, 256 * 256 / 4);
     EXPECT_GT(first_acne.Fraction(), 0.05) << "first depth without bias must show acne";
     EXPECT_EQ(second_acne.shadowed, 0) << "second depth needs no bias on solids";
@@ -95,12 +96,48 @@ TEST(SecondDepth, TwoSidedPlanarSurfacesCompareEqualWithinRounding) {
     const auto tolerant = testing::RenderView(s, maps, ShadowMethod::kSecondDepth, rounding);
     const Acne a0 = MeasureAcne(exact.mask, truth, 1.5);
     const Acne a1 = MeasureAcne(tolerant.mask, truth, 1.5);
-    std::printf("[ measured ] open planar surfaces, second depth: acne %.4f with bias 0, %.4f "
-                "with bias %g\n",
-                a0.Fraction(), a1.Fraction(), static_cast<double>(rounding.second_depth_bias));
+    std::printf(
+        "[ measured ] open planar surfaces, second depth: acne %.4f with bias 0, %.4f "
+        "with bias %g\n",
+        a0.Fraction(), a1.Fraction(), static_cast<double>(rounding.second_depth_bias));
     EXPECT_GT(a0.Fraction(), 0.05) << "if this passes with no bias, the comment above is wrong";
     EXPECT_EQ(a1.shadowed, 0);
     EXPECT_EQ(testing::CompareMasks(tolerant.mask, truth, 1.5).mismatched_outside_band, 0);
+}
+
+}  // namespace
+}  // namespace lixel::render
+
+namespace lixel::render {
+namespace {
+
+TEST(SecondDepth, VirtualSamplesKeepAThinPlateUnderGrazingLightLit) {
+    // Paper 003 Fig. 7: a 0.01-thick plate lit 13 degrees above its plane through a coarse map:
+    // neighbouring texels' second depth (the plate's underside) lies nearer the light than the
+    // top at the pixel, so plain comparisons are mixed; on the tangent plane they are not.
+    testing::TestScene s = testing::SquareOverFloor(128);
+    const Vec3 lo(-0.8, 1.195, -0.7);
+    const Vec3 hi(0.9, 1.205, 0.9);
+    s.meshes[1] = testing::BoxMesh("plate", lo, hi);
+    s.shapes[1] = testing::Shape::Box(lo, hi);
+    s.light = Point(Vec3(6.0, 2.5, 1.0));
+    const std::vector<PlannedMap> maps = {
+        testing::Planned(testing::UniformMap(s, 48 * 48), {Pass::kSecondDepth})};
+    const FloatImage truth = testing::TruthMask(s.shapes, s.viewer, s.viewport, s.light);
+    const auto hits = testing::PrimaryHits(s.shapes, s.viewer, s.viewport);
+    const FloatImage plate_truth = testing::OnlyShape(truth, hits, 1);
+    ShadowOptions without;
+    without.virtual_samples = false;
+    const auto plain = testing::RenderView(s, maps, ShadowMethod::kSecondDepth, without);
+    const auto virtual_view = testing::RenderView(s, maps, ShadowMethod::kSecondDepth);
+    const Acne a0 = MeasureAcne(plain.mask, plate_truth, 1.5);
+    const Acne a1 = MeasureAcne(virtual_view.mask, plate_truth, 1.5);
+    std::printf("[ measured ] thin plate, grazing light, %d x %d map: false shadow on the lit top "
+                "%.4f without virtual samples, %.4f with (%d pixels)\n",
+                maps[0].map.width, maps[0].map.height, a0.Fraction(), a1.Fraction(), a1.lit);
+    EXPECT_GT(a1.lit, 500);
+    EXPECT_GT(a0.Fraction(), 0.05) << "the configuration must be one plain comparisons get wrong";
+    EXPECT_EQ(a1.shadowed, 0);
 }
 
 }  // namespace

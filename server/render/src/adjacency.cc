@@ -39,8 +39,8 @@ TriangleAdjacency BuildTriangleAdjacency(std::span<const Eigen::Vector3f> positi
         std::unordered_map<PositionKey, std::uint32_t, PositionHash> first;
         first.reserve(positions.size());
         for (std::size_t i = 0; i < positions.size(); ++i) {
-            canonical[i] = first.try_emplace(KeyOf(positions[i]), static_cast<std::uint32_t>(i))
-                               .first->second;
+            canonical[i] =
+                first.try_emplace(KeyOf(positions[i]), static_cast<std::uint32_t>(i)).first->second;
         }
     }
     const std::size_t triangles = indices.size() / 3;

@@ -12,17 +12,23 @@ namespace {
 
 const char* DebugTypeName(GLenum type) {
     switch (type) {
-        case GL_DEBUG_TYPE_ERROR: return "error";
-        case GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR: return "deprecated";
-        case GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR: return "undefined behaviour";
-        case GL_DEBUG_TYPE_PORTABILITY: return "portability";
-        case GL_DEBUG_TYPE_PERFORMANCE: return "performance";
-        default: return "other";
+        case GL_DEBUG_TYPE_ERROR:
+            return "error";
+        case GL_DEBUG_TYPE_DEPRECATED_BEHAVIOR:
+            return "deprecated";
+        case GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR:
+            return "undefined behaviour";
+        case GL_DEBUG_TYPE_PORTABILITY:
+            return "portability";
+        case GL_DEBUG_TYPE_PERFORMANCE:
+            return "performance";
+        default:
+            return "other";
     }
 }
 
 void APIENTRY OnDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum severity,
-                               GLsizei length, const GLchar* message, const void* user) {
+                             GLsizei length, const GLchar* message, const void* user) {
     auto* log = static_cast<GlContext::DebugLog*>(const_cast<void*>(user));
     std::string text = std::string(DebugTypeName(type)) + " " + std::to_string(id) + ": " +
                        std::string(message, length >= 0 ? static_cast<std::size_t>(length)
@@ -36,14 +42,22 @@ void APIENTRY OnDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum s
 
 const char* GlErrorName(GLenum code) {
     switch (code) {
-        case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
-        case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
-        case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
-        case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
-        case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
-        case GL_STACK_OVERFLOW: return "GL_STACK_OVERFLOW";
-        case GL_STACK_UNDERFLOW: return "GL_STACK_UNDERFLOW";
-        default: return "GL error";
+        case GL_INVALID_ENUM:
+            return "GL_INVALID_ENUM";
+        case GL_INVALID_VALUE:
+            return "GL_INVALID_VALUE";
+        case GL_INVALID_OPERATION:
+            return "GL_INVALID_OPERATION";
+        case GL_INVALID_FRAMEBUFFER_OPERATION:
+            return "GL_INVALID_FRAMEBUFFER_OPERATION";
+        case GL_OUT_OF_MEMORY:
+            return "GL_OUT_OF_MEMORY";
+        case GL_STACK_OVERFLOW:
+            return "GL_STACK_OVERFLOW";
+        case GL_STACK_UNDERFLOW:
+            return "GL_STACK_UNDERFLOW";
+        default:
+            return "GL error";
     }
 }
 

@@ -9,7 +9,7 @@
 namespace lixel::render {
 
 class GlContext::Native {
-public:
+  public:
     virtual ~Native() = default;
     virtual Result<bool> MakeCurrent() = 0;
     virtual GlApi::GetProcAddress ProcAddress() const = 0;

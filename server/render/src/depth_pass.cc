@@ -9,10 +9,14 @@ namespace lixel::render {
 
 const char* FaceSelectionName(FaceSelection faces) noexcept {
     switch (faces) {
-        case FaceSelection::kBoth: return "both";
-        case FaceSelection::kLightFacing: return "light-facing";
-        case FaceSelection::kAwayFacing: return "away-facing";
-        case FaceSelection::kSecondDepth: return "second-depth";
+        case FaceSelection::kBoth:
+            return "both";
+        case FaceSelection::kLightFacing:
+            return "light-facing";
+        case FaceSelection::kAwayFacing:
+            return "away-facing";
+        case FaceSelection::kSecondDepth:
+            return "second-depth";
     }
     return "?";
 }
@@ -62,8 +66,8 @@ Result<bool> DepthPass::Render(const GpuScene& scene, const LightMap& map, FaceS
         gl.NamedFramebufferTexture(framebuffer_.id(), GL_DEPTH_ATTACHMENT, target.texture.id(), 0);
         const GLenum status = gl.CheckNamedFramebufferStatus(framebuffer_.id(), GL_FRAMEBUFFER);
         if (status != GL_FRAMEBUFFER_COMPLETE) {
-            return Error{"depth pass", "framebuffer incomplete (status " +
-                                           std::to_string(status) + ")"};
+            return Error{"depth pass",
+                         "framebuffer incomplete (status " + std::to_string(status) + ")"};
         }
         attached_ = target.texture.id();
     }

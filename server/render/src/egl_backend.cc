@@ -85,7 +85,7 @@ Result<DisplayChoice> OpenDevice(PFNEGLGETPLATFORMDISPLAYEXTPROC get_display, bo
 }
 
 class EglBackend final : public GlContext::Native {
-public:
+  public:
     EglBackend(EGLDisplay display, EGLContext context, std::string platform)
         : display_(display), context_(context), platform_(std::move(platform)) {}
 
@@ -111,7 +111,7 @@ public:
 
     std::string Platform() const override { return platform_; }
 
-private:
+  private:
     EGLDisplay display_;
     EGLContext context_;
     std::string platform_;
@@ -149,8 +149,8 @@ Result<std::unique_ptr<GlContext::Native>> CreateEglBackend(EglPlatform platform
     }
     AcquireDisplay(choice.display);
     const char* extensions = eglQueryString(choice.display, EGL_EXTENSIONS);
-    for (const char* needed : {"EGL_KHR_no_config_context", "EGL_KHR_surfaceless_context",
-                               "EGL_KHR_create_context"}) {
+    for (const char* needed :
+         {"EGL_KHR_no_config_context", "EGL_KHR_surfaceless_context", "EGL_KHR_create_context"}) {
         if (!HasExtension(extensions, needed)) {
             ReleaseDisplay(choice.display);
             return Error{"gl", std::string(needed) + " is not supported by " + choice.platform};

@@ -1,12 +1,11 @@
 // OpenEXR float images through the RGBA-agnostic framebuffer API.
-#include <lixel/render/image_io.h>
-
+#include <Iex.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
-#include <Iex.h>
+#include <lixel/render/image_io.h>
 
 #include <array>
 #include <string>
@@ -32,8 +31,7 @@ Result<bool> WriteExr(const std::string& path, const FloatImage& image) {
         header.compression() = Imf::ZIP_COMPRESSION;
         const auto names = ChannelNames(image.channels);
         for (int c = 0; c < image.channels; ++c) {
-            header.channels().insert(names[static_cast<std::size_t>(c)],
-                                     Imf::Channel(Imf::FLOAT));
+            header.channels().insert(names[static_cast<std::size_t>(c)], Imf::Channel(Imf::FLOAT));
         }
         // EXR rows run top to bottom: flip our bottom-first rows by pointing at the last row
         // with a negative y stride.
@@ -42,8 +40,8 @@ Result<bool> WriteExr(const std::string& path, const FloatImage& image) {
         Imf::FrameBuffer frame;
         for (int c = 0; c < image.channels; ++c) {
             frame.insert(names[static_cast<std::size_t>(c)],
-                         Imf::Slice(Imf::FLOAT, const_cast<char*>(reinterpret_cast<const char*>(
-                                                    last_row + c)),
+                         Imf::Slice(Imf::FLOAT,
+                                    const_cast<char*>(reinterpret_cast<const char*>(last_row + c)),
                                     sizeof(float) * image.channels,
                                     -static_cast<std::ptrdiff_t>(sizeof(float) * row)));
         }
@@ -81,10 +79,10 @@ Result<FloatImage> ReadExr(const std::string& path) {
         Imf::FrameBuffer frame;
         for (int c = 0; c < image.channels; ++c) {
             // The slice base is where pixel (0, 0) of the data window would sit.
-            char* base = reinterpret_cast<char*>(last_row + c) -
-                         static_cast<std::ptrdiff_t>(sizeof(float)) * image.channels *
-                             window.min.x +
-                         static_cast<std::ptrdiff_t>(sizeof(float) * row) * window.min.y;
+            char* base =
+                reinterpret_cast<char*>(last_row + c) -
+                static_cast<std::ptrdiff_t>(sizeof(float)) * image.channels * window.min.x +
+                static_cast<std::ptrdiff_t>(sizeof(float) * row) * window.min.y;
             frame.insert(names[static_cast<std::size_t>(c)],
                          Imf::Slice(Imf::FLOAT, base, sizeof(float) * image.channels,
                                     -static_cast<std::ptrdiff_t>(sizeof(float) * row)));

@@ -29,8 +29,7 @@ GlVertexArray MakeVertexArray(const GlApi& gl, const GlBuffer& positions, const 
 
 }  // namespace
 
-Result<GpuScene> UploadScene(GlContext& context, std::span<const Mesh> meshes,
-                             const Vec3& origin) {
+Result<GpuScene> UploadScene(GlContext& context, std::span<const Mesh> meshes, const Vec3& origin) {
     if (meshes.empty()) return Error{"meshes", "no meshes to render"};
     if (!origin.allFinite()) return Error{"origin", "not finite"};
     std::vector<float> positions;
@@ -62,8 +61,8 @@ Result<GpuScene> UploadScene(GlContext& context, std::span<const Mesh> meshes,
         for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
             if (mesh.indices[i] >= mesh.positions.size()) {
                 return Error{field + ".indices[" + std::to_string(i) + "]",
-                             "index " + std::to_string(mesh.indices[i]) + " >= " +
-                                 std::to_string(mesh.positions.size()) + " vertices"};
+                             "index " + std::to_string(mesh.indices[i]) +
+                                 " >= " + std::to_string(mesh.positions.size()) + " vertices"};
             }
         }
         const TriangleAdjacency adj = BuildTriangleAdjacency(mesh.positions, mesh.indices);
@@ -74,8 +73,10 @@ Result<GpuScene> UploadScene(GlContext& context, std::span<const Mesh> meshes,
         range.index_count = mesh.indices.size();
         range.first_adjacency = adjacency.size();
         range.adjacency_count = adj.indices.size();
-        for (std::uint32_t i : mesh.indices) indices.push_back(static_cast<std::uint32_t>(base + i));
-        for (std::uint32_t i : adj.indices) adjacency.push_back(static_cast<std::uint32_t>(base + i));
+        for (std::uint32_t i : mesh.indices)
+            indices.push_back(static_cast<std::uint32_t>(base + i));
+        for (std::uint32_t i : adj.indices)
+            adjacency.push_back(static_cast<std::uint32_t>(base + i));
         scene.boundary_edges_ += adj.boundary_edges;
         scene.triangles_ += mesh.TriangleCount();
         scene.ranges_.push_back(std::move(range));

@@ -2,18 +2,18 @@
 // context is made current on a 1 x 1 buffer; passes render into framebuffer objects.
 // glcorearb.h (through context_backend.h) must come before GL/osmesa.h: osmesa.h pulls in the
 // legacy GL/gl.h, which marks GL 1.0-1.3 as declared and hides their PFNGL* typedefs.
-#include "context_backend.h"
-
 #include <GL/osmesa.h>
 
 #include <array>
 #include <string>
 
+#include "context_backend.h"
+
 namespace lixel::render {
 namespace {
 
 class OsmesaBackend final : public GlContext::Native {
-public:
+  public:
     explicit OsmesaBackend(OSMesaContext context) : context_(context) {}
 
     ~OsmesaBackend() override {
@@ -36,7 +36,7 @@ public:
 
     std::string Platform() const override { return "osmesa"; }
 
-private:
+  private:
     OSMesaContext context_;
     std::array<unsigned char, 4> pixel_{};  // the default framebuffer; never drawn to
 };

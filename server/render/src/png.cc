@@ -1,6 +1,5 @@
 // 8-bit RGB PNG through libpng's simplified API.
 #include <lixel/render/image_io.h>
-
 #include <png.h>
 
 #include <algorithm>

@@ -46,8 +46,8 @@ struct Expander {
                 seen_version = true;
                 out.text.append(line).append("\n");
                 for (const std::string& d : *defines) out.text.append(d).append("\n");
-                out.text += "#line " + std::to_string(line_number + 1) + " " +
-                            std::to_string(id) + "\n";
+                out.text +=
+                    "#line " + std::to_string(line_number + 1) + " " + std::to_string(id) + "\n";
                 continue;
             }
             if (trimmed.starts_with("#include")) {
@@ -69,8 +69,8 @@ struct Expander {
                 const std::size_t before = out.files.size();
                 out.text += "#line 1 " + std::to_string(before) + "\n";
                 if (auto ok = Append(included, nullptr); !ok) return ok;
-                out.text += "#line " + std::to_string(line_number + 1) + " " +
-                            std::to_string(id) + "\n";
+                out.text +=
+                    "#line " + std::to_string(line_number + 1) + " " + std::to_string(id) + "\n";
                 continue;
             }
             out.text.append(line).append("\n");
@@ -160,8 +160,7 @@ std::string NameSourcesInLog(std::string_view log, const std::vector<std::string
 }
 
 Result<Program> BuildProgram(GlContext& context, std::initializer_list<std::string_view> stages,
-                             const std::vector<std::string>& defines,
-                             const ShaderLookup& lookup) {
+                             const std::vector<std::string>& defines, const ShaderLookup& lookup) {
     const GlApi& gl = context.gl();
     std::vector<GlShaderName> shaders;
     std::string all_names;

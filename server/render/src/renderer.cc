@@ -12,9 +12,8 @@ Result<std::unique_ptr<Renderer>> Renderer::Create(GlContext& context) {
     if (!silhouette) return silhouette.error();
     auto view = ViewPass::Create(context);
     if (!view) return view.error();
-    return std::unique_ptr<Renderer>(new Renderer(context, std::move(depth.value()),
-                                                  std::move(silhouette.value()),
-                                                  std::move(view.value())));
+    return std::unique_ptr<Renderer>(new Renderer(
+        context, std::move(depth.value()), std::move(silhouette.value()), std::move(view.value())));
 }
 
 Result<std::vector<RenderedMap>> Renderer::RenderMaps(const GpuScene& scene,

@@ -40,8 +40,8 @@ Result<bool> SilhouettePass::Render(const GpuScene& scene, const LightMap& map, 
     gl.NamedFramebufferDrawBuffer(framebuffer_.id(), GL_COLOR_ATTACHMENT0);
     const GLenum status = gl.CheckNamedFramebufferStatus(framebuffer_.id(), GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
-        return Error{"silhouette pass", "framebuffer incomplete (status " +
-                                            std::to_string(status) + ")"};
+        return Error{"silhouette pass",
+                     "framebuffer incomplete (status " + std::to_string(status) + ")"};
     }
     const MapTransform transform = MakeMapTransform(map, scene.origin());
     const Eigen::Vector4f relative_light = RelativePoint(light, scene.origin()).cast<float>();

@@ -15,8 +15,8 @@ std::string MapField(std::size_t i, const char* what) {
 Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size) {
     if (auto ok = ValidateViewer(r.viewer, r.viewport, "viewer"); !ok) return ok;
     if (r.viewport.width > max_texture_size || r.viewport.height > max_texture_size) {
-        return Error{"viewport", "larger than the GL maximum texture size " +
-                                     std::to_string(max_texture_size)};
+        return Error{"viewport",
+                     "larger than the GL maximum texture size " + std::to_string(max_texture_size)};
     }
     if (!r.light.allFinite() || (r.light.head<3>().isZero() && r.light.w() == 0.0)) {
         return Error{"light", "not finite, or a zero direction"};
@@ -27,8 +27,8 @@ Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size) {
                                  std::to_string(kMaxViewMaps)};
     }
     if (r.options.pcf_radius < 1 || r.options.pcf_radius > 4) {
-        return Error{"options.pcf_radius", std::to_string(r.options.pcf_radius) +
-                                               " outside [1, 4]"};
+        return Error{"options.pcf_radius",
+                     std::to_string(r.options.pcf_radius) + " outside [1, 4]"};
     }
     for (std::size_t i = 0; i < r.maps.size(); ++i) {
         const ViewMap& m = r.maps[i];
@@ -45,16 +45,22 @@ Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size) {
         const char* name = "";
         switch (r.method) {
             case ShadowMethod::kDepth:
-            case ShadowMethod::kPcf: needed = m.depth; name = ".depth"; break;
-            case ShadowMethod::kSecondDepth: needed = m.second_depth; name = ".second_depth"; break;
+            case ShadowMethod::kPcf:
+                needed = m.depth;
+                name = ".depth";
+                break;
+            case ShadowMethod::kSecondDepth:
+                needed = m.second_depth;
+                name = ".second_depth";
+                break;
             case ShadowMethod::kSilhouette:
                 needed = m.silhouette ? &m.silhouette->corners : nullptr;
                 name = ".silhouette";
                 break;
         }
         if (needed == nullptr || !needed->texture) {
-            return Error{MapField(i, name), std::string("not rendered; ") +
-                                                ShadowMethodName(r.method) + " needs it"};
+            return Error{MapField(i, name),
+                         std::string("not rendered; ") + ShadowMethodName(r.method) + " needs it"};
         }
         const LightMap& rendered =
             r.method == ShadowMethod::kSilhouette ? m.silhouette->map : needed->map;
@@ -77,18 +83,23 @@ void EnsureTexture(const GlApi& gl, GlTexture& texture, GLenum format, const Vie
 
 const char* ShadowMethodName(ShadowMethod method) noexcept {
     switch (method) {
-        case ShadowMethod::kDepth: return "depth";
-        case ShadowMethod::kPcf: return "pcf";
-        case ShadowMethod::kSecondDepth: return "second_depth";
-        case ShadowMethod::kSilhouette: return "silhouette_map";
+        case ShadowMethod::kDepth:
+            return "depth";
+        case ShadowMethod::kPcf:
+            return "pcf";
+        case ShadowMethod::kSecondDepth:
+            return "second_depth";
+        case ShadowMethod::kSilhouette:
+            return "silhouette_map";
     }
     return "?";
 }
 
 Result<ViewPass> ViewPass::Create(GlContext& context) {
-    auto program = BuildProgram(context, {"view.vert", "view.frag"},
-                                {"#define LIXEL_MAX_MAPS " + std::to_string(kMaxViewMaps),
-                                 "#define LIXEL_MAX_HALF_PLANES " + std::to_string(kMaxHalfPlanes)});
+    auto program =
+        BuildProgram(context, {"view.vert", "view.frag"},
+                     {"#define LIXEL_MAX_MAPS " + std::to_string(kMaxViewMaps),
+                      "#define LIXEL_MAX_HALF_PLANES " + std::to_string(kMaxHalfPlanes)});
     if (!program) return program.error();
     GLuint fbo = 0;
     context.gl().CreateFramebuffers(1, &fbo);
@@ -155,8 +166,12 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
         const SilhouetteMap* b = nullptr;
         switch (request.method) {
             case ShadowMethod::kDepth:
-            case ShadowMethod::kPcf: a = m.depth; break;
-            case ShadowMethod::kSecondDepth: a = m.second_depth; break;
+            case ShadowMethod::kPcf:
+                a = m.depth;
+                break;
+            case ShadowMethod::kSecondDepth:
+                a = m.second_depth;
+                break;
             case ShadowMethod::kSilhouette:
                 a = &m.silhouette->corners;
                 b = m.silhouette;
@@ -196,6 +211,7 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     gl.ProgramUniform1f(program, program_.Uniform("u_max_bias"), o.max_bias);
     gl.ProgramUniform1f(program, program_.Uniform("u_second_depth_bias"), o.second_depth_bias);
     gl.ProgramUniform1i(program, program_.Uniform("u_pcf_radius"), o.pcf_radius);
+    gl.ProgramUniform1i(program, program_.Uniform("u_virtual_samples"), o.virtual_samples ? 1 : 0);
     gl.ProgramUniform1i(program, program_.Uniform("u_tint_maps"), o.tint_maps ? 1 : 0);
 
     gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);

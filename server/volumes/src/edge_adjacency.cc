@@ -59,8 +59,11 @@ bool Collinear(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::
 
 struct EdgeUse {
     std::uint64_t key;       // a << 32 | b, a < b
-    std::uint32_t opposite;  // welded id
-    std::uint32_t slot;      // 3 * kept triangle + corner k (edge k -> k + 1)
+    std::uint64_t payload;   // opposite welded id << 32 | slot (3 * kept triangle + corner k)
+
+    bool operator<(const EdgeUse& o) const {
+        return key != o.key ? key < o.key : payload < o.payload;
+    }
 };
 
 }  // namespace
@@ -93,22 +96,18 @@ Result<EdgeAdjacency> BuildEdgeAdjacency(std::span<const Eigen::Vector3f> positi
     }
 
     // Duplicates: equal sorted corner sets; the earliest input triangle is kept.
-    std::vector<std::uint32_t> by_set(corners.size());
-    std::iota(by_set.begin(), by_set.end(), 0u);
-    auto sorted = [&](std::uint32_t i) {
-        std::array<std::uint32_t, 3> s = corners[i];
-        std::sort(s.begin(), s.end());
-        return s;
-    };
-    std::sort(by_set.begin(), by_set.end(), [&](std::uint32_t i, std::uint32_t j) {
-        const auto si = sorted(i);
-        const auto sj = sorted(j);
-        return si != sj ? si < sj : i < j;
-    });
+    std::vector<std::array<std::uint32_t, 4>> by_set(corners.size());
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        std::array<std::uint32_t, 3> c = corners[i];
+        std::sort(c.begin(), c.end());
+        by_set[i] = {c[0], c[1], c[2], static_cast<std::uint32_t>(i)};
+    }
+    std::sort(by_set.begin(), by_set.end());
     std::vector<char> keep(corners.size(), 1);
     for (std::size_t k = 1; k < by_set.size(); ++k) {
-        if (sorted(by_set[k]) == sorted(by_set[k - 1])) {
-            keep[by_set[k]] = 0;
+        if (by_set[k][0] == by_set[k - 1][0] && by_set[k][1] == by_set[k - 1][1] &&
+            by_set[k][2] == by_set[k - 1][2]) {
+            keep[by_set[k][3]] = 0;
             ++stats.duplicate_triangles;
         }
     }
@@ -127,15 +126,11 @@ Result<EdgeAdjacency> BuildEdgeAdjacency(std::span<const Eigen::Vector3f> positi
             std::uint64_t a = out.triangles[3 * t + k];
             std::uint64_t b = out.triangles[3 * t + (k + 1) % 3];
             if (a > b) std::swap(a, b);
-            uses.push_back({(a << 32) | b, out.triangles[3 * t + (k + 2) % 3],
-                            static_cast<std::uint32_t>(3 * t + k)});
+            const std::uint64_t opposite = out.triangles[3 * t + (k + 2) % 3];
+            uses.push_back({(a << 32) | b, (opposite << 32) | (3 * t + k)});
         }
     }
-    std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-        if (x.key != y.key) return x.key < y.key;
-        if (x.opposite != y.opposite) return x.opposite < y.opposite;
-        return x.slot < y.slot;
-    });
+    std::sort(uses.begin(), uses.end());
     out.opposite.resize(uses.size());
     out.opposite_triangle.resize(uses.size());
     out.triangle_edges.resize(uses.size());
@@ -149,9 +144,10 @@ Result<EdgeAdjacency> BuildEdgeAdjacency(std::span<const Eigen::Vector3f> positi
         }
         Edge& e = out.edges.back();
         ++e.count;
-        out.opposite[k] = uses[k].opposite;
-        out.opposite_triangle[k] = uses[k].slot / 3;
-        out.triangle_edges[uses[k].slot] = static_cast<std::uint32_t>(out.edges.size() - 1);
+        const auto slot = static_cast<std::uint32_t>(uses[k].payload & 0xffffffffu);
+        out.opposite[k] = static_cast<std::uint32_t>(uses[k].payload >> 32);
+        out.opposite_triangle[k] = slot / 3;
+        out.triangle_edges[slot] = static_cast<std::uint32_t>(out.edges.size() - 1);
     }
     stats.edges = out.edges.size();
     for (const Edge& e : out.edges) {

@@ -259,7 +259,11 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
                               " masks, each pair the truth then the masks above the truth then "
                               "their differences (red: false lit, blue: false shadow, yellow: "
                               "undecided); in order:";
-        for (const Method& m : options.methods) columns += " " + m.Name() + ";";
+        for (const Method& m : options.methods) {
+            columns += ' ';
+            columns += m.Name();
+            columns += ';';
+        }
         summary.notes.push_back(columns);
     }
     if (bar) bar->Finish();

@@ -43,18 +43,18 @@ struct ContextInfo {
     std::string renderer;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
     std::string version;   // GL_VERSION
     std::string glsl_version;
-    int max_texture_size = 0;              // texels per side
-    int max_texture_image_units = 0;       // per fragment shader
+    int max_texture_size = 0;         // texels per side
+    int max_texture_image_units = 0;  // per fragment shader
     int max_geometry_output_vertices = 0;
-    int max_patch_vertices = 0;            // tessellation: vertices per patch
-    int max_tess_gen_level = 0;            // tessellation: largest level
-    bool khr_debug = false;                // debug output is installed
+    int max_patch_vertices = 0;  // tessellation: vertices per patch
+    int max_tess_gen_level = 0;  // tessellation: largest level
+    bool khr_debug = false;      // debug output is installed
 
     std::string Summary() const;  // one line for logs
 };
 
 class GlContext {
-public:
+  public:
     // Creates the context and makes it current on the calling thread.
     static Result<std::unique_ptr<GlContext>> Create(const ContextOptions& options);
     ~GlContext();
@@ -82,7 +82,7 @@ public:
         std::vector<std::string> messages;
     };
 
-private:
+  private:
     GlContext() = default;
 
     std::unique_ptr<Native> backend_;

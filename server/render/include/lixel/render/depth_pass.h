@@ -12,9 +12,9 @@
 namespace lixel::render {
 
 enum class FaceSelection {
-    kBoth,          // every triangle: the ordinary shadow map
-    kLightFacing,   // triangles facing the light
-    kAwayFacing,    // triangles facing away from the light
+    kBoth,         // every triangle: the ordinary shadow map
+    kLightFacing,  // triangles facing the light
+    kAwayFacing,   // triangles facing away from the light
     // Paper 003 §3.4: closed meshes keep their away-facing triangles (light-facing ones are
     // culled), open meshes are two-sided and drawn whole, the side away from the light in pass 1.
     kSecondDepth,
@@ -31,7 +31,7 @@ struct DepthMap {
 };
 
 class DepthPass {
-public:
+  public:
     static Result<DepthPass> Create(GlContext& context);
 
     // Renders the scene's depth into `target`, reallocating its texture only when the size
@@ -41,7 +41,7 @@ public:
 
     Result<DepthMap> Render(const GpuScene& scene, const LightMap& map, FaceSelection faces);
 
-private:
+  private:
     DepthPass(GlContext& context, Program program, GlFramebuffer framebuffer)
         : context_(&context), program_(std::move(program)), framebuffer_(std::move(framebuffer)) {}
 

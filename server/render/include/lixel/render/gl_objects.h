@@ -19,12 +19,11 @@ inline void DeleteShader(const GlApi& gl, GLuint id) { gl.DeleteShader(id); }
 
 template <void (*Delete)(const GlApi&, GLuint)>
 class GlHandle {
-public:
+  public:
     GlHandle() = default;
     GlHandle(const GlApi& gl, GLuint id) : gl_(&gl), id_(id) {}
     ~GlHandle() { Reset(); }
-    GlHandle(GlHandle&& other) noexcept
-        : gl_(other.gl_), id_(std::exchange(other.id_, 0u)) {}
+    GlHandle(GlHandle&& other) noexcept : gl_(other.gl_), id_(std::exchange(other.id_, 0u)) {}
     GlHandle& operator=(GlHandle&& other) noexcept {
         if (this != &other) {
             Reset();
@@ -44,7 +43,7 @@ public:
         id_ = 0;
     }
 
-private:
+  private:
     const GlApi* gl_ = nullptr;
     GLuint id_ = 0;
 };

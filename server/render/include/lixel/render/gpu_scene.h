@@ -29,7 +29,7 @@ struct GpuMeshRange {
 };
 
 class GpuScene {
-public:
+  public:
     const Vec3& origin() const noexcept { return origin_; }
     const std::vector<GpuMeshRange>& ranges() const noexcept { return ranges_; }
     std::size_t triangle_count() const noexcept { return triangles_; }
@@ -38,7 +38,7 @@ public:
     GLuint triangles() const noexcept { return triangle_vao_.id(); }
     GLuint adjacency() const noexcept { return adjacency_vao_.id(); }
 
-private:
+  private:
     friend Result<GpuScene> UploadScene(GlContext&, std::span<const Mesh>, const Vec3&);
     Vec3 origin_ = Vec3::Zero();
     std::vector<GpuMeshRange> ranges_;

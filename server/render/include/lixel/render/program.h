@@ -35,14 +35,14 @@ std::string NameSourcesInLog(std::string_view log, const std::vector<std::string
 
 // A linked program with its uniform locations looked up by name.
 class Program {
-public:
+  public:
     Program() = default;
     Program(const GlApi& gl, GLuint id) : gl_(&gl), name_(gl, id) {}
     GLuint id() const noexcept { return name_.id(); }
     // -1 when the uniform does not exist or was optimised away (GL ignores writes to -1).
     GLint Uniform(const char* name) const { return gl_->GetUniformLocation(name_.id(), name); }
 
-private:
+  private:
     const GlApi* gl_ = nullptr;
     GlProgramName name_;
 };

@@ -23,8 +23,8 @@ struct RenderedMap {
     std::string name;
     LightMap map;
     LookupRule lookup;
-    std::optional<DepthMap> depth;          // always rendered
-    std::optional<DepthMap> second_depth;   // when the plan asked for Pass::kSecondDepth
+    std::optional<DepthMap> depth;            // always rendered
+    std::optional<DepthMap> second_depth;     // when the plan asked for Pass::kSecondDepth
     std::optional<SilhouetteMap> silhouette;  // when the plan asked for Pass::kSilhouetteMap
 };
 
@@ -37,7 +37,7 @@ struct ViewSettings {
 };
 
 class Renderer {
-public:
+  public:
     // Builds every pass's programs once; `context` must outlive the renderer and be current.
     static Result<std::unique_ptr<Renderer>> Create(GlContext& context);
 
@@ -48,15 +48,14 @@ public:
 
     // Renders each map's passes, in plan order. `light` is the plan's (Plan::hull.light).
     Result<std::vector<RenderedMap>> RenderMaps(const GpuScene& scene,
-                                                std::span<const PlannedMap> maps,
-                                                const Vec4& light,
+                                                std::span<const PlannedMap> maps, const Vec4& light,
                                                 const SilhouetteOptions& silhouette = {});
 
     // The view pass over rendered maps, selected by their lookup rules in order.
     Result<ViewImages> RenderView(const GpuScene& scene, std::span<const RenderedMap> maps,
                                   const ViewSettings& settings);
 
-private:
+  private:
     Renderer(GlContext& context, DepthPass depth, SilhouettePass silhouette, ViewPass view)
         : context_(&context),
           depth_(std::move(depth)),

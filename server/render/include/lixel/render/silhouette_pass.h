@@ -31,16 +31,15 @@ struct SilhouetteOptions {
 };
 
 class SilhouettePass {
-public:
+  public:
     static Result<SilhouettePass> Create(GlContext& context);
 
     // `light` is the light the map was solved for (w = 1 point, w = 0 direction toward it);
     // silhouette edges are judged against it. `depth` renders the corner map.
     Result<bool> Render(const GpuScene& scene, const LightMap& map, const Vec4& light,
-                        const SilhouetteOptions& options, DepthPass& depth,
-                        SilhouetteMap& target);
+                        const SilhouetteOptions& options, DepthPass& depth, SilhouetteMap& target);
 
-private:
+  private:
     SilhouettePass(GlContext& context, Program program, GlFramebuffer framebuffer)
         : context_(&context), program_(std::move(program)), framebuffer_(std::move(framebuffer)) {}
 

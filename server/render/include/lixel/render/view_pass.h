@@ -49,6 +49,9 @@ struct ShadowOptions {
     float max_bias = 1.0f;
     // Second depth (paper 003 §3.3): 0 for solids; non-planar two-sided surfaces need some.
     float second_depth_bias = 0.0f;
+    // Second depth: virtual samples on the tangent plane where comparisons are mixed (§3.2, Fig.
+    // 10). Off only to measure what they buy.
+    bool virtual_samples = true;
     // PCF and second depth filter 2r x 2r texels; r in [1, 4], 1 = bilinear.
     int pcf_radius = 1;
     bool tint_maps = false;  // colour the preview by the map each pixel used
@@ -83,14 +86,14 @@ struct ViewImages {
 };
 
 class ViewPass {
-public:
+  public:
     static Result<ViewPass> Create(GlContext& context);
 
     // Errors name the field: "viewer", "viewport.width", "light", "maps", "maps[1].second_depth",
     // "maps[0].lookup.half_planes", "options.pcf_radius".
     Result<bool> Render(const GpuScene& scene, const ViewRequest& request, ViewImages& target);
 
-private:
+  private:
     ViewPass(GlContext& context, Program program, GlFramebuffer framebuffer)
         : context_(&context), program_(std::move(program)), framebuffer_(std::move(framebuffer)) {}
 

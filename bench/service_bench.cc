@@ -1,0 +1,316 @@
+// Benchmarks for lixel::service over loopback: Solve latency and throughput at 1, 8 and 64
+// concurrent callers, Render's streaming rate for 1024^2 and 4096^2 maps, and throughput over 1,
+// 2 and 3 instances, each against a bare gRPC echo of the same bytes in the same process.
+#include <benchmark/benchmark.h>
+#include <grpcpp/grpcpp.h>
+#include <lixel/client/client.h>
+#include <lixel/eval/builtin_scenes.h>
+#include <lixel/service/proto_convert.h>
+#include <lixel/service/server.h>
+#include <lixel/solver/camera.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include "echo.grpc.pb.h"
+#include "ratio_reporter.h"
+
+namespace lixel {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+class EchoService final : public bench::Echo::CallbackService {
+public:
+    grpc::ServerUnaryReactor* Unary(grpc::CallbackServerContext* context,
+                                    const bench::Blob* request, bench::Blob* response) override {
+        response->set_data(request->data());
+        auto* reactor = context->DefaultReactor();
+        reactor->Finish(grpc::Status::OK);
+        return reactor;
+    }
+
+    grpc::ServerWriteReactor<bench::Blob>* Stream(grpc::CallbackServerContext*,
+                                                  const bench::StreamRequest* request) override {
+        class Writer final : public grpc::ServerWriteReactor<bench::Blob> {
+        public:
+            Writer(std::uint64_t bytes, std::uint64_t chunk) : left_(bytes) {
+                blob_.mutable_data()->assign(chunk, 'x');
+                Next();
+            }
+            void OnWriteDone(bool ok) override {
+                if (!ok) {
+                    Finish(grpc::Status::CANCELLED);
+                    return;
+                }
+                Next();
+            }
+            void OnDone() override { delete this; }
+
+        private:
+            void Next() {
+                if (left_ == 0) {
+                    Finish(grpc::Status::OK);
+                    return;
+                }
+                const std::uint64_t n = std::min<std::uint64_t>(left_, blob_.data().size());
+                blob_.mutable_data()->resize(n);
+                left_ -= n;
+                StartWrite(&blob_);
+            }
+            std::uint64_t left_;
+            bench::Blob blob_;
+        };
+        return new Writer(request->bytes(), std::max<std::uint64_t>(1, request->chunk_bytes()));
+    }
+};
+
+struct EchoServer {
+    EchoService service;
+    std::unique_ptr<grpc::Server> server;
+    int port = 0;
+    EchoServer() {
+        grpc::ServerBuilder builder;
+        builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port);
+        builder.RegisterService(&service);
+        builder.SetMaxSendMessageSize(256 << 20);
+        builder.SetMaxReceiveMessageSize(256 << 20);
+        server = builder.BuildAndStart();
+    }
+};
+
+EchoServer& Echo() {
+    static EchoServer echo;
+    return echo;
+}
+
+std::unique_ptr<service::Server> StartLixel(const std::string& name) {
+    service::ServerOptions options;
+    options.address = "127.0.0.1:0";
+    options.service.instance = name;
+    options.service.workers = 2;
+    options.service.queue_capacity = 1024;
+    options.service.max_view_pixels = 4096ull * 4096ull;
+    return std::move(service::Server::Start(options)).value();
+}
+
+service::Server& Lixel() {
+    static auto server = StartLixel("bench");
+    return *server;
+}
+
+std::string Target(service::Server& s) { return "127.0.0.1:" + std::to_string(s.port()); }
+
+v1::SolveRequest FloorSolve() {
+    v1::SolveRequest request;
+    v1::Camera* camera = request.add_views();
+    service::EncodeMat4(Perspective(1.0, 1.0, 0.1, 100.0) *
+                            LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY()),
+                        camera->mutable_viewer());
+    camera->set_width(1024);
+    camera->set_height(1024);
+    v1::PlaneOfInterest* floor = request.add_planes();
+    floor->mutable_plane()->set_y(1.0);
+    v1::Light* light = request.add_lights();
+    light->mutable_position()->set_x(4);
+    light->mutable_position()->set_y(9);
+    light->mutable_position()->set_z(3);
+    light->mutable_position()->set_w(1);
+    service::EncodeVec3(Vec3(-10, 0, -5), request.mutable_bounds()->mutable_min());
+    service::EncodeVec3(Vec3(10, 8, 10), request.mutable_bounds()->mutable_max());
+    return request;
+}
+
+// `callers` threads each making calls until `total` are done; per-call latencies in seconds.
+template <class Call>
+std::vector<double> Hammer(int callers, int total, Call call) {
+    std::atomic<int> next{0};
+    std::vector<std::vector<double>> latencies(callers);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < callers; ++t) {
+        threads.emplace_back([&, t] {
+            while (next.fetch_add(1) < total) {
+                const auto start = Clock::now();
+                call();
+                latencies[t].push_back(std::chrono::duration<double>(Clock::now() - start).count());
+            }
+        });
+    }
+    for (std::thread& t : threads) t.join();
+    std::vector<double> all;
+    for (const auto& l : latencies) all.insert(all.end(), l.begin(), l.end());
+    std::sort(all.begin(), all.end());
+    return all;
+}
+
+void SetLatencyCounters(benchmark::State& state, const std::vector<double>& sorted, int calls,
+                        double seconds) {
+    state.counters["p50_us"] = 1e6 * sorted[sorted.size() / 2];
+    state.counters["p99_us"] = 1e6 * sorted[std::min(sorted.size() - 1, sorted.size() * 99 / 100)];
+    state.counters["calls_per_s"] = calls / seconds;
+}
+
+constexpr int kCalls = 512;
+
+void BM_SolveRpc(benchmark::State& state) {
+    const int callers = static_cast<int>(state.range(0));
+    auto stub = v1::Shadow::NewStub(
+        grpc::CreateChannel(Target(Lixel()), grpc::InsecureChannelCredentials()));
+    const v1::SolveRequest request = FloorSolve();
+    std::vector<double> latencies;
+    for (auto _ : state) {
+        const auto start = Clock::now();
+        latencies = Hammer(callers, kCalls, [&] {
+            grpc::ClientContext context;
+            v1::SolveResponse response;
+            stub->Solve(&context, request, &response);
+        });
+        state.SetIterationTime(std::chrono::duration<double>(Clock::now() - start).count());
+    }
+    SetLatencyCounters(state, latencies, kCalls, state.iterations() ? 1.0 : 1.0);
+    state.counters["calls_per_s"] = benchmark::Counter(kCalls, benchmark::Counter::kIsRate);
+    state.SetItemsProcessed(state.iterations() * kCalls);
+}
+BENCHMARK(BM_SolveRpc)->Arg(1)->Arg(8)->Arg(64)->UseManualTime()->Unit(benchmark::kMillisecond);
+
+// The bare echo of a message the size of a Solve request, answered with the same bytes.
+void BM_EchoUnary(benchmark::State& state) {
+    const int callers = static_cast<int>(state.range(0));
+    auto stub = bench::Echo::NewStub(grpc::CreateChannel(
+        "127.0.0.1:" + std::to_string(Echo().port), grpc::InsecureChannelCredentials()));
+    bench::Blob blob;
+    blob.set_data(FloorSolve().SerializeAsString());
+    std::vector<double> latencies;
+    for (auto _ : state) {
+        const auto start = Clock::now();
+        latencies = Hammer(callers, kCalls, [&] {
+            grpc::ClientContext context;
+            bench::Blob response;
+            stub->Unary(&context, blob, &response);
+        });
+        state.SetIterationTime(std::chrono::duration<double>(Clock::now() - start).count());
+    }
+    SetLatencyCounters(state, latencies, kCalls, 1.0);
+    state.counters["calls_per_s"] = benchmark::Counter(kCalls, benchmark::Counter::kIsRate);
+    state.SetItemsProcessed(state.iterations() * kCalls);
+}
+BENCHMARK(BM_EchoUnary)->Arg(1)->Arg(8)->Arg(64)->UseManualTime()->Unit(benchmark::kMillisecond);
+
+struct RenderScene {
+    std::string id;
+    std::unique_ptr<client::Client> client;
+};
+
+RenderScene& Scene() {
+    static RenderScene scene = [] {
+        RenderScene s;
+        client::ClientOptions options;
+        options.target = Target(Lixel());
+        s.client = std::move(client::Client::Connect(options)).value();
+        eval::Scene floor_wall = eval::FloorWallScene();
+        v1::Scene message;
+        service::EncodeScene(service::MakeSceneRecord(std::move(floor_wall)), &message);
+        s.id = s.client->UploadScene(message)->scene_id();
+        return s;
+    }();
+    return scene;
+}
+
+// One plane map of side x side lixels: a viewer of that size and a budget that fits it 1:1.
+v1::RenderRequest SquareRender(int side) {
+    v1::RenderRequest request;
+    v1::PlanRequest* plan = request.mutable_plan();
+    plan->set_scene_id(Scene().id);
+    v1::Camera* camera = plan->mutable_camera();
+    service::EncodeMat4(Perspective(0.5, 1.0, 0.1, 100.0) *
+                            LookAt(Vec3(0, 12, 0.01), Vec3(0, 0, 0), Vec3::UnitY()),
+                        camera->mutable_viewer());
+    camera->set_width(static_cast<std::uint32_t>(side));
+    camera->set_height(static_cast<std::uint32_t>(side));
+    plan->set_lixel_budget(static_cast<std::uint64_t>(side) * side * 2);
+    return request;
+}
+
+void BM_RenderStream(benchmark::State& state) {
+    const v1::RenderRequest request = SquareRender(static_cast<int>(state.range(0)));
+    std::uint64_t bytes = 0;
+    for (auto _ : state) {
+        auto maps = Scene().client->Render(request);
+        if (!maps) {
+            state.SkipWithError(maps.error().Message().c_str());
+            return;
+        }
+        bytes = 0;
+        for (const auto& image : maps->images) bytes += image.size() * sizeof(float);
+    }
+    state.SetBytesProcessed(static_cast<std::int64_t>(bytes) * state.iterations());
+    state.counters["map_bytes"] = static_cast<double>(bytes);
+}
+BENCHMARK(BM_RenderStream)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
+
+// The echo streaming the same bytes in the same 1 MiB chunks.
+void BM_EchoStream(benchmark::State& state) {
+    const int side = static_cast<int>(state.range(0));
+    auto stub = bench::Echo::NewStub(grpc::CreateChannel(
+        "127.0.0.1:" + std::to_string(Echo().port), grpc::InsecureChannelCredentials()));
+    bench::StreamRequest request;
+    // A Render of this request returns the planned maps' bytes; stream as many.
+    auto maps = Scene().client->Render(SquareRender(side));
+    std::uint64_t bytes = 0;
+    if (maps) {
+        for (const auto& image : maps->images) bytes += image.size() * sizeof(float);
+    }
+    request.set_bytes(bytes);
+    request.set_chunk_bytes(1 << 20);
+    for (auto _ : state) {
+        grpc::ClientContext context;
+        auto reader = stub->Stream(&context, request);
+        bench::Blob blob;
+        while (reader->Read(&blob)) {
+        }
+        reader->Finish();
+    }
+    state.SetBytesProcessed(static_cast<std::int64_t>(bytes) * state.iterations());
+}
+BENCHMARK(BM_EchoStream)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
+
+// Solve throughput with 8 callers over one round_robin channel to 1, 2 and 3 instances.
+void BM_InstancesThroughput(benchmark::State& state) {
+    const int instances = static_cast<int>(state.range(0));
+    std::vector<std::unique_ptr<service::Server>> servers;
+    std::string target = "ipv4:";
+    for (int i = 0; i < instances; ++i) {
+        servers.push_back(StartLixel("instance" + std::to_string(i)));
+        target += (i ? "," : "") + Target(*servers.back());
+    }
+    grpc::ChannelArguments args;
+    args.SetServiceConfigJSON(R"({"loadBalancingConfig": [{"round_robin": {}}]})");
+    auto channel = grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args);
+    channel->WaitForConnected(std::chrono::system_clock::now() + std::chrono::seconds(10));
+    auto stub = v1::Shadow::NewStub(channel);
+    const v1::SolveRequest request = FloorSolve();
+    for (auto _ : state) {
+        const auto start = Clock::now();
+        Hammer(8, kCalls, [&] {
+            grpc::ClientContext context;
+            v1::SolveResponse response;
+            stub->Solve(&context, request, &response);
+        });
+        state.SetIterationTime(std::chrono::duration<double>(Clock::now() - start).count());
+    }
+    state.counters["calls_per_s"] = benchmark::Counter(kCalls, benchmark::Counter::kIsRate);
+    state.SetItemsProcessed(state.iterations() * kCalls);
+}
+BENCHMARK(BM_InstancesThroughput)->Arg(1)->Arg(2)->Arg(3)->UseManualTime()->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace lixel
+
+int main(int argc, char** argv) {
+    return lixel::bench::RunWithRatios(
+        argc, argv, {"BM_EchoUnary/1/manual_time", "BM_EchoUnary/64/manual_time",
+                     "BM_EchoStream/1024", "BM_EchoStream/4096"});
+}

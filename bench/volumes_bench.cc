@@ -1,0 +1,281 @@
+// Benchmarks for lixel::volumes: edge adjacency (the same-run baseline), silhouette extraction
+// by multiplicity (paper 001 Alg. 3-4) for 10k to 2M triangles, smooth silhouettes (paper 002)
+// against discrete ones at 100k triangles, and, where a GL 4.5 context can be made, the whole
+// stencil-volume view (robust silhouettes in tessellation shaders; smooth volumes built on the
+// CPU) with its overdraw O (volume fragments per viewer pixel, paper 000 Table 1).
+#include <benchmark/benchmark.h>
+#include <lixel/render/context.h>
+#include <lixel/render/gpu_scene.h>
+#include <lixel/solver/camera.h>
+#include <lixel/solver/homogeneous.h>
+#include <lixel/volumes/edge_adjacency.h>
+#include <lixel/volumes/extrusion.h>
+#include <lixel/volumes/gl/volume_pass.h>
+#include <lixel/volumes/multiplicity.h>
+#include <lixel/volumes/smooth_silhouette.h>
+#include <lixel/volumes/smooth_volume.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <vector>
+
+#include "ratio_reporter.h"
+
+namespace lixel {
+namespace {
+
+using namespace lixel::volumes;
+
+// A 10 x 10 grid of UV spheres (radius 0.4, spacing 1.2, as the built-in sphere_grid scene) over
+// a floor, tessellated to about `triangles` triangles in all; smooth normals.
+struct GridScene {
+    std::vector<Mesh> meshes;  // floor first
+    std::vector<EdgeAdjacency> adjacency;
+    Vec4 light = Point(Vec3(5.0, 12.0, -4.0));
+    Mat4 viewer;
+    std::size_t triangles = 0;
+    double radius = 0.4;
+};
+
+Mesh Sphere(const Vec3& c, double r, int stacks, int slices) {
+    Mesh m;
+    m.closed = true;
+    const double pi = std::numbers::pi;
+    auto add = [&](const Vec3& n) {
+        m.positions.push_back((c + r * n).cast<float>());
+        m.normals.push_back(n.cast<float>());
+    };
+    add(Vec3(0, 1, 0));
+    for (int i = 1; i < stacks; ++i) {
+        for (int j = 0; j < slices; ++j) {
+            const double t = pi * i / stacks;
+            const double p = 2.0 * pi * j / slices;
+            add(Vec3(std::sin(t) * std::cos(p), std::cos(t), -std::sin(t) * std::sin(p)));
+        }
+    }
+    add(Vec3(0, -1, 0));
+    const auto bottom = static_cast<std::uint32_t>(m.positions.size() - 1);
+    auto ring = [&](int i, int j) {
+        return static_cast<std::uint32_t>(1 + (i - 1) * slices + j % slices);
+    };
+    for (int j = 0; j < slices; ++j) {
+        m.indices.insert(m.indices.end(), {0u, ring(1, j), ring(1, j + 1)});
+        for (int i = 1; i + 1 < stacks; ++i) {
+            m.indices.insert(m.indices.end(), {ring(i, j), ring(i + 1, j), ring(i + 1, j + 1),
+                                               ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
+        }
+        m.indices.insert(m.indices.end(), {ring(stacks - 1, j), bottom, ring(stacks - 1, j + 1)});
+    }
+    return m;
+}
+
+const GridScene& Grid(long triangles) {
+    static std::map<long, GridScene> cache;
+    auto it = cache.find(triangles);
+    if (it != cache.end()) return it->second;
+    GridScene s;
+    Mesh floor;
+    floor.positions = {{-8, 0, -8}, {-8, 0, 8}, {8, 0, 8}, {8, 0, -8}};
+    floor.normals.assign(4, Eigen::Vector3f(0, 1, 0));
+    floor.indices = {0, 1, 2, 0, 2, 3};
+    s.meshes.push_back(floor);
+    // 2 k (b) triangles per sphere with b + 1 stacks and k = 2 b slices.
+    const double per_sphere = static_cast<double>(triangles) / 100.0;
+    const int bands = std::max(2, static_cast<int>(std::lround(std::sqrt(per_sphere / 4.0))));
+    const int slices = std::max(3, static_cast<int>(std::lround(per_sphere / (2.0 * bands))));
+    for (int i = 0; i < 10; ++i) {
+        for (int j = 0; j < 10; ++j) {
+            s.meshes.push_back(Sphere(Vec3((i - 4.5) * 1.2, s.radius, (j - 4.5) * 1.2), s.radius,
+                                      bands + 1, slices));
+        }
+    }
+    for (const Mesh& m : s.meshes) {
+        s.triangles += m.TriangleCount();
+        s.adjacency.push_back(*BuildEdgeAdjacency(m));
+    }
+    s.viewer = Perspective(55.0 * std::numbers::pi / 180.0, 1.0, 0.1, 100.0) *
+               LookAt(Vec3(0.0, 6.0, 11.0), Vec3::Zero(), Vec3::UnitY());
+    return cache.emplace(triangles, std::move(s)).first->second;
+}
+
+void Sizes(benchmark::internal::Benchmark* b) {
+    for (long n : {10'000L, 100'000L, 1'000'000L, 2'000'000L}) b->Arg(n);
+    b->Unit(benchmark::kMillisecond);
+}
+
+void BM_EdgeAdjacency(benchmark::State& state) {
+    const GridScene& s = Grid(state.range(0));
+    for (auto _ : state) {
+        for (const Mesh& m : s.meshes) benchmark::DoNotOptimize(BuildEdgeAdjacency(m));
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+    state.counters["triangles"] = static_cast<double>(s.triangles);
+}
+BENCHMARK(BM_EdgeAdjacency)->Apply(Sizes);
+
+void BM_SilhouetteExtraction(benchmark::State& state) {
+    const GridScene& s = Grid(state.range(0));
+    std::size_t edges = 0;
+    for (auto _ : state) {
+        edges = 0;
+        for (const EdgeAdjacency& a : s.adjacency) edges += ExtractSilhouette(a, s.light).size();
+        benchmark::DoNotOptimize(edges);
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+    state.counters["silhouette_edges"] = static_cast<double>(edges);
+}
+BENCHMARK(BM_SilhouetteExtraction)->Apply(Sizes);
+
+// Paper 002 Table 1 compares whole frames; here the CPU side of each: the silhouette plus the
+// side geometry a z-pass renderer would draw.
+void BM_DiscreteVolumeCpu(benchmark::State& state) {
+    const GridScene& s = Grid(state.range(0));
+    for (auto _ : state) {
+        for (const EdgeAdjacency& a : s.adjacency) {
+            benchmark::DoNotOptimize(ExtrudeSilhouetteVolume(
+                a, ComputeMultiplicities(a, s.light), s.light, Caps::kNone));
+        }
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+}
+BENCHMARK(BM_DiscreteVolumeCpu)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+
+void BM_SmoothVolumeCpu(benchmark::State& state) {
+    const GridScene& s = Grid(state.range(0));
+    SmoothOptions options;
+    options.epsilon = 0.01 * s.radius;  // the paper's 0.01 for a model about one unit across
+    std::size_t points = 0;
+    for (auto _ : state) {
+        points = 0;
+        for (std::size_t m = 0; m < s.meshes.size(); ++m) {
+            auto smooth = ComputeSmoothSilhouette(s.meshes[m], s.adjacency[m], s.light, options);
+            points += smooth->stats.output_points;
+            benchmark::DoNotOptimize(
+                ExtrudeSmoothVolume(s.meshes[m], s.adjacency[m], *smooth, s.light, Caps::kNone));
+        }
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+    state.counters["loop_points"] = static_cast<double>(points);
+}
+BENCHMARK(BM_SmoothVolumeCpu)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+
+// --- GL -------------------------------------------------------------------------------------
+
+struct Gl {
+    render::GlContext* context = nullptr;
+    std::optional<gl::VolumePass> pass;
+};
+
+Gl* TheGl() {
+    static std::unique_ptr<Gl> gl = [] {
+        auto g = std::make_unique<Gl>();
+        auto context = render::ThreadContext();
+        if (!context) return std::unique_ptr<Gl>();
+        g->context = *context;
+        auto pass = gl::VolumePass::Create(*g->context);
+        if (!pass) return std::unique_ptr<Gl>();
+        g->pass.emplace(std::move(pass.value()));
+        return g;
+    }();
+    return gl.get();
+}
+
+constexpr int kViewSize = 512;
+
+void BM_VolumeView(benchmark::State& state) {
+    Gl* g = TheGl();
+    if (g == nullptr) {
+        state.SkipWithError("no GL 4.5 context");
+        return;
+    }
+    const GridScene& s = Grid(state.range(0));
+    auto surfaces = render::UploadScene(*g->context, s.meshes);
+    auto volumes = gl::UploadVolumeScene(*g->context, s.meshes);
+    if (!surfaces || !volumes) {
+        state.SkipWithError("upload failed");
+        return;
+    }
+    gl::VolumeRequest request;
+    request.viewer = s.viewer;
+    request.viewport = {kViewSize, kViewSize};
+    request.light = s.light;
+    render::ViewImages images;
+    gl::VolumeRenderInfo info;
+    for (auto _ : state) {
+        auto r = g->pass->Render(*surfaces, *volumes, request, images);
+        g->context->gl().Finish();
+        if (!r) {
+            state.SkipWithError(r.error().Message().c_str());
+            return;
+        }
+        info = *r;
+    }
+    request.measure_overdraw = true;
+    info = *g->pass->Render(*surfaces, *volumes, request, images);
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+    state.counters["overdraw_O"] = info.overdraw;
+    state.counters["zfail"] = info.mode == CountingMode::kZFail ? 1 : 0;
+    state.counters["patches"] = static_cast<double>(info.patches);
+}
+BENCHMARK(BM_VolumeView)->Apply(Sizes);
+
+// Smooth silhouettes per frame: loops on the CPU, volume upload, the same view.
+void BM_SmoothVolumeView(benchmark::State& state) {
+    Gl* g = TheGl();
+    if (g == nullptr) {
+        state.SkipWithError("no GL 4.5 context");
+        return;
+    }
+    const GridScene& s = Grid(state.range(0));
+    auto surfaces = render::UploadScene(*g->context, s.meshes);
+    auto volumes = gl::UploadVolumeScene(*g->context, s.meshes);
+    SmoothOptions options;
+    options.epsilon = 0.01 * s.radius;
+    gl::VolumeRequest request;
+    request.viewer = s.viewer;
+    request.viewport = {kViewSize, kViewSize};
+    request.light = s.light;
+    render::ViewImages images;
+    auto build = [&]() {
+        VolumeMesh all;
+        for (std::size_t m = 0; m < s.meshes.size(); ++m) {
+            auto smooth = ComputeSmoothSilhouette(s.meshes[m], s.adjacency[m], s.light, options);
+            const VolumeMesh v = ExtrudeSmoothVolume(s.meshes[m], s.adjacency[m], *smooth,
+                                                     s.light, Caps::kLightAndDark);
+            const auto base = static_cast<std::uint32_t>(all.vertices.size());
+            all.vertices.insert(all.vertices.end(), v.vertices.begin(), v.vertices.end());
+            for (std::uint32_t i : v.sides) all.sides.push_back(base + i);
+            for (std::uint32_t i : v.caps) all.caps.push_back(base + i);
+        }
+        return gl::UploadVolumeMesh(*g->context, all);
+    };
+    gl::VolumeRenderInfo info;
+    for (auto _ : state) {
+        auto mesh = build();
+        auto r = g->pass->Render(*surfaces, *volumes, *mesh, request, images);
+        g->context->gl().Finish();
+        if (!r) {
+            state.SkipWithError(r.error().Message().c_str());
+            return;
+        }
+    }
+    request.measure_overdraw = true;
+    auto mesh = build();
+    info = *g->pass->Render(*surfaces, *volumes, *mesh, request, images);
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+    state.counters["overdraw_O"] = info.overdraw;
+    state.counters["zfail"] = info.mode == CountingMode::kZFail ? 1 : 0;
+}
+BENCHMARK(BM_SmoothVolumeView)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace lixel
+
+int main(int argc, char** argv) {
+    return lixel::bench::RunWithRatios(argc, argv,
+                                       {"BM_EdgeAdjacency/100000", "BM_DiscreteVolumeCpu/100000",
+                                        "BM_VolumeView/100000"});
+}
