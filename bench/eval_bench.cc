@@ -63,8 +63,8 @@ void Trace(benchmark::State& state, bool shadows, RayQuery query) {
         benchmark::DoNotOptimize(truth->state.data());
     }
     state.SetItemsProcessed(rays);
-    state.counters["Mrays/s"] = benchmark::Counter(double(rays) * 1e-6,
-                                                   benchmark::Counter::kIsRate);
+    state.counters["Mrays/s"] =
+        benchmark::Counter(double(rays) * 1e-6, benchmark::Counter::kIsRate);
     state.counters["triangles"] = double(p.rays->triangles());
     state.counters["bvh_build_s"] = p.build_seconds;
 }

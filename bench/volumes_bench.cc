@@ -135,8 +135,8 @@ void BM_DiscreteVolumeCpu(benchmark::State& state) {
     const GridScene& s = Grid(state.range(0));
     for (auto _ : state) {
         for (const EdgeAdjacency& a : s.adjacency) {
-            benchmark::DoNotOptimize(ExtrudeSilhouetteVolume(
-                a, ComputeMultiplicities(a, s.light), s.light, Caps::kNone));
+            benchmark::DoNotOptimize(ExtrudeSilhouetteVolume(a, ComputeMultiplicities(a, s.light),
+                                                             s.light, Caps::kNone));
         }
     }
     state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
@@ -243,8 +243,8 @@ void BM_SmoothVolumeView(benchmark::State& state) {
         VolumeMesh all;
         for (std::size_t m = 0; m < s.meshes.size(); ++m) {
             auto smooth = ComputeSmoothSilhouette(s.meshes[m], s.adjacency[m], s.light, options);
-            const VolumeMesh v = ExtrudeSmoothVolume(s.meshes[m], s.adjacency[m], *smooth,
-                                                     s.light, Caps::kLightAndDark);
+            const VolumeMesh v = ExtrudeSmoothVolume(s.meshes[m], s.adjacency[m], *smooth, s.light,
+                                                     Caps::kLightAndDark);
             const auto base = static_cast<std::uint32_t>(all.vertices.size());
             all.vertices.insert(all.vertices.end(), v.vertices.begin(), v.vertices.end());
             for (std::uint32_t i : v.sides) all.sides.push_back(base + i);
@@ -275,7 +275,7 @@ BENCHMARK(BM_SmoothVolumeView)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMill
 }  // namespace lixel
 
 int main(int argc, char** argv) {
-    return lixel::bench::RunWithRatios(argc, argv,
-                                       {"BM_EdgeAdjacency/100000", "BM_DiscreteVolumeCpu/100000",
-                                        "BM_VolumeView/100000"});
+    return lixel::bench::RunWithRatios(
+        argc, argv,
+        {"BM_EdgeAdjacency/100000", "BM_DiscreteVolumeCpu/100000", "BM_VolumeView/100000"});
 }

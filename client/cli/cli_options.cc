@@ -97,19 +97,18 @@ Result<client::ClientOptions> ClientOptionsFrom(const Flags& flags) {
     return options;
 }
 
-Result<SceneSource> LoadScene(const Flags& flags) {
+Result<SceneSource> LoadNamedScene(const std::string& name, bool is_file) {
     SceneSource source;
-    if (flags.Has("scene_file")) {
-        auto scene = eval::LoadSceneFile(flags.Get("scene_file"));
-        if (!scene) return scene.error();
-        source.scene = std::move(scene).value();
-    } else {
-        auto scene = eval::BuiltinScene(flags.Get("scene", "floor_wall"));
-        if (!scene) return scene.error();
-        source.scene = std::move(scene).value();
-    }
+    auto scene = is_file ? eval::LoadSceneFile(name) : eval::BuiltinScene(name);
+    if (!scene) return scene.error();
+    source.scene = std::move(scene).value();
     service::EncodeScene(service::MakeSceneRecord(source.scene), &source.message);
     return source;
+}
+
+Result<SceneSource> LoadScene(const Flags& flags) {
+    if (flags.Has("scene_file")) return LoadNamedScene(flags.Get("scene_file"), true);
+    return LoadNamedScene(flags.Get("scene", "floor_wall"), false);
 }
 
 Result<v1::PlanRequest> PlanRequestFrom(const Flags& flags, const std::string& scene_id) {

@@ -41,6 +41,8 @@ struct SceneSource {
     v1::Scene message;
 };
 Result<SceneSource> LoadScene(const Flags& flags);
+// A built-in scene by name, or a scene file when `name` ends in a path.
+Result<SceneSource> LoadNamedScene(const std::string& name, bool is_file);
 
 // The PlanRequest for a scene id with --budget, --fallback_floor, --second_depth,
 // --silhouette_map, --volumes; the scene's own camera, light and planes.

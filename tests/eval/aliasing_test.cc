@@ -129,8 +129,8 @@ void ExpectMOnPlane(int plane, const CropOptions& crop, double expected_m) {
     const FloorWall& f = Fixture();
     const PlaneMap map = SolveFor(f.scene, plane, crop);
     const std::vector<LightMap> maps = {map.crop.map};
-    const AliasingResult r = Aliasing(f.truth, f.scene.camera.PixelMatrix(), maps,
-                                      [](const Vec4&) { return 0; });
+    const AliasingResult r =
+        Aliasing(f.truth, f.scene.camera.PixelMatrix(), maps, [](const Vec4&) { return 0; });
     int on_plane = 0;
     double worst = 0.0;
     for (std::size_t i = 0; i < f.truth.state.size(); ++i) {
@@ -140,7 +140,8 @@ void ExpectMOnPlane(int plane, const CropOptions& crop, double expected_m) {
         ASSERT_NEAR(r.m[i], expected_m, 1e-6 * expected_m) << "pixel " << i;
     }
     EXPECT_GT(on_plane, 5000);
-    ::testing::Test::RecordProperty("worst_m_error_plane_" + std::to_string(plane), std::to_string(worst));
+    ::testing::Test::RecordProperty("worst_m_error_plane_" + std::to_string(plane),
+                                    std::to_string(worst));
 }
 
 TEST(Aliasing, PlaneOptimalMapIsExactlyOneOnItsPlane) {
@@ -164,8 +165,8 @@ TEST(Aliasing, GroupsSplitPlanesFromElsewhere) {
     const FloorWall& f = Fixture();
     const PlaneMap map = SolveFor(f.scene, 0, CropOptions{});
     const std::vector<LightMap> maps = {map.crop.map};
-    const AliasingResult r = Aliasing(f.truth, f.scene.camera.PixelMatrix(), maps,
-                                      [](const Vec4&) { return 0; });
+    const AliasingResult r =
+        Aliasing(f.truth, f.scene.camera.PixelMatrix(), maps, [](const Vec4&) { return 0; });
     std::int64_t on_planes = 0, visible = 0;
     for (std::size_t i = 0; i < f.truth.state.size(); ++i) {
         if (!f.truth.Visible(i)) continue;

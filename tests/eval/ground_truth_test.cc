@@ -20,8 +20,7 @@ constexpr int kStacks = 64, kSlices = 128;
 Scene SphereOverPlane(const Vec4& light) {
     Scene scene;
     scene.name = "sphere over plane";
-    scene.meshes.push_back(
-        MakeQuad("floor", Vec3(-20, 0, 20), Vec3(40, 0, 0), Vec3(0, 0, -40)));
+    scene.meshes.push_back(MakeQuad("floor", Vec3(-20, 0, 20), Vec3(40, 0, 0), Vec3(0, 0, -40)));
     scene.meshes.push_back(MakeSphere("sphere", kCentre, kRadius, kStacks, kSlices));
     scene.planes = {{"floor", Vec4(0, 1, 0, 0), {}}};
     scene.camera.eye = Vec3(0.5, 7.0, 4.0);

@@ -17,8 +17,7 @@ TEST(Methods, NamesAndPasses) {
     std::set<std::string> names;
     for (const Method& m : all) names.insert(m.Name());
     EXPECT_EQ(names.size(), 16u);
-    EXPECT_EQ((Method{Fitting::kPlaneOptimal, ShadowTest::kDepth}).Name(),
-              "plane-optimal + depth");
+    EXPECT_EQ((Method{Fitting::kPlaneOptimal, ShadowTest::kDepth}).Name(), "plane-optimal + depth");
     EXPECT_EQ((Method{Fitting::kLispsm, ShadowTest::kSilhouette}).Name(),
               "LiSPSM + silhouette map");
     EXPECT_TRUE((Method{Fitting::kUniform, ShadowTest::kSecondDepth}).Passes().second_depth);
@@ -80,8 +79,7 @@ TEST(EvaluateRun, PerfectMaskScoresZeroAndCarriesPlanFigures) {
     EXPECT_EQ(row->scene, "floor_wall");
     EXPECT_EQ(row->method, "plane-optimal + depth");
     EXPECT_EQ(row->error.wrong, 0);
-    EXPECT_EQ(row->error.decided,
-              truth->Count(Truth::kLit) + truth->Count(Truth::kShadow));
+    EXPECT_EQ(row->error.decided, truth->Count(Truth::kLit) + truth->Count(Truth::kShadow));
     EXPECT_EQ(row->total_lixels, plan->total_lixels);
     EXPECT_EQ(row->maps, static_cast<int>(plan->maps.size()));
     // The plan's own lookup rule picks the maps the aliasing and lixel use are measured on.

@@ -50,16 +50,12 @@ Mask HandMask(int width, const std::vector<std::vector<float>>& rows_top_first) 
 // Rows as drawn (top first):   L L L S E
 //                              L L U S S
 //                              L L S S S
-GroundTruth Case() {
-    return HandTruth(5, {{L, L, L, S, E}, {L, L, U, S, S}, {L, L, S, S, S}});
-}
+GroundTruth Case() { return HandTruth(5, {{L, L, L, S, E}, {L, L, U, S, S}, {L, L, S, S, S}}); }
 
 // Wrong: the bottom row's (3, 0) says lit (false lit); (1, 1) at 0.4 says shadow (false shadow).
 // (2, 2) at exactly 0.5 counts as lit, which is right; (2, 1) undecided and (4, 2) empty do not
 // count whatever the mask says.
-Mask CaseMask() {
-    return HandMask(5, {{1, 1, 0.5f, 0, 1}, {1, 0.4f, 1, 0, 0}, {1, 1, 0, 1, 0}});
-}
+Mask CaseMask() { return HandMask(5, {{1, 1, 0.5f, 0, 1}, {1, 0.4f, 1, 0, 0}, {1, 1, 0, 1, 0}}); }
 
 TEST(Misclassified, HandComputedCounts) {
     const auto r = Misclassified(Case(), CaseMask(), 1);
@@ -99,8 +95,8 @@ TEST(Misclassified, ShadowBoundaryAndBand) {
     EXPECT_EQ(boundary, expected);
     const std::vector<std::uint8_t> band = BoundaryBand(t, 1);
     std::vector<std::uint8_t> expected_band(15, 0);
-    for (auto [x, y] : {std::pair{0, 0}, {1, 0}, {2, 0}, {3, 0}, {1, 1}, {3, 1}, {1, 2}, {2, 2},
-                        {3, 2}}) {
+    for (auto [x, y] :
+         {std::pair{0, 0}, {1, 0}, {2, 0}, {3, 0}, {1, 1}, {3, 1}, {1, 2}, {2, 2}, {3, 2}}) {
         expected_band[t.Index(x, y)] = 1;
     }
     EXPECT_EQ(band, expected_band);
@@ -160,8 +156,8 @@ TEST(LixelUse, HandComputedShare) {
     EXPECT_EQ(use.read_per_map, (std::vector<std::int64_t>{1, 0}));
     EXPECT_DOUBLE_EQ(use.Share(), 1.0 / 20.0);
 
-    const LixelUse one = ComputeLixelUse(t, std::vector<LightMap>{map},
-                                         [](const Vec4&) { return 0; });
+    const LixelUse one =
+        ComputeLixelUse(t, std::vector<LightMap>{map}, [](const Vec4&) { return 0; });
     EXPECT_EQ(one.read, 2);
     EXPECT_DOUBLE_EQ(one.Share(), 2.0 / 16.0);
 }
@@ -190,9 +186,7 @@ TEST(Timing, MedianOfRepeats) {
 
 TEST(Timing, ScopedStageRecordsElapsedTime) {
     StageTimes times;
-    {
-        ScopedStage stage(times, "plan");
-    }
+    { ScopedStage stage(times, "plan"); }
     EXPECT_EQ(times.Repeats("plan"), 1);
     EXPECT_GE(times.MedianMs("plan"), 0.0);
 }

@@ -72,7 +72,9 @@ TEST(RunReport, EndToEndOnASmallScene) {
     EXPECT_TRUE(fs::exists(out / "report.md"));
     auto grid = ReadPng((out / "floor_wall_masks.png").string());
     ASSERT_TRUE(grid.ok()) << grid.error().Message();
-    EXPECT_GT(grid->width, 16 * 96);  // truth + 16 masks across
+    // A row pair per fitting (mask row, difference row), the truth then four tests across.
+    EXPECT_EQ(grid->width, 5 * 96 + 6 * 4);
+    EXPECT_EQ(grid->height, 8 * 96 + 9 * 4);
     if (GnuplotAvailable()) {
         EXPECT_TRUE(fs::exists(out / "error_vs_time.png"));
     }

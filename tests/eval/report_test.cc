@@ -61,8 +61,8 @@ std::vector<ReportRow> Rows() {
 
 TEST(ParetoFront, KeepsRowsNoOtherBeats) {
     // (time, error)
-    const std::vector<std::pair<double, double>> points = {
-        {1.0, 10.0}, {2.0, 12.0}, {3.0, 5.0}, {3.0, 4.0}, {4.0, 4.0}, {5.0, 1.0}};
+    const std::vector<std::pair<double, double>> points = {{1.0, 10.0}, {2.0, 12.0}, {3.0, 5.0},
+                                                           {3.0, 4.0},  {4.0, 4.0},  {5.0, 1.0}};
     EXPECT_EQ(ParetoFront(points), (std::vector<std::size_t>{0, 3, 5}));
     EXPECT_TRUE(ParetoFront({}).empty());
 }
@@ -83,9 +83,8 @@ TEST(ReportCsv, OneLinePerRowWithStageColumns) {
     std::vector<std::string> rows;
     while (std::getline(lines, line)) rows.push_back(line);
     ASSERT_EQ(rows.size(), 5u);
-    EXPECT_EQ(rows[1].rfind("floor_wall,plane-optimal + depth,262144,262134,1,1000,1,100,5,10,0,",
-                            0),
-              0u)
+    EXPECT_EQ(
+        rows[1].rfind("floor_wall,plane-optimal + depth,262144,262134,1,1000,1,100,5,10,0,", 0), 0u)
         << rows[1];
     // A method name with a comma and quotes is quoted per RFC 4180.
     EXPECT_EQ(rows[4].rfind("pins,\"uniform, PCF \"\"3x3\"\"\",262144,", 0), 0u) << rows[4];
@@ -100,8 +99,7 @@ TEST(ReportCsv, OneLinePerRowWithStageColumns) {
 TEST(ReportMarkdown, TablePerSceneBestInBold) {
     const fs::path dir = FreshDir("md");
     ASSERT_TRUE(
-        WriteReportMarkdown((dir / "report.md").string(), Rows(), {"GL renderer: llvmpipe"})
-            .ok());
+        WriteReportMarkdown((dir / "report.md").string(), Rows(), {"GL renderer: llvmpipe"}).ok());
     const std::string md = Read(dir / "report.md");
     EXPECT_NE(md.find("## floor_wall"), std::string::npos);
     EXPECT_NE(md.find("## pins"), std::string::npos);
@@ -129,8 +127,7 @@ TEST(ReportPlot, GnuplotWritesThePng) {
     EXPECT_NE(script.find("Pareto front"), std::string::npos);
     const std::string data = Read(dir / "error_vs_time.dat");
     // floor_wall's front: (2 ms, 4%), (3 ms, 1%) — the 4 and 5 ms rows are dominated.
-    EXPECT_NE(data.find("# floor_wall / Pareto front\n2 4 -\n3 1 -\n"), std::string::npos)
-        << data;
+    EXPECT_NE(data.find("# floor_wall / Pareto front\n2 4 -\n3 1 -\n"), std::string::npos) << data;
 }
 
 TEST(Png, RoundTripKeepsRowsBottomUp) {
@@ -179,7 +176,8 @@ TEST(Png, DifferenceColoursAndGrid) {
 TEST(ProgressBar, FormatShowsCountsAndTimeLeft) {
     EXPECT_EQ(ProgressBar::Format("sweep", 5, 20, 10.0, 10, "pins"),
               "sweep [##........] 5/20  10s elapsed, 30s left  pins");
-    EXPECT_EQ(ProgressBar::Format("sweep", 0, 4, 0.0, 4, ""), "sweep [....] 0/4  0s elapsed, ? left");
+    EXPECT_EQ(ProgressBar::Format("sweep", 0, 4, 0.0, 4, ""),
+              "sweep [....] 0/4  0s elapsed, ? left");
     EXPECT_EQ(ProgressBar::Format("sweep", 4, 4, 125.0, 4, ""), "sweep [####] 4/4  2m05s elapsed");
     EXPECT_EQ(ProgressBar::FormatDuration(3725.0), "1h02m");
 }

@@ -16,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 class SceneIo : public ::testing::Test {
-protected:
+  protected:
     void SetUp() override {
         dir_ = fs::path(::testing::TempDir()) /
                ("lixel_scene_io_" +
@@ -101,8 +101,7 @@ TEST_F(SceneIo, ObjErrorsNameTheFile) {
 }
 
 std::string Base64(const std::vector<unsigned char>& bytes) {
-    static const char* table =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;
     for (std::size_t i = 0; i < bytes.size(); i += 3) {
         const unsigned v = (bytes[i] << 16) | ((i + 1 < bytes.size() ? bytes[i + 1] : 0) << 8) |
@@ -148,10 +147,10 @@ std::string CubeGltf(const Mesh& mesh, const std::string& node_json, const std::
             R"(,"type":"SCALAR"}],)";
     json += R"("bufferViews":[)";
     json += R"({"buffer":0,"byteOffset":0,"byteLength":)" + std::to_string(normals_offset) + "},";
-    json += R"({"buffer":0,"byteOffset":)" + std::to_string(normals_offset) +
-            R"(,"byteLength":)" + std::to_string(indices_offset - normals_offset) + "},";
-    json += R"({"buffer":0,"byteOffset":)" + std::to_string(indices_offset) +
-            R"(,"byteLength":)" + std::to_string(bin.size() - indices_offset) + "}],";
+    json += R"({"buffer":0,"byteOffset":)" + std::to_string(normals_offset) + R"(,"byteLength":)" +
+            std::to_string(indices_offset - normals_offset) + "},";
+    json += R"({"buffer":0,"byteOffset":)" + std::to_string(indices_offset) + R"(,"byteLength":)" +
+            std::to_string(bin.size() - indices_offset) + "}],";
     const std::string buffer_uri =
         uri.empty() ? "data:application/octet-stream;base64," + Base64(bin) : uri;
     json += R"("buffers":[{"byteLength":)" + std::to_string(bin.size()) + R"(,"uri":")" +
@@ -163,8 +162,8 @@ std::string CubeGltf(const Mesh& mesh, const std::string& node_json, const std::
 TEST_F(SceneIo, GltfRoundTripWithTransform) {
     const Mesh sphere = MakeSphere("ball", Vec3::Zero(), 1.0, 8, 12);
     // Translate by (1, 2, 3) and scale by 2.
-    auto meshes = LoadGltf(Write(
-        "ball.gltf", CubeGltf(sphere, R"(,"translation":[1,2,3],"scale":[2,2,2])", "")));
+    auto meshes = LoadGltf(
+        Write("ball.gltf", CubeGltf(sphere, R"(,"translation":[1,2,3],"scale":[2,2,2])", "")));
     ASSERT_TRUE(meshes.ok()) << meshes.error().Message();
     ASSERT_EQ(meshes->size(), 1u);
     const Mesh& m = (*meshes)[0];
@@ -172,8 +171,7 @@ TEST_F(SceneIo, GltfRoundTripWithTransform) {
     EXPECT_EQ(m.indices, sphere.indices);
     ASSERT_EQ(m.positions.size(), sphere.positions.size());
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
-        const Eigen::Vector3f expected =
-            2.0f * sphere.positions[i] + Eigen::Vector3f(1, 2, 3);
+        const Eigen::Vector3f expected = 2.0f * sphere.positions[i] + Eigen::Vector3f(1, 2, 3);
         EXPECT_LT((m.positions[i] - expected).norm(), 1e-5f);
         EXPECT_LT((m.normals[i] - sphere.normals[i]).norm(), 1e-5f);
     }
@@ -208,8 +206,7 @@ TEST_F(SceneIo, GltfErrorsNameTheField) {
     Mesh with_normals = box;
     ComputeSmoothNormals(with_normals);
     // An index accessor claiming more indices than its buffer view holds.
-    auto past_end =
-        LoadGltf(Write("long.gltf", CubeGltf(with_normals, "", "", nullptr, 600)));
+    auto past_end = LoadGltf(Write("long.gltf", CubeGltf(with_normals, "", "", nullptr, 600)));
     ASSERT_FALSE(past_end.ok());
     EXPECT_NE(past_end.error().field.find("accessors[2]"), std::string::npos)
         << past_end.error().Message();
@@ -284,8 +281,8 @@ TEST_F(SceneIo, SceneFileErrorsNameFileLineAndKeyword) {
     Write("cube.obj", CubeObj());
     struct Case {
         std::string text;
-        std::string line;     // expected "file:line"
-        std::string reason;   // expected fragment
+        std::string line;    // expected "file:line"
+        std::string reason;  // expected fragment
     };
     const std::vector<Case> cases = {
         {"mesh cube.obj\nplane floor 0 1 0\n", ":2", "plane: expected a name and 4 numbers"},

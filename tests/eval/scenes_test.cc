@@ -76,8 +76,7 @@ TEST(MeshBuilders, SmoothSphereNormalsAreRadial) {
     const Mesh s = MakeSphere("s", Vec3(1, 2, 3), 2.0, 10, 20);
     ASSERT_EQ(s.normals.size(), s.positions.size());
     for (std::size_t i = 0; i < s.positions.size(); ++i) {
-        const Eigen::Vector3f radial =
-            (s.positions[i] - Eigen::Vector3f(1, 2, 3)).normalized();
+        const Eigen::Vector3f radial = (s.positions[i] - Eigen::Vector3f(1, 2, 3)).normalized();
         EXPECT_GT(radial.dot(s.normals[i]), 0.9999f);
     }
 }

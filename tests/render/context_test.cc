@@ -1,6 +1,8 @@
 // Tests for context.h: the 4.5 core context, its limits, KHR_debug errors, one per thread.
 #include <lixel/render/context.h>
 
+#include <cstdio>
+#include <string>
 #include <thread>
 
 #include "gl_environment.h"
@@ -63,6 +65,22 @@ TEST(GlContext, OtherThreadsGetTheirOwnContext) {
     EXPECT_NE(there, nullptr);
     EXPECT_NE(there, here);
     ASSERT_TRUE(here->MakeCurrent().ok());
+}
+
+TEST(GlContext, DevicePlatformIsAHardwareDeviceOrAClearRefusal) {
+    if (testing::TestBackend() != Backend::kEgl) GTEST_SKIP() << "EGL only";
+    std::string outcome;
+    std::thread worker([&] {
+        auto c = GlContext::Create({Backend::kEgl, EglPlatform::kDevice, true});
+        outcome =
+            c.ok() ? "device: " + (*c)->info().platform : c.error().field + ": " + c.error().reason;
+    });
+    worker.join();
+    ASSERT_TRUE(testing::Context().MakeCurrent().ok());
+    std::printf("[ GL       ] EglPlatform::kDevice -> %s\n", outcome.c_str());
+    // llvmpipe is EGL_MESA_device_software and never counts as a device here.
+    EXPECT_TRUE(outcome.starts_with("device: device ") || outcome.starts_with("gl.egl_platform: "))
+        << outcome;
 }
 
 TEST(ParseBackend, AcceptsTheTwoNamesAndRefusesOthers) {

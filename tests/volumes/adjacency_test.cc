@@ -1,6 +1,7 @@
 // Tests for lixel::volumes edge adjacency (edge_adjacency.h): welding, degenerate and duplicate
 // triangles, non-manifold edges, refusals, and independence from the triangle order.
 #include <gtest/gtest.h>
+#include <lixel/volumes/adjacency_indices.h>
 #include <lixel/volumes/edge_adjacency.h>
 #include <lixel/volumes/vertex_order.h>
 
@@ -66,9 +67,9 @@ TEST(EdgeAdjacency, ClosedSphereIsManifold) {
 
 TEST(EdgeAdjacency, WeldsEqualPositionsIncludingSignedZero) {
     Mesh m;
-    m.positions = {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(1, 0, 0), Eigen::Vector3f(0, 1, 0),
-                   Eigen::Vector3f(-0.0f, 0, 0), Eigen::Vector3f(0, 1, 0),
-                   Eigen::Vector3f(0, 0, 1)};
+    m.positions = {Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(1, 0, 0),
+                   Eigen::Vector3f(0, 1, 0), Eigen::Vector3f(-0.0f, 0, 0),
+                   Eigen::Vector3f(0, 1, 0), Eigen::Vector3f(0, 0, 1)};
     m.indices = {0, 1, 2, 3, 4, 5};  // two triangles sharing the edge (0,0,0)-(0,1,0) by position
     auto adj = BuildEdgeAdjacency(m);
     ASSERT_TRUE(adj.ok());
@@ -84,7 +85,7 @@ TEST(EdgeAdjacency, SkipsDegenerateAndDuplicateTrianglesWithCounts) {
     const std::size_t original = m.TriangleCount();
     m.indices.insert(m.indices.end(), {m.indices[0], m.indices[1], m.indices[2]});  // same
     m.indices.insert(m.indices.end(), {m.indices[3], m.indices[5], m.indices[4]});  // reversed
-    m.indices.insert(m.indices.end(), {5, 5, 6});                                    // index twice
+    m.indices.insert(m.indices.end(), {5, 5, 6});                                   // index twice
     m.positions.push_back(Eigen::Vector3f(0, 0, 0));
     m.positions.push_back(Eigen::Vector3f(1, 1, 1));
     m.positions.push_back(Eigen::Vector3f(2, 2, 2));
@@ -163,6 +164,46 @@ TEST(EdgeAdjacency, IndependentOfTriangleOrderCornerRotationAndWinding) {
             EXPECT_EQ(shuffled->edges[i].count, reference->edges[i].count);
         }
         EXPECT_EQ(shuffled->opposite, reference->opposite);
+    }
+}
+
+TEST(TrianglesAdjacencyIndices, NeighbourAcrossManifoldEdgesOwnOppositeElsewhere) {
+    // A closed sphere with its seam vertices split (so welding matters), plus a fan of three.
+    Mesh sphere = Sphere(Vec3(0, 0, 0), 1.0, 6, 8);
+    const auto duplicate = static_cast<std::uint32_t>(sphere.positions.size());
+    sphere.positions.push_back(sphere.positions[1]);
+    sphere.normals.push_back(sphere.normals[1]);
+    for (std::size_t i = 0; i < 6; ++i) {  // re-point the first triangle's use of vertex 1
+        if (sphere.indices[i] == 1) sphere.indices[i] = duplicate;
+    }
+    const Mesh mesh = testing::Merge({sphere, Fan({0.5, 1.5, 2.5})});
+    auto adj = BuildEdgeAdjacency(mesh);
+    ASSERT_TRUE(adj.ok());
+    const std::vector<std::uint32_t> six = TrianglesAdjacencyIndices(*adj, mesh.indices);
+    ASSERT_EQ(six.size(), 6 * adj->source.size());
+    auto p = [&](std::uint32_t i) { return mesh.positions[i]; };
+    for (std::size_t t = 0; t < adj->source.size(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v0 = six[6 * t + 2 * k];
+            const std::uint32_t across = six[6 * t + 2 * k + 1];
+            const std::uint32_t v1 = six[6 * t + (2 * k + 2) % 6];
+            const std::uint32_t own = six[6 * t + (2 * k + 4) % 6];
+            const Edge& e = adj->edges[adj->triangle_edges[3 * t + k]];
+            if (e.count != 2) {
+                EXPECT_EQ(across, own);
+                continue;
+            }
+            // Some input triangle holds v1 -> v0 -> across (the neighbour, by position).
+            bool found = false;
+            for (std::size_t u = 0; u < mesh.TriangleCount() && !found; ++u) {
+                for (int r = 0; r < 3; ++r) {
+                    found = found || (p(mesh.indices[3 * u + r]) == p(v1) &&
+                                      p(mesh.indices[3 * u + (r + 1) % 3]) == p(v0) &&
+                                      p(mesh.indices[3 * u + (r + 2) % 3]) == p(across));
+                }
+            }
+            EXPECT_TRUE(found) << "triangle " << t << " edge " << k;
+        }
     }
 }
 

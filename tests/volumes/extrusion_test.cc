@@ -55,8 +55,8 @@ struct Scene {
 
 std::vector<Scene> Scenes() {
     const Mesh sphere = testing::Sphere(Vec3(0, 1.5, 0), 1.0, 8, 12);
-    const Mesh fans = testing::Merge({testing::Fan({0.5, 1.5, 2.5}), testing::Fan({0.3, 1.9, 3.1,
-                                                                                   4.4})});
+    const Mesh fans =
+        testing::Merge({testing::Fan({0.5, 1.5, 2.5}), testing::Fan({0.3, 1.9, 3.1, 4.4})});
     return {
         {sphere, Vec4(2, 6, 1, 1)},
         {sphere, Vec4(0.4, 1, 0.3, 0)},
@@ -75,7 +75,8 @@ TEST(Extrusion, CapsCloseTheVolumeAndCountsMatchShadowRays) {
         auto adj = BuildEdgeAdjacency(scene.mesh);
         ASSERT_TRUE(adj.ok());
         const std::vector<int> m = ComputeMultiplicities(*adj, scene.light);
-        const VolumeMesh closed = ExtrudeSilhouetteVolume(*adj, m, scene.light, Caps::kLightAndDark);
+        const VolumeMesh closed =
+            ExtrudeSilhouetteVolume(*adj, m, scene.light, Caps::kLightAndDark);
         const VolumeMesh sides = ExtrudeSilhouetteVolume(*adj, m, scene.light, Caps::kNone);
         long quads = 0;
         for (int x : m) quads += std::abs(x);

@@ -32,8 +32,7 @@ double HitT(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Ve
     return e2.dot(q) / det;
 }
 
-bool Hits(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c,
-          double t_max) {
+bool Hits(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c, double t_max) {
     const double t = HitT(o, d, a, b, c);
     return t > 1e-9 && t < t_max;
 }
@@ -77,8 +76,8 @@ Mesh SphereGrid(int n, double radius, int stacks, int slices) {
     std::vector<Mesh> parts;
     for (int i = 0; i < n; ++i) {
         for (int k = 0; k < n; ++k) {
-            parts.push_back(Sphere(Vec3(3.0 * radius * i, radius, 3.0 * radius * k), radius,
-                                   stacks, slices));
+            parts.push_back(
+                Sphere(Vec3(3.0 * radius * i, radius, 3.0 * radius * k), radius, stacks, slices));
         }
     }
     Mesh m = Merge(parts);
@@ -91,9 +90,8 @@ Mesh Box(const Vec3& lo, const Vec3& hi) {
     m.name = "box";
     m.closed = true;
     // Per face: normal, and four corners counter-clockwise seen from outside.
-    const Vec3 c[8] = {{lo.x(), lo.y(), lo.z()}, {hi.x(), lo.y(), lo.z()},
-                       {hi.x(), hi.y(), lo.z()}, {lo.x(), hi.y(), lo.z()},
-                       {lo.x(), lo.y(), hi.z()}, {hi.x(), lo.y(), hi.z()},
+    const Vec3 c[8] = {{lo.x(), lo.y(), lo.z()}, {hi.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), lo.z()},
+                       {lo.x(), hi.y(), lo.z()}, {lo.x(), lo.y(), hi.z()}, {hi.x(), lo.y(), hi.z()},
                        {hi.x(), hi.y(), hi.z()}, {lo.x(), hi.y(), hi.z()}};
     const int faces[6][4] = {{4, 5, 6, 7}, {1, 0, 3, 2}, {5, 1, 2, 6},
                              {0, 4, 7, 3}, {3, 7, 6, 2}, {0, 1, 5, 4}};
@@ -214,8 +212,8 @@ Mesh Shuffled(const Mesh& mesh, std::uint32_t seed, bool flip) {
 }
 
 int ShadowRayHits(const Mesh& mesh, const Vec3& point, const Vec4& light) {
-    const Vec3 dir = light.w() != 0.0 ? Vec3(light.head<3>() / light.w() - point)
-                                      : Vec3(light.head<3>());
+    const Vec3 dir =
+        light.w() != 0.0 ? Vec3(light.head<3>() / light.w() - point) : Vec3(light.head<3>());
     const double t_max = light.w() != 0.0 ? 1.0 : std::numeric_limits<double>::infinity();
     int hits = 0;
     for (std::size_t t = 0; t < mesh.TriangleCount(); ++t) {

@@ -42,14 +42,13 @@ void ExpectChainClosed(const EdgeAdjacency& adj, const std::vector<int>& m) {
 }
 
 std::vector<Vec4> Lights() {
-    return {Vec4(3, 7, 2, 1), Vec4(-4, 5, 6, 1), Vec4(0.5, 2.5, 0.25, 1),
-            Vec4(1, 2, 0.5, 0), Vec4(-0.3, 1, -0.8, 0)};
+    return {Vec4(3, 7, 2, 1), Vec4(-4, 5, 6, 1), Vec4(0.5, 2.5, 0.25, 1), Vec4(1, 2, 0.5, 0),
+            Vec4(-0.3, 1, -0.8, 0)};
 }
 
 TEST(Multiplicity, MatchesPlaneSidesOfOppositeVertices) {
-    const std::vector<Mesh> meshes = {Sphere(Vec3(0, 1, 0), 1.0, 9, 14),
-                                      Fan({0.0, 2.0, 4.0}), Fan({0.3, 1.9, 3.1, 4.4}),
-                                      testing::Square(1.0, 0.5),
+    const std::vector<Mesh> meshes = {Sphere(Vec3(0, 1, 0), 1.0, 9, 14), Fan({0.0, 2.0, 4.0}),
+                                      Fan({0.3, 1.9, 3.1, 4.4}), testing::Square(1.0, 0.5),
                                       testing::Cylinder(Vec3(0, 0, 0), 1.0, 2.0, 11)};
     for (const Mesh& mesh : meshes) {
         auto adj = BuildEdgeAdjacency(mesh);
@@ -185,9 +184,8 @@ TEST(Multiplicity, ReferenceEdgeKeepsNearlyDegenerateTrianglesConsistent) {
     const std::size_t n = m.TriangleCount();
     for (std::size_t t = 0; t < n; ++t) {
         m.positions.push_back(Eigen::Vector3f(u(rng), 1e-7f * u(rng), u(rng)));
-        m.indices.insert(m.indices.end(),
-                         {m.indices[3 * t + 1], m.indices[3 * t],
-                          static_cast<std::uint32_t>(m.positions.size() - 1)});
+        m.indices.insert(m.indices.end(), {m.indices[3 * t + 1], m.indices[3 * t],
+                                           static_cast<std::uint32_t>(m.positions.size() - 1)});
     }
     auto adj = BuildEdgeAdjacency(m);
     ASSERT_TRUE(adj.ok());
@@ -198,8 +196,8 @@ TEST(Multiplicity, ReferenceEdgeKeepsNearlyDegenerateTrianglesConsistent) {
 }
 
 TEST(Multiplicity, IndependentOfTriangleOrderAndWinding) {
-    const Mesh mesh = testing::Merge({testing::SphereGrid(2, 1.0, 7, 10), Fan({0.5, 1.5, 4.0}),
-                                      testing::Square(3.0, -0.5)});
+    const Mesh mesh = testing::Merge(
+        {testing::SphereGrid(2, 1.0, 7, 10), Fan({0.5, 1.5, 4.0}), testing::Square(3.0, -0.5)});
     auto reference = BuildEdgeAdjacency(mesh);
     ASSERT_TRUE(reference.ok());
     for (const Vec4& light : Lights()) {

@@ -31,8 +31,8 @@ double FloorError(const Vec3& p) {
     const Vec3 l = kLight.head<3>();
     const double alpha = std::asin(kRadius / (kCentre - l).norm());
     const Vec3 d = p - l;
-    const double angle = std::acos(std::clamp(d.normalized().dot((kCentre - l).normalized()),
-                                              -1.0, 1.0));
+    const double angle =
+        std::acos(std::clamp(d.normalized().dot((kCentre - l).normalized()), -1.0, 1.0));
     const double s = l.y() / (l.y() - p.y());
     return std::abs(angle - alpha) * (s * d).norm();
 }
@@ -115,8 +115,8 @@ TEST(SmoothSilhouette, ErrorAgainstTheAnalyticShadowFallsWithEpsilon) {
     double discrete = 0.0;
     for (const SilhouetteEdge& e : ExtractSilhouette(*adj, kLight)) {
         for (int k = 0; k <= 8; ++k) {
-            discrete = std::max(discrete, FloorError((e.a.cast<double>() +
-                                                      (e.b - e.a).cast<double>() * k / 8.0)));
+            discrete = std::max(
+                discrete, FloorError((e.a.cast<double>() + (e.b - e.a).cast<double>() * k / 8.0)));
         }
     }
     std::vector<double> errors;
@@ -129,9 +129,10 @@ TEST(SmoothSilhouette, ErrorAgainstTheAnalyticShadowFallsWithEpsilon) {
     EXPECT_LT(errors.back(), 0.5 * errors.front());
     EXPECT_LT(errors.back(), 0.25 * accurate);
     EXPECT_LT(errors.back(), 0.25 * discrete);
-    std::printf("[ measured ] floor error: discrete %.4f, accurate (HZ) %.4f, smooth %.4f %.4f "
-                "%.4f %.4f (eps 0.1 .. 0.0008)\n",
-                discrete, accurate, errors[0], errors[1], errors[2], errors[3]);
+    std::printf(
+        "[ measured ] floor error: discrete %.4f, accurate (HZ) %.4f, smooth %.4f %.4f "
+        "%.4f %.4f (eps 0.1 .. 0.0008)\n",
+        discrete, accurate, errors[0], errors[1], errors[2], errors[3]);
 }
 
 TEST(SmoothSilhouette, NormalOffsetMovesPointsInward) {
@@ -165,8 +166,7 @@ TEST(SmoothSilhouette, FlatShadedBoxKeepsItsDiscreteOutline) {
     EXPECT_EQ(corners.size(), 6u);
     std::set<std::tuple<double, double, double>> seen;
     for (const SmoothVertex& v : s.loops[0].vertices) {
-        const std::tuple<double, double, double> p{v.position.x(), v.position.y(),
-                                                   v.position.z()};
+        const std::tuple<double, double, double> p{v.position.x(), v.position.y(), v.position.z()};
         EXPECT_TRUE(corners.count(p)) << v.position.transpose();
         seen.insert(p);
     }
@@ -217,8 +217,8 @@ TEST(SmoothVolume, ClosedAndAgreesWithTheAnalyticShadow) {
     ASSERT_TRUE(s.ok());
     const VolumeMesh smooth = ExtrudeSmoothVolume(mesh, *adj, *s, kLight, Caps::kLightAndDark);
     const VolumeMesh smooth_sides = ExtrudeSmoothVolume(mesh, *adj, *s, kLight, Caps::kNone);
-    const VolumeMesh discrete = ExtrudeSilhouetteVolume(
-        *adj, ComputeMultiplicities(*adj, kLight), kLight, Caps::kLightAndDark);
+    const VolumeMesh discrete = ExtrudeSilhouetteVolume(*adj, ComputeMultiplicities(*adj, kLight),
+                                                        kLight, Caps::kLightAndDark);
     const Vec3 eye(7.3, 9.1, 8.7);
     std::mt19937 rng(12351);
     std::uniform_real_distribution<double> u(-3.0, 3.0);
@@ -245,8 +245,10 @@ TEST(SmoothVolume, ClosedAndAgreesWithTheAnalyticShadow) {
     EXPECT_GT(checked, 2500);
     EXPECT_EQ(smooth_wrong, 0);
     EXPECT_GT(discrete_wrong, 0);  // the coarse mesh's polygonal shadow misses the conic
-    std::printf("[ measured ] floor points off the conic by > 0.01: smooth wrong %d, discrete "
-                "wrong %d of %d\n", smooth_wrong, discrete_wrong, checked);
+    std::printf(
+        "[ measured ] floor points off the conic by > 0.01: smooth wrong %d, discrete "
+        "wrong %d of %d\n",
+        smooth_wrong, discrete_wrong, checked);
 }
 
 TEST(SmoothSilhouette, RefusesBadInput) {

@@ -101,8 +101,8 @@ int main(int argc, char** argv) {
     }
     for (const std::string& note : summary->notes) std::printf("%s\n", note.c_str());
     std::printf("wrote");
-    for (const std::string& f : summary->files) std::printf(" %s/%s", options.output.c_str(),
-                                                            f.c_str());
+    for (const std::string& f : summary->files)
+        std::printf(" %s/%s", options.output.c_str(), f.c_str());
     std::printf("\n");
     return 0;
 }

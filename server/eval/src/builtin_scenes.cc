@@ -30,10 +30,9 @@ double BounceHeight(double time, double period, double apex, double phase) {
 // A bowling-pin profile (radius, height) for a pin `height` tall.
 std::vector<Vec2> PinProfile(double height) {
     const double h = height;
-    return {{0.10 * h, 0.00 * h}, {0.14 * h, 0.05 * h}, {0.18 * h, 0.18 * h},
-            {0.19 * h, 0.28 * h}, {0.16 * h, 0.42 * h}, {0.09 * h, 0.58 * h},
-            {0.07 * h, 0.66 * h}, {0.09 * h, 0.78 * h}, {0.10 * h, 0.86 * h},
-            {0.08 * h, 0.95 * h}, {0.03 * h, 1.00 * h}};
+    return {{0.10 * h, 0.00 * h}, {0.14 * h, 0.05 * h}, {0.18 * h, 0.18 * h}, {0.19 * h, 0.28 * h},
+            {0.16 * h, 0.42 * h}, {0.09 * h, 0.58 * h}, {0.07 * h, 0.66 * h}, {0.09 * h, 0.78 * h},
+            {0.10 * h, 0.86 * h}, {0.08 * h, 0.95 * h}, {0.03 * h, 1.00 * h}};
 }
 
 }  // namespace
@@ -42,8 +41,7 @@ Scene FloorWallScene(double time) {
     Scene scene;
     scene.name = "floor_wall";
     // Floor x in [-10, 10], z in [-5, 10]; wall z = -5, x in [-10, 10], y in [0, 8].
-    scene.meshes.push_back(
-        MakeQuad("floor", Vec3(-10, 0, 10), Vec3(20, 0, 0), Vec3(0, 0, -15), 4));
+    scene.meshes.push_back(MakeQuad("floor", Vec3(-10, 0, 10), Vec3(20, 0, 0), Vec3(0, 0, -15), 4));
     scene.meshes.push_back(MakeQuad("wall", Vec3(-10, 0, -5), Vec3(20, 0, 0), Vec3(0, 8, 0), 4));
 
     const double ball = 0.8;
@@ -51,14 +49,12 @@ Scene FloorWallScene(double time) {
         "sphere", Vec3(-2.0, ball + BounceHeight(time, 1.3, 1.5, 0.0), -1.0), ball, 24, 48));
     const double cube = 0.6;
     const double cube_y = BounceHeight(time, 1.1, 1.2, 0.35);
-    scene.meshes.push_back(
-        MakeBox("box", Aabb{Vec3(1.0 - cube, cube_y, -2.5 - cube),
-                            Vec3(1.0 + cube, cube_y + 2 * cube, -2.5 + cube)}));
+    scene.meshes.push_back(MakeBox("box", Aabb{Vec3(1.0 - cube, cube_y, -2.5 - cube),
+                                               Vec3(1.0 + cube, cube_y + 2 * cube, -2.5 + cube)}));
     const double tube = 0.25;
     scene.meshes.push_back(MakeTorus(
         "torus", Vec3(2.5, tube + BounceHeight(time, 0.9, 1.0, 0.6), 1.5), 0.7, tube, 48, 24));
-    scene.meshes.push_back(MakeLathe("cone",
-                                     Vec3(-0.5, BounceHeight(time, 1.7, 2.0, 0.15), 1.8),
+    scene.meshes.push_back(MakeLathe("cone", Vec3(-0.5, BounceHeight(time, 1.7, 2.0, 0.15), 1.8),
                                      {{0.6, 0.0}, {0.0, 1.4}}, 48));
 
     scene.planes = {Floor(), {"wall", Vec4(0.0, 0.0, 1.0, 5.0), {}}};
@@ -84,9 +80,9 @@ Scene TableFloorScene() {
     for (const double sx : {-1.0, 1.0}) {
         for (const double sz : {-1.0, 1.0}) {
             const Vec3 c(sx * (hx - 2 * leg), 0.0, sz * (hz - 2 * leg));
-            scene.meshes.push_back(MakeBox("leg " + std::to_string(leg_index++),
-                                           Aabb{c - Vec3(leg, 0, leg),
-                                                c + Vec3(leg, top - slab, leg)}));
+            scene.meshes.push_back(
+                MakeBox("leg " + std::to_string(leg_index++),
+                        Aabb{c - Vec3(leg, 0, leg), c + Vec3(leg, top - slab, leg)}));
         }
     }
     // Casters on the table top.
@@ -134,9 +130,9 @@ Scene SphereGridScene(long triangles) {
     for (int i = 0; i < 10; ++i) {
         for (int j = 0; j < 10; ++j) {
             const Vec3 c((i - 4.5) * spacing, radius, (j - 4.5) * spacing);
-            scene.meshes.push_back(MakeSphere(
-                "sphere " + std::to_string(i) + "," + std::to_string(j), c, radius, bands + 1,
-                slices));
+            scene.meshes.push_back(
+                MakeSphere("sphere " + std::to_string(i) + "," + std::to_string(j), c, radius,
+                           bands + 1, slices));
         }
     }
     scene.planes = {Floor()};
@@ -162,8 +158,7 @@ Scene ThinPlatesScene() {
     scene.meshes.push_back(
         MakeQuad("plate flipped", Vec3(-1.0, 1.2, -1.0), Vec3(0, 0, -1.4), Vec3(1.4, 0, 0)));
     // Closed slabs 1 mm thick: the two depths a second-depth map separates lie 1 mm apart.
-    scene.meshes.push_back(
-        MakeBox("slab", Aabb{Vec3(1.0, 0.9, -2.2), Vec3(2.4, 0.901, -0.8)}));
+    scene.meshes.push_back(MakeBox("slab", Aabb{Vec3(1.0, 0.9, -2.2), Vec3(2.4, 0.901, -0.8)}));
     scene.meshes.push_back(
         MakeBox("slab stacked", Aabb{Vec3(1.2, 0.902, -2.0), Vec3(2.2, 0.903, -1.0)}));
     // A slab lying 1 mm above the floor: contact shadows where depth bias fails.

@@ -106,8 +106,7 @@ Eigen::Matrix4d LocalTransform(const tinygltf::Node& node) {
     }
     Eigen::Affine3d t = Eigen::Affine3d::Identity();
     if (node.translation.size() == 3) {
-        t.translate(Eigen::Vector3d(node.translation[0], node.translation[1],
-                                    node.translation[2]));
+        t.translate(Eigen::Vector3d(node.translation[0], node.translation[1], node.translation[2]));
     }
     if (node.rotation.size() == 4) {
         // glTF stores (x, y, z, w); Eigen's constructor takes (w, x, y, z).
@@ -183,8 +182,8 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
     const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                            : loader.LoadASCIIFromFile(&model, &err, &warn, path);
     if (!ok) {
-        return Error{path, "glTF parse failed: " + (err.empty() ? std::string("unknown error")
-                                                                : err)};
+        return Error{path,
+                     "glTF parse failed: " + (err.empty() ? std::string("unknown error") : err)};
     }
 
     // Roots: the default scene's nodes, else every node no other node lists as a child.
@@ -209,8 +208,7 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
     std::function<Result<bool>(int, const Eigen::Matrix4d&)> visit =
         [&](int node_index, const Eigen::Matrix4d& parent) -> Result<bool> {
         if (node_index < 0 || node_index >= static_cast<int>(model.nodes.size())) {
-            return Error{path + ": nodes", "index " + std::to_string(node_index) +
-                                               " out of range"};
+            return Error{path + ": nodes", "index " + std::to_string(node_index) + " out of range"};
         }
         // A node reached again on the current path is a cycle, which glTF forbids.
         if (depth_guard[node_index]++) {
@@ -256,8 +254,8 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
                         return Error{field + ".attributes.POSITION[" + std::to_string(i) + "]",
                                      "not finite"};
                     }
-                    const Eigen::Vector4d w = world * Eigen::Vector4d(local.x(), local.y(),
-                                                                      local.z(), 1.0);
+                    const Eigen::Vector4d w =
+                        world * Eigen::Vector4d(local.x(), local.y(), local.z(), 1.0);
                     mesh.positions.push_back(w.head<3>().cast<float>());
                 }
                 const auto normal = prim.attributes.find("NORMAL");
@@ -270,10 +268,8 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
                                      "must be float VEC3 with one normal per position"};
                     }
                     for (std::size_t i = 0; i < nv->count; ++i) {
-                        const Eigen::Vector3d n =
-                            normal_matrix * ReadVec3(*nv, i).cast<double>();
-                        mesh.normals.push_back(
-                            (n.norm() > 0 ? n.normalized() : n).cast<float>());
+                        const Eigen::Vector3d n = normal_matrix * ReadVec3(*nv, i).cast<double>();
+                        mesh.normals.push_back((n.norm() > 0 ? n.normalized() : n).cast<float>());
                     }
                 }
                 auto corners = Corners(model, prim, pv->count, field, path);

@@ -95,10 +95,9 @@ Hit ResolveHit(const Setup& s, const Vec3& origin, const Vec3& direction, const 
     Hit h;
     if (hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
     const float* v = s.scene->vertices[hit.geomID];
-    const std::uint32_t* idx = s.scene->indices[hit.geomID] + 3 * static_cast<std::size_t>(hit.primID);
-    auto vertex = [&](std::uint32_t i) {
-        return Vec3(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
-    };
+    const std::uint32_t* idx =
+        s.scene->indices[hit.geomID] + 3 * static_cast<std::size_t>(hit.primID);
+    auto vertex = [&](std::uint32_t i) { return Vec3(v[3 * i], v[3 * i + 1], v[3 * i + 2]); };
     const Vec3 a = vertex(idx[0]), b = vertex(idx[1]), c = vertex(idx[2]);
     Vec3 n = (b - a).cross(c - a);
     const double len = n.norm();
@@ -133,8 +132,8 @@ void ShadowRays(const Setup& s, const Hit& h, RTCRay* rays) {
     const Vec3 t1 = h.n.unitOrthogonal();
     const Vec3 t2 = h.n.cross(t1);
     const Vec3 base = h.x + s.eps * h.n;
-    const Vec3 offsets[kShadowRaysPerPixel] = {Vec3::Zero(), s.eps * t1, -s.eps * t1,
-                                               s.eps * t2, -s.eps * t2};
+    const Vec3 offsets[kShadowRaysPerPixel] = {Vec3::Zero(), s.eps * t1, -s.eps * t1, s.eps * t2,
+                                               -s.eps * t2};
     for (int k = 0; k < kShadowRaysPerPixel; ++k) {
         const Vec3 o = base + offsets[k];
         if (s.point_light) {
@@ -200,8 +199,8 @@ void TraceTile(const Setup& s, int x0, int y0, GroundTruth& out, Counters& count
     for (int y = y0; y < y1; ++y) {
         for (int x = x0; x < x1; ++x, ++k) {
             const std::size_t i = out.Index(x, y);
-            const Hit h = ResolveHit(s, origins[k], directions[k], primary[k].hit,
-                                     primary[k].ray.tfar);
+            const Hit h =
+                ResolveHit(s, origins[k], directions[k], primary[k].hit, primary[k].ray.tfar);
             hits[k] = h;
             if (!h.visible) continue;
             out.position[i] = h.x;
@@ -223,8 +222,7 @@ void TraceTile(const Setup& s, int x0, int y0, GroundTruth& out, Counters& count
                 out.state[i] = facing < 0 ? Truth::kShadow : Truth::kUndecided;
                 continue;
             }
-            ShadowRays(s, h, &shadow[static_cast<std::size_t>(shadow_count) *
-                                     kShadowRaysPerPixel]);
+            ShadowRays(s, h, &shadow[static_cast<std::size_t>(shadow_count) * kShadowRaysPerPixel]);
             shadow_pixel[shadow_count++] = i;
         }
     }
@@ -232,8 +230,7 @@ void TraceTile(const Setup& s, int x0, int y0, GroundTruth& out, Counters& count
     const int rays = shadow_count * kShadowRaysPerPixel;
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     if (stream) {
-        rtcOccluded1M(scene, &context, shadow.data(), static_cast<unsigned>(rays),
-                      sizeof(RTCRay));
+        rtcOccluded1M(scene, &context, shadow.data(), static_cast<unsigned>(rays), sizeof(RTCRay));
     } else {
         for (int r = 0; r < rays; ++r) rtcOccluded1(scene, &context, &shadow[r]);
     }
@@ -273,9 +270,7 @@ Result<bool> ValidateRequest(const TruthRequest& request, const TruthOptions& op
 
 }  // namespace
 
-std::int64_t GroundTruth::Count(Truth t) const {
-    return std::count(state.begin(), state.end(), t);
-}
+std::int64_t GroundTruth::Count(Truth t) const { return std::count(state.begin(), state.end(), t); }
 
 Mask GroundTruth::AsMask() const {
     Mask mask{width, height, std::vector<float>(state.size(), 1.0f)};
@@ -336,8 +331,8 @@ Result<GroundTruth> ComputeGroundTruth(const RayScene& scene, const TruthRequest
         std::vector<std::size_t> shadow_pixel(per_tile);
         std::vector<Hit> hits(per_tile);
         for (int t = next++; t < tiles; t = next++) {
-            TraceTile(s, (t % tiles_x) * tile, (t / tiles_x) * tile, out, counters, primary,
-                      shadow, shadow_pixel, hits);
+            TraceTile(s, (t % tiles_x) * tile, (t / tiles_x) * tile, out, counters, primary, shadow,
+                      shadow_pixel, hits);
         }
     };
     std::vector<std::thread> pool;

@@ -26,8 +26,8 @@ LixelUse ComputeLixelUse(const GroundTruth& truth, std::span<const LightMap> map
         if (!(q.w() > 0.0)) continue;
         const double lx = std::floor(q.x() / q.w()), ly = std::floor(q.y() / q.w());
         if (!(lx >= 0 && ly >= 0 && lx < map.width && ly < map.height)) continue;
-        std::uint8_t& bit = read[k][static_cast<std::size_t>(ly) * map.width +
-                                    static_cast<std::size_t>(lx)];
+        std::uint8_t& bit =
+            read[k][static_cast<std::size_t>(ly) * map.width + static_cast<std::size_t>(lx)];
         if (!bit) {
             bit = 1;
             ++use.read;

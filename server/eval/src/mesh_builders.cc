@@ -144,9 +144,7 @@ Mesh MakeTorus(std::string name, const Vec3& centre, double major_radius, double
             AddVertex(mesh, centre + major_radius * radial + minor_radius * n, n);
         }
     }
-    auto at = [&](int i, int j) {
-        return static_cast<Index>((i % rings) * sides + (j % sides));
-    };
+    auto at = [&](int i, int j) { return static_cast<Index>((i % rings) * sides + (j % sides)); };
     for (int i = 0; i < rings; ++i) {
         for (int j = 0; j < sides; ++j) {
             AddTriangle(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1));
@@ -156,8 +154,7 @@ Mesh MakeTorus(std::string name, const Vec3& centre, double major_radius, double
     return mesh;
 }
 
-Mesh MakeLathe(std::string name, const Vec3& base, const std::vector<Vec2>& profile,
-               int slices) {
+Mesh MakeLathe(std::string name, const Vec3& base, const std::vector<Vec2>& profile, int slices) {
     slices = std::max(3, slices);
     Mesh mesh;
     mesh.name = std::move(name);
@@ -213,8 +210,8 @@ void ComputeSmoothNormals(Mesh& mesh) {
                             c = mesh.indices[3 * t + 2];
         const Vec3 pa = mesh.positions[a].cast<double>();
         // Cross product length is twice the area: area weighting for free.
-        const Vec3 n = (mesh.positions[b].cast<double>() - pa)
-                           .cross(mesh.positions[c].cast<double>() - pa);
+        const Vec3 n =
+            (mesh.positions[b].cast<double>() - pa).cross(mesh.positions[c].cast<double>() - pa);
         sum[a] += n;
         sum[b] += n;
         sum[c] += n;

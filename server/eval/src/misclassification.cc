@@ -64,8 +64,7 @@ Result<Misclassification> Misclassified(const GroundTruth& truth, const Mask& ma
         mask.lit.size() != truth.state.size()) {
         return Error{"mask", "size " + std::to_string(mask.width) + "x" +
                                  std::to_string(mask.height) + " differs from the truth's " +
-                                 std::to_string(truth.width) + "x" +
-                                 std::to_string(truth.height)};
+                                 std::to_string(truth.width) + "x" + std::to_string(truth.height)};
     }
     for (std::size_t i = 0; i < mask.lit.size(); ++i) {
         if (!std::isfinite(mask.lit[i])) {

@@ -18,9 +18,9 @@ Result<std::vector<Mesh>> LoadObj(const std::string& path) {
     config.vertex_color = false;
     tinyobj::ObjReader reader;
     if (!reader.ParseFromFile(path, config)) {
-        return Error{path, "OBJ parse failed: " +
-                               (reader.Error().empty() ? std::string("unknown error")
-                                                       : reader.Error())};
+        return Error{path,
+                     "OBJ parse failed: " +
+                         (reader.Error().empty() ? std::string("unknown error") : reader.Error())};
     }
     const tinyobj::attrib_t& attrib = reader.GetAttrib();
     const std::size_t positions = attrib.vertices.size() / 3;
@@ -33,23 +33,22 @@ Result<std::vector<Mesh>> LoadObj(const std::string& path) {
         const tinyobj::mesh_t& source = shapes[s].mesh;
         if (source.indices.empty()) continue;
         Mesh mesh;
-        mesh.name = shapes[s].name.empty() ? stem + "[" + std::to_string(s) + "]"
-                                           : shapes[s].name;
+        mesh.name = shapes[s].name.empty() ? stem + "[" + std::to_string(s) + "]" : shapes[s].name;
         bool all_normals = true;
         for (const tinyobj::index_t& i : source.indices) all_normals &= i.normal_index >= 0;
         std::map<std::pair<int, int>, std::uint32_t> shared;
         for (std::size_t k = 0; k < source.indices.size(); ++k) {
             const tinyobj::index_t& i = source.indices[k];
             if (i.vertex_index < 0 || static_cast<std::size_t>(i.vertex_index) >= positions) {
-                return Error{path, "object '" + mesh.name + "' face corner " +
-                                       std::to_string(k) + ": vertex index " +
-                                       std::to_string(i.vertex_index + 1) + " out of range (" +
-                                       std::to_string(positions) + " vertices)"};
+                return Error{path, "object '" + mesh.name + "' face corner " + std::to_string(k) +
+                                       ": vertex index " + std::to_string(i.vertex_index + 1) +
+                                       " out of range (" + std::to_string(positions) +
+                                       " vertices)"};
             }
             if (all_normals && static_cast<std::size_t>(i.normal_index) >= normals) {
-                return Error{path, "object '" + mesh.name + "' face corner " +
-                                       std::to_string(k) + ": normal index " +
-                                       std::to_string(i.normal_index + 1) + " out of range"};
+                return Error{path, "object '" + mesh.name + "' face corner " + std::to_string(k) +
+                                       ": normal index " + std::to_string(i.normal_index + 1) +
+                                       " out of range"};
             }
             const auto key = std::make_pair(i.vertex_index, all_normals ? i.normal_index : -1);
             auto [it, added] =
@@ -58,8 +57,7 @@ Result<std::vector<Mesh>> LoadObj(const std::string& path) {
                 const float* p = &attrib.vertices[3 * static_cast<std::size_t>(i.vertex_index)];
                 mesh.positions.emplace_back(p[0], p[1], p[2]);
                 if (all_normals) {
-                    const float* n =
-                        &attrib.normals[3 * static_cast<std::size_t>(i.normal_index)];
+                    const float* n = &attrib.normals[3 * static_cast<std::size_t>(i.normal_index)];
                     Eigen::Vector3f normal(n[0], n[1], n[2]);
                     mesh.normals.push_back(normal.norm() > 0 ? normal.normalized() : normal);
                 }

@@ -80,9 +80,7 @@ std::vector<T> Unique(const std::vector<ReportRow>& rows, T ReportRow::*field) {
 
 }  // namespace
 
-bool GnuplotAvailable() {
-    return Run({LIXEL_GNUPLOT_PATH, "--version"}, "/dev/null") == 0;
-}
+bool GnuplotAvailable() { return Run({LIXEL_GNUPLOT_PATH, "--version"}, "/dev/null") == 0; }
 
 Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<ReportRow>& rows) {
     if (rows.empty()) return Error{"rows", "nothing to plot"};
@@ -115,9 +113,8 @@ Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<Report
             std::sort(mine.begin(), mine.end(),
                       [](const ReportRow* a, const ReportRow* b) { return a->budget < b->budget; });
             for (const ReportRow* r : mine) {
-                data << r->TotalMs() << " "
-                     << std::max(r->error.Percent(), kErrorFloorPercent) << " "
-                     << BudgetLabel(r->budget) << "\n";
+                data << r->TotalMs() << " " << std::max(r->error.Percent(), kErrorFloorPercent)
+                     << " " << BudgetLabel(r->budget) << "\n";
                 any = true;
             }
             // An empty block would shift gnuplot's index numbering: keep a NaN row.
@@ -183,9 +180,9 @@ Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<Report
             const char* colour = kColours[IndexOf(fittings, fitting) % 8];
             const int point = kPointTypes[IndexOf(tests, test) % 8];
             gp << Quoted(data_path) << " index " << base + m
-               << " using 1:2 with linespoints lw 0.5 pt " << point << " ps 1.1 lc rgb \""
-               << colour << "\" title " << Quoted(methods[m]) << ", \\\n     "
-               << Quoted(data_path) << " index " << base + m
+               << " using 1:2 with linespoints lw 0.5 pt " << point << " ps 1.1 lc rgb \"" << colour
+               << "\" title " << Quoted(methods[m]) << ", \\\n     " << Quoted(data_path)
+               << " index " << base + m
                << " using 1:2:3 with labels offset 0.9,0.5 font \",6\" tc rgb \"#606060\" "
                   "notitle, \\\n     ";
         }

@@ -1,6 +1,5 @@
 // Terminal progress bar (progress.h).
 #include <lixel/eval/progress.h>
-
 #include <unistd.h>
 
 #include <algorithm>

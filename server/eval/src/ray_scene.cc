@@ -38,8 +38,8 @@ Result<RayScene> RayScene::Build(std::span<const Mesh> meshes) {
         const Mesh& mesh = meshes[m];
         const std::string field = "meshes[" + std::to_string(m) + "]";
         if (mesh.indices.size() % 3 != 0) {
-            return Error{field + ".indices", "size " + std::to_string(mesh.indices.size()) +
-                                                 " is not a multiple of 3"};
+            return Error{field + ".indices",
+                         "size " + std::to_string(mesh.indices.size()) + " is not a multiple of 3"};
         }
         for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
             if (mesh.indices[i] >= mesh.positions.size()) {
@@ -77,12 +77,12 @@ Result<RayScene> RayScene::Build(std::span<const Mesh> meshes) {
         const Mesh& mesh = meshes[m];
         if (mesh.TriangleCount() == 0) continue;
         RTCGeometry geometry = rtcNewGeometry(impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-            mesh.positions.size()));
-        auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
-            geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t),
-            mesh.TriangleCount()));
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                              RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                              mesh.positions.size()));
+        auto* idx = static_cast<std::uint32_t*>(
+            rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(std::uint32_t), mesh.TriangleCount()));
         if (!v || !idx) {
             rtcReleaseGeometry(geometry);
             return Error{"meshes[" + std::to_string(m) + "]",

@@ -131,12 +131,12 @@ Result<bool> WriteReportCsv(const std::string& path, const std::vector<ReportRow
             << Number(r.error.Percent(), 6) << "," << r.error.band_decided << ","
             << Number(r.error.BandPercent(), 6) << "," << r.error.false_lit << ","
             << r.error.false_shadow << "," << r.aliasing_planes.pixels << ","
-            << Number(r.aliasing_planes.mean, 6) << "," << Number(r.aliasing_planes.p95, 6)
-            << "," << Number(r.aliasing_planes.over_threshold, 6) << ","
-            << r.aliasing_elsewhere.pixels << "," << Number(r.aliasing_elsewhere.mean, 6) << ","
+            << Number(r.aliasing_planes.mean, 6) << "," << Number(r.aliasing_planes.p95, 6) << ","
+            << Number(r.aliasing_planes.over_threshold, 6) << "," << r.aliasing_elsewhere.pixels
+            << "," << Number(r.aliasing_elsewhere.mean, 6) << ","
             << Number(r.aliasing_elsewhere.p95, 6) << ","
-            << Number(r.aliasing_elsewhere.over_threshold, 6) << ","
-            << Number(r.lixel_use, 6) << "," << r.repeats;
+            << Number(r.aliasing_elsewhere.over_threshold, 6) << "," << Number(r.lixel_use, 6)
+            << "," << r.repeats;
         for (const std::string& s : stages) {
             const auto it = std::find_if(r.stage_ms.begin(), r.stage_ms.end(),
                                          [&](const auto& p) { return p.first == s; });
@@ -189,11 +189,10 @@ Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<Repo
             const ReportRow& r = rows[i];
             const std::string b = best[i] ? "**" : "";
             out << "| " << BudgetLabel(r.budget) << " | " << b << r.method << b << " | "
-                << r.total_lixels << " | " << r.maps << " | " << b
-                << Fixed(r.error.Percent(), 3) << b << " | " << Fixed(r.error.BandPercent(), 2)
-                << " | " << aliasing(r.aliasing_planes) << " | "
-                << aliasing(r.aliasing_elsewhere) << " | " << Fixed(100.0 * r.lixel_use, 1)
-                << "% | " << Fixed(r.TotalMs(), 2) << " |\n";
+                << r.total_lixels << " | " << r.maps << " | " << b << Fixed(r.error.Percent(), 3)
+                << b << " | " << Fixed(r.error.BandPercent(), 2) << " | "
+                << aliasing(r.aliasing_planes) << " | " << aliasing(r.aliasing_elsewhere) << " | "
+                << Fixed(100.0 * r.lixel_use, 1) << "% | " << Fixed(r.TotalMs(), 2) << " |\n";
         }
         // Stage breakdown of the same rows.
         const std::vector<std::string> stages = StageUnion(rows);

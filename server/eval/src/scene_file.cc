@@ -22,8 +22,7 @@ struct Line {
 Result<std::vector<double>> Numbers(const Line& line, std::size_t first, std::size_t count) {
     if (line.args.size() != first + count) {
         return line.Fail("expected " + std::to_string(count) + " numbers, got " +
-                         std::to_string(line.args.size() >= first ? line.args.size() - first
-                                                                  : 0));
+                         std::to_string(line.args.size() >= first ? line.args.size() - first : 0));
     }
     std::vector<double> values;
     for (std::size_t i = first; i < line.args.size(); ++i) {
@@ -135,8 +134,7 @@ Result<Scene> LoadSceneFile(const std::string& path) {
                 const double distance = (n.dot(x) + plane.plane.w()) / len;
                 if (std::abs(distance) > 1e-6 * std::max(1.0, x.norm())) {
                     return line.Fail("vertex " + std::to_string(i / 3) + " lies " +
-                                     std::to_string(distance) + " off plane '" + plane.name +
-                                     "'");
+                                     std::to_string(distance) + " off plane '" + plane.name + "'");
                 }
                 plane.polygon.push_back(x);
             }
@@ -149,7 +147,8 @@ Result<Scene> LoadSceneFile(const std::string& path) {
                 if ((b - a).cross(c - b).dot(n) <= 0.0) {
                     return line.Fail("polygon of '" + plane.name +
                                      "' is not convex and counter-clockwise about its normal "
-                                     "(at vertex " + std::to_string((i + 1) % k) + ")");
+                                     "(at vertex " +
+                                     std::to_string((i + 1) % k) + ")");
                 }
             }
         } else if (line.keyword == "eye" || line.keyword == "target" || line.keyword == "up") {
@@ -174,8 +173,8 @@ Result<Scene> LoadSceneFile(const std::string& path) {
             auto v = Numbers(line, 0, 2);
             if (!v) return v.error();
             const double w = (*v)[0], h = (*v)[1];
-            if (w != std::floor(w) || h != std::floor(h) || w < 1 || h < 1 ||
-                w > kMaxImageSide || h > kMaxImageSide) {
+            if (w != std::floor(w) || h != std::floor(h) || w < 1 || h < 1 || w > kMaxImageSide ||
+                h > kMaxImageSide) {
                 return line.Fail("width and height must be integers in [1, " +
                                  std::to_string(kMaxImageSide) + "]");
             }
@@ -194,8 +193,9 @@ Result<Scene> LoadSceneFile(const std::string& path) {
             }
             has_light = true;
         } else {
-            return line.Fail("unknown keyword (expected name, mesh, plane, polygon, eye, "
-                             "target, up, fov, near, far, size or light)");
+            return line.Fail(
+                "unknown keyword (expected name, mesh, plane, polygon, eye, "
+                "target, up, fov, near, far, size or light)");
         }
     }
     if (scene.meshes.empty()) return Error{path, "no mesh line: a scene needs geometry"};

@@ -1,7 +1,8 @@
 // OSMesa contexts: Mesa's off-screen API, 4.5 core through OSMesaCreateContextAttribs. The
 // context is made current on a 1 x 1 buffer; passes render into framebuffer objects.
-// glcorearb.h (through context_backend.h) must come before GL/osmesa.h: osmesa.h pulls in the
-// legacy GL/gl.h, which marks GL 1.0-1.3 as declared and hides their PFNGL* typedefs.
+// GL/glcorearb.h must come before GL/osmesa.h: osmesa.h pulls in the legacy GL/gl.h, which marks
+// GL 1.0-1.3 as declared and would hide their PFNGL* typedefs from gl_api.h.
+#include <GL/glcorearb.h>
 #include <GL/osmesa.h>
 
 #include <array>

@@ -462,6 +462,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         e->set_misclassified_percent(wrong->Percent());
         e->set_misclassified_band_percent(wrong->BandPercent());
         e->set_decided_pixels(static_cast<std::uint64_t>(wrong->decided));
+        e->set_wrong_pixels(static_cast<std::uint64_t>(wrong->wrong));
+        e->set_band_decided_pixels(static_cast<std::uint64_t>(wrong->band_decided));
+        e->set_band_wrong_pixels(static_cast<std::uint64_t>(wrong->band_wrong));
         e->set_undecided_pixels(static_cast<std::uint64_t>(truth->Count(eval::Truth::kUndecided)));
         if (truth->seconds > 0.0) {
             e->set_truth_rays_per_second(

@@ -3,7 +3,6 @@
 #include <lixel/volumes/counting_mode.h>
 
 #include <Eigen/LU>
-
 #include <array>
 #include <vector>
 

@@ -28,8 +28,8 @@ Result<bool> Validate(std::span<const Eigen::Vector3f> positions,
     for (std::size_t i = 0; i < indices.size(); ++i) {
         if (indices[i] >= positions.size()) {
             return Error{"indices[" + std::to_string(i) + "]",
-                         "index " + std::to_string(indices[i]) + " >= " +
-                             std::to_string(positions.size()) + " vertices"};
+                         "index " + std::to_string(indices[i]) +
+                             " >= " + std::to_string(positions.size()) + " vertices"};
         }
     }
     return true;
@@ -44,9 +44,13 @@ void Weld(std::span<const Eigen::Vector3f> positions, EdgeAdjacency& out) {
     });
     out.welded.assign(positions.size(), 0);
     out.points.clear();
+    out.representative.clear();
     for (std::size_t k = 0; k < order.size(); ++k) {
         const Eigen::Vector3f& p = positions[order[k]];
-        if (out.points.empty() || Greater(out.points.back(), p) != 0) out.points.push_back(p);
+        if (out.points.empty() || Greater(out.points.back(), p) != 0) {
+            out.points.push_back(p);
+            out.representative.push_back(order[k]);
+        }
         out.welded[order[k]] = static_cast<std::uint32_t>(out.points.size() - 1);
     }
 }
@@ -58,8 +62,8 @@ bool Collinear(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::
 }
 
 struct EdgeUse {
-    std::uint64_t key;       // a << 32 | b, a < b
-    std::uint64_t payload;   // opposite welded id << 32 | slot (3 * kept triangle + corner k)
+    std::uint64_t key;      // a << 32 | b, a < b
+    std::uint64_t payload;  // opposite welded id << 32 | slot (3 * kept triangle + corner k)
 
     bool operator<(const EdgeUse& o) const {
         return key != o.key ? key < o.key : payload < o.payload;

@@ -5,8 +5,9 @@
 
 namespace lixel::volumes {
 
-VolumeMesh ExtrudeSilhouetteVolume(const EdgeAdjacency& adjacency, std::span<const int> multiplicity,
-                                   const Vec4& light, Caps caps) {
+VolumeMesh ExtrudeSilhouetteVolume(const EdgeAdjacency& adjacency,
+                                   std::span<const int> multiplicity, const Vec4& light,
+                                   Caps caps) {
     VolumeMesh out;
     auto finite = [&](std::uint32_t w) {
         return Eigen::Vector4d(adjacency.points[w].x(), adjacency.points[w].y(),

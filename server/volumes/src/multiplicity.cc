@@ -19,8 +19,7 @@ int EdgeMultiplicity(const EdgeAdjacency& adj, const Edge& e, const Eigen::Matri
 
 template <class S>
 int Facing(const EdgeAdjacency& adj, std::size_t t, const Eigen::Matrix<S, 4, 1>& l) {
-    std::uint32_t w[3] = {adj.triangles[3 * t], adj.triangles[3 * t + 1],
-                          adj.triangles[3 * t + 2]};
+    std::uint32_t w[3] = {adj.triangles[3 * t], adj.triangles[3 * t + 1], adj.triangles[3 * t + 2]};
     // Welded ids are numbered in Greater order, so sorting ids sorts the corners.
     std::uint32_t s[3] = {w[0], w[1], w[2]};
     std::sort(s, s + 3);

@@ -154,8 +154,8 @@ Result<SmoothSilhouette> ComputeSmoothSilhouette(const Mesh& mesh, const EdgeAdj
         for (std::size_t i = 0; i < count; ++i) {
             const LoopPoint& from = points[i];
             if (i >= spans) {  // an open chain's last point
-                const HermiteSegment none{from.point.displaced, from.point.displaced,
-                                          Vec3::Zero(), Vec3::Zero()};
+                const HermiteSegment none{from.point.displaced, from.point.displaced, Vec3::Zero(),
+                                          Vec3::Zero()};
                 const auto segment = static_cast<std::uint32_t>(out.segments.size());
                 out.segments.push_back({none.p0, none.p1, none.t0, none.t1});
                 Subdivider{options, none, from, from, segment, loop, out.stats}.Emit(0.0, false);

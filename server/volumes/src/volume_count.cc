@@ -3,7 +3,6 @@
 #include <lixel/volumes/volume_count.h>
 
 #include <Eigen/LU>
-
 #include <limits>
 
 namespace lixel::volumes {

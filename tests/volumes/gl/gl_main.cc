@@ -1,11 +1,11 @@
 // main() of lixel_volumes_gl_tests: one GL context (EGL, or OSMesa with LIXEL_TEST_GL=osmesa)
 // and one VolumePass for every test, on the main thread.
-#include "gl_environment.h"
-
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <optional>
+
+#include "gl_environment.h"
 
 namespace lixel::volumes::gl::testing {
 namespace {
@@ -14,7 +14,7 @@ render::GlContext* context = nullptr;
 std::optional<VolumePass> pass;
 
 class GlEnvironment : public ::testing::Environment {
-public:
+  public:
     void SetUp() override {
         render::Backend backend = render::Backend::kEgl;
         if (const char* env = std::getenv("LIXEL_TEST_GL")) {

@@ -11,8 +11,8 @@
 #include <lixel/volumes/smooth_volume.h>
 
 #include <Eigen/LU>
-
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "../fixtures.h"
@@ -53,12 +53,12 @@ void ExpectGpuMatchesCpu(const std::vector<Mesh>& meshes, const Vec4& light, int
 
 TEST(VolumePassMultiplicity, GpuAgreesWithCpuOnEveryEdge) {
     const Mesh grid = volumes::testing::SphereGrid(3, 0.5, 12, 18);
-    const Mesh fans = Merge({volumes::testing::Fan({0.5, 1.5, 2.5}),
-                             volumes::testing::Fan({0.3, 1.9, 3.1, 4.4})});
+    const Mesh fans = Merge(
+        {volumes::testing::Fan({0.5, 1.5, 2.5}), volumes::testing::Fan({0.3, 1.9, 3.1, 4.4})});
     const Mesh open = Merge({volumes::testing::Square(2.0, 0.0),
                              volumes::testing::Cylinder(Vec3(0, 0.5, 0), 0.5, 1.0, 13)});
-    for (const Vec4& light : {Vec4(2, 6, 1, 1), Vec4(-3, 4, 5, 1), Vec4(0.3, 1, 0.2, 0),
-                              Vec4(5, 0.2, 0.5, 1)}) {
+    for (const Vec4& light :
+         {Vec4(2, 6, 1, 1), Vec4(-3, 4, 5, 1), Vec4(0.3, 1, 0.2, 0), Vec4(5, 0.2, 0.5, 1)}) {
         ExpectGpuMatchesCpu({grid}, light, 0);
         ExpectGpuMatchesCpu({fans, open}, light, 0);
     }
@@ -66,8 +66,8 @@ TEST(VolumePassMultiplicity, GpuAgreesWithCpuOnEveryEdge) {
 
 TEST(VolumePassMultiplicity, SplitEdgesAddUp) {
     // Patches of two opposite points: the four-triangle edge is split over two patches.
-    const Mesh fans = Merge({volumes::testing::Fan({0.3, 1.9, 3.1, 4.4}),
-                             volumes::testing::Fan({0.5, 1.5, 2.5})});
+    const Mesh fans = Merge(
+        {volumes::testing::Fan({0.3, 1.9, 3.1, 4.4}), volumes::testing::Fan({0.5, 1.5, 2.5})});
     auto scene = UploadVolumeScene(testing::Context(), std::vector<Mesh>{fans}, Vec3::Zero(), 2);
     ASSERT_TRUE(scene.ok());
     EXPECT_EQ(scene->patch_vertices(), 4);
@@ -78,8 +78,8 @@ TEST(VolumePassMultiplicity, SplitEdgesAddUp) {
 
 TEST(VolumePassMultiplicity, RefusesImpossiblePatchSizes) {
     const Mesh square = volumes::testing::Square(1.0, 0.0);
-    auto scene = UploadVolumeScene(testing::Context(), std::vector<Mesh>{square}, Vec3::Zero(),
-                                   1000);
+    auto scene =
+        UploadVolumeScene(testing::Context(), std::vector<Mesh>{square}, Vec3::Zero(), 1000);
     ASSERT_FALSE(scene.ok());
     EXPECT_EQ(scene.error().field, "max_opposites");
     scene = UploadVolumeScene(testing::Context(), std::vector<Mesh>{}, Vec3::Zero());
@@ -291,8 +291,7 @@ TEST(VolumePassSmooth, SmoothVolumeFollowsTheAnalyticSphereShadow) {
     ASSERT_TRUE(smooth.ok());
     auto gpu_volume = UploadVolumeMesh(
         context,
-        ExtrudeSmoothVolume(sphere, volumes->adjacency()[0], *smooth, c.light,
-                            Caps::kLightAndDark),
+        ExtrudeSmoothVolume(sphere, volumes->adjacency()[0], *smooth, c.light, Caps::kLightAndDark),
         c.origin);
     ASSERT_TRUE(gpu_volume.ok()) << gpu_volume.error().Message();
     VolumeRequest request;
@@ -309,8 +308,8 @@ TEST(VolumePassSmooth, SmoothVolumeFollowsTheAnalyticSphereShadow) {
     {
         render::ViewImages smooth_images;
         render::ViewImages discrete_images;
-        ASSERT_TRUE(testing::Pass().Render(*surfaces, *volumes, *gpu_volume, request,
-                                           smooth_images).ok());
+        ASSERT_TRUE(
+            testing::Pass().Render(*surfaces, *volumes, *gpu_volume, request, smooth_images).ok());
         ASSERT_TRUE(testing::Pass().Render(*surfaces, *volumes, request, discrete_images).ok());
         auto smooth_mask = render::ReadMask(context, smooth_images);
         auto discrete_mask = render::ReadMask(context, discrete_images);

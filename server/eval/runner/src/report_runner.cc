@@ -32,7 +32,7 @@ Result<Scene> LoadScene(const std::string& name) {
 // One repeat's stage times: a stage run several times in a repeat (a pass over each of three
 // maps) counts once, with the sum of its runs.
 class RepeatTimes {
-public:
+  public:
     void Add(const std::string& stage, double ms) {
         for (auto& [name, total] : stages_) {
             if (name == stage) {
@@ -46,20 +46,19 @@ public:
         for (const auto& [name, total] : stages_) times.Add(name, total);
     }
 
-private:
+  private:
     std::vector<std::pair<std::string, double>> stages_;
 };
 
 // Wall time of `work` with the GPU drained after it, in milliseconds.
 template <class Work>
-auto Timed(render::GlContext& context, RepeatTimes& times, const std::string& stage,
-           Work&& work) {
+auto Timed(render::GlContext& context, RepeatTimes& times, const std::string& stage, Work&& work) {
     const auto start = std::chrono::steady_clock::now();
     auto result = work();
     context.gl().Finish();
-    times.Add(stage, std::chrono::duration<double, std::milli>(
-                         std::chrono::steady_clock::now() - start)
-                         .count());
+    times.Add(stage,
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                  .count());
     return result;
 }
 
@@ -80,8 +79,8 @@ Result<RunOutput> RunMethod(render::Renderer& renderer, const render::GpuScene& 
     RunOutput out;
     for (int r = -1; r < repeats; ++r) {
         RepeatTimes t;
-        auto plan = Timed(context, t, "plan+solve",
-                          [&] { return PlanMethod(scene, method, budget); });
+        auto plan =
+            Timed(context, t, "plan+solve", [&] { return PlanMethod(scene, method, budget); });
         if (!plan) return plan.error();
         const Vec4 light = plan->hull.light;
         std::vector<render::RenderedMap> maps;
@@ -125,11 +124,10 @@ Result<RunOutput> RunMethod(render::Renderer& renderer, const render::GpuScene& 
         settings.viewport = scene.camera.viewport;
         settings.light = scene.light;
         settings.method = static_cast<render::ShadowMethod>(static_cast<int>(method.test));
-        auto view = Timed(context, t, "view",
-                          [&] { return renderer.RenderView(gpu, maps, settings); });
+        auto view =
+            Timed(context, t, "view", [&] { return renderer.RenderView(gpu, maps, settings); });
         if (!view) return Error{"view: " + view.error().field, view.error().reason};
-        auto mask = Timed(context, t, "transfer",
-                          [&] { return render::ReadMask(context, *view); });
+        auto mask = Timed(context, t, "transfer", [&] { return render::ReadMask(context, *view); });
         if (!mask) return Error{"transfer: " + mask.error().field, mask.error().reason};
         if (r >= 0) t.CommitTo(out.times);
         if (r + 1 == repeats) {
@@ -212,8 +210,8 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
         std::vector<Mask> grid_masks;
         for (const std::int64_t budget : options.budgets) {
             for (const Method& method : options.methods) {
-                auto run = RunMethod(**renderer, *gpu, scene, *truth, method, budget,
-                                     options.repeats);
+                auto run =
+                    RunMethod(**renderer, *gpu, scene, *truth, method, budget, options.repeats);
                 if (bar) bar->Advance(1, scene.name + " " + method.Name());
                 if (!run) {
                     summary.notes.push_back(scene.name + ", " + method.Name() + ", " +
@@ -222,8 +220,8 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
                     if (budget == grid_budget) grid_masks.push_back(truth->AsMask());
                     continue;
                 }
-                auto row = EvaluateRun(scene, *truth, method, budget, run->plan, run->mask,
-                                       run->times);
+                auto row =
+                    EvaluateRun(scene, *truth, method, budget, run->plan, run->mask, run->times);
                 if (!row) return row.error();
                 summary.rows.push_back(std::move(row.value()));
                 for (const std::string& w : run->plan.warnings) {
@@ -245,9 +243,8 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
         for (const Mask& m : grid_masks) pointers.push_back(&m);
         const std::string grid_name = scene.name + "_masks.png";
         // Four shadow tests per fitting in AllMethods(): a row pair per fitting.
-        const int per_row = options.methods.size() % 4 == 0 ? 4
-                                                            : static_cast<int>(
-                                                                  options.methods.size());
+        const int per_row =
+            options.methods.size() % 4 == 0 ? 4 : static_cast<int>(options.methods.size());
         if (auto ok = WritePng((fs::path(options.output) / grid_name).string(),
                                MaskGrid(*truth, pointers, per_row));
             !ok) {

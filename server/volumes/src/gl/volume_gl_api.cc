@@ -1,5 +1,5 @@
 // The extra entry points, from the context's own backend.
-#include <lixel/volumes/gl/volume_gl_api.h>
+#include <lixel/volumes/gl/volume_gl_api.h>  // first: GL/glcorearb.h before GL/osmesa.h's GL/gl.h
 
 #include <EGL/egl.h>
 #include <GL/osmesa.h>
@@ -16,10 +16,10 @@ Result<VolumeGlApi> LoadVolumeGlApi(const render::GlContext& context) {
                    : reinterpret_cast<Proc>(OSMesaGetProcAddress(name));
     };
     VolumeGlApi api;
-#define LIXEL_VOLUME_GL_LOAD(Name, UPPER)                                                  \
-    api.Name = reinterpret_cast<PFNGL##UPPER##PROC>(get("gl" #Name));                      \
-    if (api.Name == nullptr) {                                                             \
-        return Error{"gl", std::string("gl" #Name ": not exported by the backend")};       \
+#define LIXEL_VOLUME_GL_LOAD(Name, UPPER)                                            \
+    api.Name = reinterpret_cast<PFNGL##UPPER##PROC>(get("gl" #Name));                \
+    if (api.Name == nullptr) {                                                       \
+        return Error{"gl", std::string("gl" #Name ": not exported by the backend")}; \
     }
     LIXEL_VOLUME_GL_FUNCTIONS(LIXEL_VOLUME_GL_LOAD)
 #undef LIXEL_VOLUME_GL_LOAD

@@ -22,8 +22,8 @@ constexpr std::size_t kSoftwarePatchIndicesPerDraw = 1024;
 Result<bool> Validate(const VolumeRequest& r, int max_texture_size) {
     if (auto ok = ValidateViewer(r.viewer, r.viewport, "viewer"); !ok) return ok;
     if (r.viewport.width > max_texture_size || r.viewport.height > max_texture_size) {
-        return Error{"viewport", "larger than the GL maximum texture size " +
-                                     std::to_string(max_texture_size)};
+        return Error{"viewport",
+                     "larger than the GL maximum texture size " + std::to_string(max_texture_size)};
     }
     if (auto l = NormalizeLight(r.light); !l) return l.error();
     return true;
@@ -38,19 +38,19 @@ Result<VolumePass> VolumePass::Create(render::GlContext& context) {
     if (!api) return api.error();
     pass.api_ = *api;
     const render::ShaderLookup lookup = VolumeShaderLookup();
-    auto surface = render::BuildProgram(context, {"volume_surface.vert", "volume_surface.frag"},
-                                        {}, lookup);
+    auto surface =
+        render::BuildProgram(context, {"volume_surface.vert", "volume_surface.frag"}, {}, lookup);
     if (!surface) return surface.error();
-    auto sides = render::BuildProgram(context,
-                                      {"shadow_volume.vert", "shadow_volume.tesc",
-                                       "shadow_volume.tese", "shadow_volume.frag"},
-                                      {}, lookup);
+    auto sides = render::BuildProgram(
+        context,
+        {"shadow_volume.vert", "shadow_volume.tesc", "shadow_volume.tese", "shadow_volume.frag"},
+        {}, lookup);
     if (!sides) return sides.error();
     auto caps = render::BuildProgram(
         context, {"volume_caps.vert", "volume_caps.geom", "shadow_volume.frag"}, {}, lookup);
     if (!caps) return caps.error();
-    auto mesh = render::BuildProgram(context, {"volume_mesh.vert", "shadow_volume.frag"}, {},
-                                     lookup);
+    auto mesh =
+        render::BuildProgram(context, {"volume_mesh.vert", "shadow_volume.frag"}, {}, lookup);
     if (!mesh) return mesh.error();
     pass.surface_ = std::move(surface.value());
     pass.sides_ = std::move(sides.value());
@@ -107,8 +107,8 @@ void VolumePass::DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* vo
         gl.UseProgram(p);
         gl.ProgramUniformMatrix4fv(p, mesh_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
         gl.BindVertexArray(volume->vertex_array());
-        gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(volume->side_indices()),
-                        GL_UNSIGNED_INT, nullptr);
+        gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(volume->side_indices()), GL_UNSIGNED_INT,
+                        nullptr);
         if (caps && volume->cap_indices() > 0) {
             gl.Enable(GL_POLYGON_OFFSET_FILL);
             api_.PolygonOffset(kCapOffsetFactor, kCapOffsetUnits);
@@ -149,8 +149,7 @@ Result<VolumeRenderInfo> VolumePass::Render(const render::GpuScene& surfaces,
 }
 
 Result<VolumeRenderInfo> VolumePass::Render(const render::GpuScene& surfaces,
-                                            const VolumeScene& volumes,
-                                            const GpuVolumeMesh& volume,
+                                            const VolumeScene& volumes, const GpuVolumeMesh& volume,
                                             const VolumeRequest& request,
                                             render::ViewImages& target) {
     return Draw(surfaces, volumes, &volume, request, target);
@@ -179,7 +178,7 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
         }
     } else {
         info.mode = request.counting == CountingChoice::kZPass ? CountingMode::kZPass
-                                                                : CountingMode::kZFail;
+                                                               : CountingMode::kZFail;
     }
     if (volume != nullptr && info.mode == CountingMode::kZFail && volume->cap_indices() == 0 &&
         volume->side_indices() > 0) {
@@ -188,10 +187,10 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
 
     const render::GlApi& gl = context_->gl();
     const Viewport& size = request.viewport;
-    const bool resize = size.width != target.viewport.width ||
-                        size.height != target.viewport.height;
-    if (!target.mask || resize) target.mask = render::CreateTexture2D(gl, GL_R32F, size.width,
-                                                                       size.height);
+    const bool resize =
+        size.width != target.viewport.width || size.height != target.viewport.height;
+    if (!target.mask || resize)
+        target.mask = render::CreateTexture2D(gl, GL_R32F, size.width, size.height);
     if (!target.preview || resize) {
         target.preview = render::CreateTexture2D(gl, GL_RGBA8, size.width, size.height);
     }
@@ -210,8 +209,8 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     gl.NamedFramebufferTexture(fbo, GL_DEPTH_STENCIL_ATTACHMENT, target.depth.id(), 0);
     const GLenum status = gl.CheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
-        return Error{"volume pass", "framebuffer incomplete (status " + std::to_string(status) +
-                                        ")"};
+        return Error{"volume pass",
+                     "framebuffer incomplete (status " + std::to_string(status) + ")"};
     }
     const Vec3& origin = volumes.origin();
     const Eigen::Matrix4f viewer = render::RelativeMatrix(request.viewer, origin);
@@ -243,8 +242,7 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
         gl.UseProgram(sp);
         gl.BindVertexArray(surfaces.triangles());
         for (const render::GpuMeshRange& range : surfaces.ranges()) {
-            gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count),
-                            GL_UNSIGNED_INT,
+            gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count), GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
         }
     };
@@ -305,8 +303,7 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     gl.DepthMask(GL_TRUE);
     gl.BindVertexArray(0);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-    if (auto ok = context_->Check(std::string("volume pass (") + CountingModeName(info.mode) +
-                                  ")");
+    if (auto ok = context_->Check(std::string("volume pass (") + CountingModeName(info.mode) + ")");
         !ok) {
         return ok.error();
     }
@@ -341,8 +338,7 @@ Result<std::vector<int>> VolumePass::PatchMultiplicities(const VolumeScene& volu
     gl.BindVertexArray(0);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
     api_.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // shader writes before the read-back
-    api_.GetNamedBufferSubData(buffer, 0, static_cast<GLsizeiptr>(count * sizeof(int)),
-                               out.data());
+    api_.GetNamedBufferSubData(buffer, 0, static_cast<GLsizeiptr>(count * sizeof(int)), out.data());
     api_.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, 0);
     if (auto ok = context_->Check("patch multiplicities"); !ok) return ok.error();
     return out;

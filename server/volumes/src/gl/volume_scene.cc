@@ -45,8 +45,8 @@ Result<VolumeScene> UploadVolumeScene(render::GlContext& context, std::span<cons
                                std::to_string(info.max_tess_gen_level) + ")"};
     }
     if (max_opposites < 0 || max_opposites > limit) {
-        return Error{"max_opposites", std::to_string(max_opposites) + " outside [0, " +
-                                          std::to_string(limit) + "]"};
+        return Error{"max_opposites",
+                     std::to_string(max_opposites) + " outside [0, " + std::to_string(limit) + "]"};
     }
     const int per_patch_limit = max_opposites == 0 ? limit : max_opposites;
 

@@ -4,8 +4,8 @@
 namespace lixel::volumes::gl {
 
 render::ShaderLookup VolumeShaderLookup() {
-    return [fallback = render::EmbeddedShaderLookup()](std::string_view name)
-               -> const std::string_view* {
+    return [fallback =
+                render::EmbeddedShaderLookup()](std::string_view name) -> const std::string_view* {
         for (const render::EmbeddedShader& s : VolumeShaders()) {
             if (s.name == name) return &s.source;
         }

@@ -33,17 +33,17 @@ double AliasingM(const Mat2& jacobian);
 using MapSelector = std::function<int(const Vec4&)>;
 
 struct AliasingStats {
-    std::int64_t pixels = 0;   // pixels with a finite or infinite m in this group
-    double mean = 0.0;         // over finite m
-    double p95 = 0.0;          // 95th percentile (nearest rank), infinite m included
+    std::int64_t pixels = 0;      // pixels with a finite or infinite m in this group
+    double mean = 0.0;            // over finite m
+    double p95 = 0.0;             // 95th percentile (nearest rank), infinite m included
     double over_threshold = 0.0;  // share in [0, 1] with m > kAliasingThreshold
 };
 
 struct AliasingResult {
-    AliasingStats planes;      // pixels on a plane of interest (GroundTruth::plane >= 0)
-    AliasingStats elsewhere;   // every other visible pixel
+    AliasingStats planes;       // pixels on a plane of interest (GroundTruth::plane >= 0)
+    AliasingStats elsewhere;    // every other visible pixel
     std::int64_t unmapped = 0;  // visible pixels no map serves (not in either group)
-    std::vector<float> m;      // per pixel; NaN where empty or unmapped
+    std::vector<float> m;       // per pixel; NaN where empty or unmapped
 };
 
 // m for every visible pixel (undecided ones included: sampling does not depend on the answer).

@@ -23,7 +23,7 @@ namespace lixel::eval {
 // Triangle meshes in an Embree BVH (robust, high build quality). Geometry id i is meshes[i].
 // Thread-safe for queries once built; move-only.
 class RayScene {
-public:
+  public:
     // Refuses out-of-range indices and non-finite positions, naming meshes[i].
     static Result<RayScene> Build(std::span<const Mesh> meshes);
 
@@ -37,7 +37,7 @@ public:
     const Aabb& bounds() const;
     std::int64_t triangles() const;
 
-private:
+  private:
     explicit RayScene(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
@@ -62,8 +62,8 @@ struct TruthOptions {
     // between eps / sqrt(2) and eps wide on the receiver, and contact within eps is undecided.
     // 1e-5 keeps eps below a millimetre in a 20 m room and well above float rounding (~1e-7).
     double offset_fraction = 1e-5;
-    int threads = 0;     // worker threads; 0 = std::thread::hardware_concurrency()
-    int tile_size = 16;  // pixels per tile side; a tile is one stream query
+    int threads = 0;      // worker threads; 0 = std::thread::hardware_concurrency()
+    int tile_size = 16;   // pixels per tile side; a tile is one stream query
     bool shadows = true;  // false: primary rays only (states are kLit where visible)
     RayQuery query = RayQuery::kStream;
 };
@@ -71,7 +71,7 @@ struct TruthOptions {
 struct TruthRequest {
     Mat4 viewer = Mat4::Identity();  // Mv, world -> clip, [0, 1] clip depth
     Viewport viewport;
-    Vec4 light = Vec4::Zero();  // w = 1 point light, w = 0 direction toward the light
+    Vec4 light = Vec4::Zero();            // w = 1 point light, w = 0 direction toward the light
     std::vector<PlaneOfInterest> planes;  // to label pixels on them; may be empty
 };
 
@@ -81,16 +81,16 @@ struct GroundTruth {
     // All width * height, row 0 at the bottom (image.h). Geometry fields are valid where
     // state != kEmpty.
     std::vector<Truth> state;
-    std::vector<Vec3> position;              // visible point, world units, on its triangle's plane
-    std::vector<Eigen::Vector3f> normal;     // unit geometric normal, facing the viewer
-    std::vector<std::int32_t> object;        // mesh index, -1 where empty
-    std::vector<std::int32_t> primitive;     // triangle index in that mesh, -1 where empty
-    std::vector<std::int8_t> plane;          // plane of interest the point lies on, -1 if none
+    std::vector<Vec3> position;           // visible point, world units, on its triangle's plane
+    std::vector<Eigen::Vector3f> normal;  // unit geometric normal, facing the viewer
+    std::vector<std::int32_t> object;     // mesh index, -1 where empty
+    std::vector<std::int32_t> primitive;  // triangle index in that mesh, -1 where empty
+    std::vector<std::int8_t> plane;       // plane of interest the point lies on, -1 if none
 
-    double offset = 0.0;              // eps in world units
+    double offset = 0.0;  // eps in world units
     std::int64_t primary_rays = 0;
     std::int64_t shadow_rays = 0;
-    double seconds = 0.0;             // wall time of the ray casting (not the BVH build)
+    double seconds = 0.0;  // wall time of the ray casting (not the BVH build)
 
     std::size_t Index(int x, int y) const { return static_cast<std::size_t>(y) * width + x; }
     bool Visible(std::size_t i) const { return state[i] != Truth::kEmpty; }

@@ -19,7 +19,7 @@ Result<RgbImage> ReadPng(const std::string& path);
 
 // Colours of the mask and difference images.
 struct Palette {
-    static constexpr std::uint8_t kEmpty[3] = {40, 40, 48};         // no surface
+    static constexpr std::uint8_t kEmpty[3] = {40, 40, 48};  // no surface
     static constexpr std::uint8_t kLit[3] = {235, 235, 235};
     static constexpr std::uint8_t kShadow[3] = {90, 90, 90};
     static constexpr std::uint8_t kUndecided[3] = {230, 200, 60};   // excluded from metrics

@@ -11,7 +11,7 @@
 namespace lixel::eval {
 
 class ProgressBar {
-public:
+  public:
     // `total` >= 1 steps; `out` defaults to stderr.
     ProgressBar(std::int64_t total, std::string label, std::FILE* out = stderr);
     ~ProgressBar();
@@ -30,7 +30,7 @@ public:
     // "42s", "3m07s", "1h02m".
     static std::string FormatDuration(double seconds);
 
-private:
+  private:
     void Draw(bool final_line);
 
     std::int64_t total_;

@@ -16,17 +16,17 @@ namespace lixel::eval {
 
 struct ReportRow {
     std::string scene;
-    std::string method;           // "plane-optimal + depth", "LiSPSM + PCF", ...
-    std::int64_t budget = 0;      // lixels allowed in total
+    std::string method;             // "plane-optimal + depth", "LiSPSM + PCF", ...
+    std::int64_t budget = 0;        // lixels allowed in total
     std::int64_t total_lixels = 0;  // lixels the method allocated (<= budget)
-    int maps = 0;                 // shadow maps rendered
+    int maps = 0;                   // shadow maps rendered
     Misclassification error;
     AliasingStats aliasing_planes;
     AliasingStats aliasing_elsewhere;
-    double lixel_use = 0.0;       // share in [0, 1]
+    double lixel_use = 0.0;  // share in [0, 1]
     // (stage, median milliseconds) in pipeline order: solve, plan, passes, view, transfer.
     std::vector<std::pair<std::string, double>> stage_ms;
-    int repeats = 0;              // repeats each median was taken over
+    int repeats = 0;  // repeats each median was taken over
 
     double TotalMs() const;
 };

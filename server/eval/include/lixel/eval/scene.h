@@ -14,12 +14,12 @@ namespace lixel::eval {
 
 // The default viewer of a scene: a perspective look-at camera and its image.
 struct Camera {
-    Vec3 eye = Vec3(0, 0, 5);      // world units
-    Vec3 target = Vec3::Zero();    // world units, != eye
-    Vec3 up = Vec3::UnitY();       // not parallel to target - eye
-    double fovy_degrees = 60.0;    // vertical field of view, (0, 180)
-    double near = 0.1;             // world units, > 0
-    double far = 100.0;            // world units, > near
+    Vec3 eye = Vec3(0, 0, 5);    // world units
+    Vec3 target = Vec3::Zero();  // world units, != eye
+    Vec3 up = Vec3::UnitY();     // not parallel to target - eye
+    double fovy_degrees = 60.0;  // vertical field of view, (0, 180)
+    double near = 0.1;           // world units, > 0
+    double far = 100.0;          // world units, > near
     Viewport viewport{1024, 1024};
 
     // Mv: world -> clip, [0, 1] clip depth (types.h).

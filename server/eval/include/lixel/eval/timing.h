@@ -13,7 +13,7 @@ namespace lixel::eval {
 double Median(std::vector<double> values);
 
 class StageTimes {
-public:
+  public:
     // Records one repeat of `stage`, in milliseconds. Stages keep their first-seen order.
     void Add(const std::string& stage, double milliseconds);
     // Median over the repeats of `stage`; 0 when never recorded.
@@ -24,13 +24,13 @@ public:
     double TotalMs() const;
     int Repeats(const std::string& stage) const;
 
-private:
+  private:
     std::vector<std::pair<std::string, std::vector<double>>> stages_;
 };
 
 // Adds the wall time from construction to destruction to `times` under `stage`.
 class ScopedStage {
-public:
+  public:
     ScopedStage(StageTimes& times, std::string stage)
         : times_(times), stage_(std::move(stage)), start_(std::chrono::steady_clock::now()) {}
     ~ScopedStage() {
@@ -41,7 +41,7 @@ public:
     ScopedStage(const ScopedStage&) = delete;
     ScopedStage& operator=(const ScopedStage&) = delete;
 
-private:
+  private:
     StageTimes& times_;
     std::string stage_;
     std::chrono::steady_clock::time_point start_;

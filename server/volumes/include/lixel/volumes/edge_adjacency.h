@@ -8,7 +8,6 @@
 #include <lixel/solver/result.h>
 
 #include <Eigen/Core>
-
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -33,20 +32,22 @@ struct AdjacencyStats {
     // Skipped: the same three positions as an earlier triangle, in either winding. Kept, a
     // duplicate would double every count it takes part in.
     std::size_t duplicate_triangles = 0;
-    std::size_t welded_vertices = 0;   // distinct positions
+    std::size_t welded_vertices = 0;  // distinct positions
     std::size_t edges = 0;
-    std::size_t boundary_edges = 0;    // used by one triangle
-    std::size_t manifold_edges = 0;    // used by two
+    std::size_t boundary_edges = 0;      // used by one triangle
+    std::size_t manifold_edges = 0;      // used by two
     std::size_t non_manifold_edges = 0;  // used by three or more
-    std::size_t max_opposites = 0;     // largest `count` of any edge
+    std::size_t max_opposites = 0;       // largest `count` of any edge
 };
 
 struct EdgeAdjacency {
     // Distinct input positions, sorted by Greater (vertex_order.h), so that for welded ids
     // i < j  <=>  points[i] < points[j]: every edge's a < b is the paper's A < B.
     std::vector<Eigen::Vector3f> points;
-    // Input vertex -> welded id (index into points).
+    // Input vertex -> welded id (index into points), and welded id -> the first input vertex
+    // (in Greater order) at that position.
     std::vector<std::uint32_t> welded;
+    std::vector<std::uint32_t> representative;
     // Kept triangles: three welded ids each, in input winding; source[t] is the input triangle
     // (index / 3) it came from, for per-corner attributes such as normals.
     std::vector<std::uint32_t> triangles;

@@ -17,8 +17,8 @@ namespace lixel::volumes {
 // The sides (and with Caps::kLightAndDark the caps) of the union of every kept triangle's own
 // volume: interior edges cancel to m = 0, so only silhouette edges extrude. `multiplicity` is
 // ComputeMultiplicities(adjacency, light) (same order as adjacency.edges).
-VolumeMesh ExtrudeSilhouetteVolume(const EdgeAdjacency& adjacency, std::span<const int> multiplicity,
-                                   const Vec4& light, Caps caps);
+VolumeMesh ExtrudeSilhouetteVolume(const EdgeAdjacency& adjacency,
+                                   std::span<const int> multiplicity, const Vec4& light, Caps caps);
 
 // Paper 001, Alg. 5 and Fig. 1: the corner (0 = A, 1 = B, 2 = C = A_inf, 3 = D = B_inf) that the
 // tessellated quad's vertex in column `column` (0 .. 2|m| - 1; the inner level is 2|m| - 1) and

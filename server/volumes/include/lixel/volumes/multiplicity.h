@@ -13,7 +13,6 @@
 #include <lixel/volumes/vertex_order.h>
 
 #include <Eigen/Core>
-
 #include <cstdint>
 #include <span>
 #include <vector>

@@ -41,9 +41,9 @@ struct SmoothOptions {
 };
 
 struct SmoothVertex {
-    Vec3 position;  // p: on the smooth contour, minus normal_offset * normal
-    Vec3 base;      // p': on the mesh, (1 - u) p'_i + u p'_(i+1) (paper 002 §4)
-    Vec3 normal;    // unit, interpolated
+    Vec3 position;              // p: on the smooth contour, minus normal_offset * normal
+    Vec3 base;                  // p': on the mesh, (1 - u) p'_i + u p'_(i+1) (paper 002 §4)
+    Vec3 normal;                // unit, interpolated
     std::uint32_t segment = 0;  // index of the accurate segment it was subdivided from
     double u = 0.0;             // parameter on that segment's Hermite curve, [0, 1)
     bool corner = false;        // a crease corner: the edge to the next vertex has zero length
@@ -62,11 +62,11 @@ struct AccurateSegment {
 };
 
 struct SmoothStats {
-    std::size_t accurate_points = 0;   // loop vertices after step (a)
-    std::size_t output_points = 0;     // after step (c)
-    std::size_t crease_corners = 0;    // zero-length edges inserted
-    std::size_t open_chains = 0;       // loops that could not be closed (should be 0)
-    std::size_t depth_limited = 0;     // segments that hit max_depth before epsilon
+    std::size_t accurate_points = 0;  // loop vertices after step (a)
+    std::size_t output_points = 0;    // after step (c)
+    std::size_t crease_corners = 0;   // zero-length edges inserted
+    std::size_t open_chains = 0;      // loops that could not be closed (should be 0)
+    std::size_t depth_limited = 0;    // segments that hit max_depth before epsilon
 };
 
 struct SmoothSilhouette {

@@ -22,20 +22,20 @@ struct ReportOptions {
     std::vector<std::string> scenes = {"floor_wall"};
     std::vector<Method> methods = AllMethods();
     std::vector<std::int64_t> budgets = DefaultBudgets();
-    int repeats = 3;  // timed repeats per run; stage times are their medians, >= 1
+    int repeats = 3;                   // timed repeats per run; stage times are their medians, >= 1
     std::optional<Viewport> viewport;  // overrides every scene's default viewer image
     std::string output = "report";     // folder, created when missing
     render::ContextOptions gl;
-    bool progress = true;              // progress bar on stderr
-    bool plot = true;                  // error_vs_time.png through gnuplot
+    bool progress = true;  // progress bar on stderr
+    bool plot = true;      // error_vs_time.png through gnuplot
     // Mask grids show the budget closest to this one (the paper's 512^2).
     std::int64_t grid_budget = 512 * 512;
 };
 
 struct ReportSummary {
     std::vector<ReportRow> rows;
-    std::vector<std::string> notes;    // skipped runs, GL renderer, ground-truth figures
-    std::vector<std::string> files;    // written, relative to the output folder
+    std::vector<std::string> notes;  // skipped runs, GL renderer, ground-truth figures
+    std::vector<std::string> files;  // written, relative to the output folder
     double seconds = 0.0;
 };
 

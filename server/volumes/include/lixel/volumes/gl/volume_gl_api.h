@@ -7,25 +7,24 @@
 #pragma once
 
 #include <GL/glcorearb.h>
-
 #include <lixel/render/context.h>
 #include <lixel/solver/result.h>
 
 namespace lixel::volumes::gl {
 
-#define LIXEL_VOLUME_GL_FUNCTIONS(X)                  \
-    X(PatchParameteri, PATCHPARAMETERI)               \
-    X(StencilOpSeparate, STENCILOPSEPARATE)           \
-    X(StencilFunc, STENCILFUNC)                       \
-    X(StencilMask, STENCILMASK)                       \
-    X(PolygonOffset, POLYGONOFFSET)                   \
-    X(BindBufferBase, BINDBUFFERBASE)                 \
-    X(GetNamedBufferSubData, GETNAMEDBUFFERSUBDATA)   \
+#define LIXEL_VOLUME_GL_FUNCTIONS(X)                    \
+    X(PatchParameteri, PATCHPARAMETERI)                 \
+    X(StencilOpSeparate, STENCILOPSEPARATE)             \
+    X(StencilFunc, STENCILFUNC)                         \
+    X(StencilMask, STENCILMASK)                         \
+    X(PolygonOffset, POLYGONOFFSET)                     \
+    X(BindBufferBase, BINDBUFFERBASE)                   \
+    X(GetNamedBufferSubData, GETNAMEDBUFFERSUBDATA)     \
     X(ClearNamedFramebufferfi, CLEARNAMEDFRAMEBUFFERFI) \
-    X(CreateQueries, CREATEQUERIES)                   \
-    X(DeleteQueries, DELETEQUERIES)                   \
-    X(BeginQuery, BEGINQUERY)                         \
-    X(EndQuery, ENDQUERY)                             \
+    X(CreateQueries, CREATEQUERIES)                     \
+    X(DeleteQueries, DELETEQUERIES)                     \
+    X(BeginQuery, BEGINQUERY)                           \
+    X(EndQuery, ENDQUERY)                               \
     X(GetQueryObjectui64v, GETQUERYOBJECTUI64V)         \
     X(MemoryBarrier, MEMORYBARRIER)
 

@@ -38,14 +38,14 @@ struct VolumeRequest {
 
 struct VolumeRenderInfo {
     CountingMode mode = CountingMode::kZFail;
-    std::size_t patches = 0;        // edge patches drawn (robust silhouettes)
-    std::size_t cap_triangles = 0;  // triangles drawn for caps (z-fail)
+    std::size_t patches = 0;             // edge patches drawn (robust silhouettes)
+    std::size_t cap_triangles = 0;       // triangles drawn for caps (z-fail)
     std::uint64_t volume_fragments = 0;  // with measure_overdraw
     double overdraw = 0.0;               // volume_fragments / pixels
 };
 
 class VolumePass {
-public:
+  public:
     // Builds the programs; `context` must outlive the pass and be current.
     static Result<VolumePass> Create(render::GlContext& context);
 
@@ -67,7 +67,7 @@ public:
     // volumes.patch_edges()), read back from a storage buffer; for tests against the CPU.
     Result<std::vector<int>> PatchMultiplicities(const VolumeScene& volumes, const Vec4& light);
 
-private:
+  private:
     VolumePass() = default;
     Result<VolumeRenderInfo> Draw(const render::GpuScene& surfaces, const VolumeScene& volumes,
                                   const GpuVolumeMesh* volume, const VolumeRequest& request,
@@ -88,7 +88,8 @@ private:
     render::GlTexture discard_target_;
     GLuint own_depth_ = 0;
     // Indices per GL_PATCHES draw; 0 draws every patch in one call (see volume_pass.cc).
-    std::size_t patch_indices_per_draw_ = 0;  // the depth-stencil texture this pass last put in a ViewImages
+    std::size_t patch_indices_per_draw_ =
+        0;  // the depth-stencil texture this pass last put in a ViewImages
 };
 
 }  // namespace lixel::volumes::gl

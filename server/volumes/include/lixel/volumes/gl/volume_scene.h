@@ -26,7 +26,7 @@ struct PatchEdge {
 };
 
 class VolumeScene {
-public:
+  public:
     const Vec3& origin() const noexcept { return origin_; }
     const std::vector<EdgeAdjacency>& adjacency() const noexcept { return adjacency_; }
     // Vertices per patch: A, B and up to patch_vertices() - 2 opposite points.
@@ -40,7 +40,7 @@ public:
     GLuint patches() const noexcept { return patch_vao_.id(); }  // position at location 0
     GLuint caps() const noexcept { return cap_vao_.id(); }
 
-private:
+  private:
     friend Result<VolumeScene> UploadVolumeScene(render::GlContext&, std::span<const Mesh>,
                                                  const Vec3&, int);
     Vec3 origin_ = Vec3::Zero();
@@ -66,14 +66,14 @@ Result<VolumeScene> UploadVolumeScene(render::GlContext& context, std::span<cons
 // A volume built on the CPU (smooth silhouettes, or any VolumeMesh), uploaded for drawing:
 // homogeneous points relative to the origin, sides and caps as separate index ranges.
 class GpuVolumeMesh {
-public:
+  public:
     std::size_t side_indices() const noexcept { return sides_; }
     std::size_t cap_indices() const noexcept { return caps_; }
     GLuint vertex_array() const noexcept { return vao_.id(); }  // vec4 position at location 0
     // The finite triangles (light caps and gap strips) for the z-pass test, world coordinates.
     const VolumeMesh& source() const noexcept { return source_; }
 
-private:
+  private:
     friend Result<GpuVolumeMesh> UploadVolumeMesh(render::GlContext&, const VolumeMesh&,
                                                   const Vec3&);
     std::size_t sides_ = 0;
