@@ -15,6 +15,7 @@
 #include <lixel/volumes/smooth_silhouette.h>
 #include <lixel/volumes/smooth_volume.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -38,7 +39,25 @@ struct GridScene {
     Mat4 viewer;
     std::size_t triangles = 0;
     double radius = 0.4;
+    std::vector<Vec3> centres;  // meshes[i + 1] is the sphere about centres[i]
 };
+
+// How far the shadow of silhouette point p lands on the floor y = 0 from the true shadow of the
+// smooth sphere (centre c, radius r), a conic: the angular error against the tangent cone's
+// half-angle times the distance from the light. The paper 002 boundary error, in world units.
+double FloorError(const Vec3& p, const Vec3& c, double r, const Vec3& l) {
+    const double alpha = std::asin(r / (c - l).norm());
+    const Vec3 d = p - l;
+    const double angle = std::acos(std::clamp(d.normalized().dot((c - l).normalized()), -1.0, 1.0));
+    return std::abs(angle - alpha) * (l.y() / (l.y() - p.y()) * d).norm();
+}
+
+double SegmentError(const Vec3& a, const Vec3& b, const Vec3& c, double r, const Vec3& l) {
+    double worst = 0.0;
+    for (int k = 0; k <= 8; ++k)
+        worst = std::max(worst, FloorError(a + (b - a) * k / 8.0, c, r, l));
+    return worst;
+}
 
 Mesh Sphere(const Vec3& c, double r, int stacks, int slices) {
     Mesh m;
@@ -88,8 +107,8 @@ const GridScene& Grid(long triangles) {
     const int slices = std::max(3, static_cast<int>(std::lround(per_sphere / (2.0 * bands))));
     for (int i = 0; i < 10; ++i) {
         for (int j = 0; j < 10; ++j) {
-            s.meshes.push_back(Sphere(Vec3((i - 4.5) * 1.2, s.radius, (j - 4.5) * 1.2), s.radius,
-                                      bands + 1, slices));
+            s.centres.push_back(Vec3((i - 4.5) * 1.2, s.radius, (j - 4.5) * 1.2));
+            s.meshes.push_back(Sphere(s.centres.back(), s.radius, bands + 1, slices));
         }
     }
     for (const Mesh& m : s.meshes) {
@@ -140,8 +159,16 @@ void BM_DiscreteVolumeCpu(benchmark::State& state) {
         }
     }
     state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+    double error = 0.0;
+    for (std::size_t i = 0; i < s.centres.size(); ++i) {
+        for (const SilhouetteEdge& e : ExtractSilhouette(s.adjacency[i + 1], s.light)) {
+            error = std::max(error, SegmentError(e.a.cast<double>(), e.b.cast<double>(),
+                                                 s.centres[i], s.radius, s.light.head<3>()));
+        }
+    }
+    state.counters["boundary_error"] = error;
 }
-BENCHMARK(BM_DiscreteVolumeCpu)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DiscreteVolumeCpu)->Apply(Sizes);
 
 void BM_SmoothVolumeCpu(benchmark::State& state) {
     const GridScene& s = Grid(state.range(0));
@@ -159,8 +186,22 @@ void BM_SmoothVolumeCpu(benchmark::State& state) {
     }
     state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
     state.counters["loop_points"] = static_cast<double>(points);
+    double error = 0.0;
+    for (std::size_t i = 0; i < s.centres.size(); ++i) {
+        auto smooth =
+            ComputeSmoothSilhouette(s.meshes[i + 1], s.adjacency[i + 1], s.light, options);
+        for (const SmoothLoop& loop : smooth->loops) {
+            const std::size_t n = loop.vertices.size();
+            for (std::size_t k = 0; k < n; ++k) {
+                error = std::max(error, SegmentError(loop.vertices[k].position,
+                                                     loop.vertices[(k + 1) % n].position,
+                                                     s.centres[i], s.radius, s.light.head<3>()));
+            }
+        }
+    }
+    state.counters["boundary_error"] = error;
 }
-BENCHMARK(BM_SmoothVolumeCpu)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SmoothVolumeCpu)->Apply(Sizes);
 
 // --- GL -------------------------------------------------------------------------------------
 
@@ -221,6 +262,44 @@ void BM_VolumeView(benchmark::State& state) {
     state.counters["patches"] = static_cast<double>(info.patches);
 }
 BENCHMARK(BM_VolumeView)->Apply(Sizes);
+
+// Paper 001's volumes extruded on the CPU instead (ExtrudeSilhouetteVolume, uploaded per frame):
+// what the tessellation path saves or costs on this GL implementation.
+void BM_CpuExtrudedVolumeView(benchmark::State& state) {
+    Gl* g = TheGl();
+    if (g == nullptr) {
+        state.SkipWithError("no GL 4.5 context");
+        return;
+    }
+    const GridScene& s = Grid(state.range(0));
+    auto surfaces = render::UploadScene(*g->context, s.meshes);
+    auto volumes = gl::UploadVolumeScene(*g->context, s.meshes);
+    gl::VolumeRequest request;
+    request.viewer = s.viewer;
+    request.viewport = {kViewSize, kViewSize};
+    request.light = s.light;
+    render::ViewImages images;
+    for (auto _ : state) {
+        VolumeMesh all;
+        for (const EdgeAdjacency& a : s.adjacency) {
+            const VolumeMesh v = ExtrudeSilhouetteVolume(a, ComputeMultiplicities(a, s.light),
+                                                         s.light, Caps::kLightAndDark);
+            const auto base = static_cast<std::uint32_t>(all.vertices.size());
+            all.vertices.insert(all.vertices.end(), v.vertices.begin(), v.vertices.end());
+            for (std::uint32_t i : v.sides) all.sides.push_back(base + i);
+            for (std::uint32_t i : v.caps) all.caps.push_back(base + i);
+        }
+        auto mesh = gl::UploadVolumeMesh(*g->context, all);
+        auto r = g->pass->Render(*surfaces, *volumes, *mesh, request, images);
+        g->context->gl().Finish();
+        if (!r) {
+            state.SkipWithError(r.error().Message().c_str());
+            return;
+        }
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+}
+BENCHMARK(BM_CpuExtrudedVolumeView)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 
 // Smooth silhouettes per frame: loops on the CPU, volume upload, the same view.
 void BM_SmoothVolumeView(benchmark::State& state) {

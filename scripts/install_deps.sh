@@ -13,7 +13,7 @@ packages=(
     libtinyobjloader-dev libtinygltf-dev
     gnuplot-nox
     libgrpc++-dev protobuf-compiler-grpc protobuf-compiler libprotobuf-dev
-    prometheus-cpp-dev libssl-dev python3-grpcio python3-protobuf
+    prometheus-cpp-dev libssl-dev openssl python3-grpcio python3-protobuf
 )
 
 missing=()

@@ -157,6 +157,42 @@ TEST(GroundTruth, PrimaryRaysSeeThePixelCentres) {
     EXPECT_GT(truth->shadow_rays, 0);
 }
 
+TEST(GroundTruth, OrthographicViewerLooksStraightDown) {
+    // x, z in [-4, 4] onto 64 x 64 pixels, looking down -y from y = 10: pixel (i, j) sees the
+    // floor at x = -4 + (i + 0.5) / 8, z = 4 - (j + 0.5) / 8.
+    Mat4 ortho = Mat4::Zero();
+    ortho(0, 0) = 0.25;         // x / 4
+    ortho(1, 2) = -0.25;        // -z / 4 (view up is -z)
+    ortho(2, 1) = -1.0 / 20.0;  // depth from y = 10 (0) to y = -10 (1)
+    ortho(2, 3) = 0.5;
+    ortho(3, 3) = 1.0;
+    const Scene scene = SphereOverPlane(Point(Vec3(0.8, 5.0, 0.4)));
+    auto rays = RayScene::Build(scene.meshes);
+    ASSERT_TRUE(rays.ok());
+    TruthRequest request;
+    request.viewer = ortho;
+    request.viewport = {64, 64};
+    request.light = scene.light;
+    request.planes = scene.planes;
+    auto truth = ComputeGroundTruth(*rays, request);
+    ASSERT_TRUE(truth.ok()) << truth.error().Message();
+    for (int j = 0; j < 64; ++j) {
+        for (int i = 0; i < 64; ++i) {
+            const std::size_t k = truth->Index(i, j);
+            ASSERT_TRUE(truth->Visible(k));
+            const Vec3& x = truth->position[k];
+            if (truth->object[k] != 0) {
+                // The sphere hides the floor below it: seen from above, within its radius.
+                EXPECT_LT(Vec2(x.x() - kCentre.x(), x.z() - kCentre.z()).norm(), kRadius + 1e-6);
+                continue;
+            }
+            EXPECT_NEAR(x.x(), -4.0 + (i + 0.5) / 8.0, 1e-9);
+            EXPECT_NEAR(x.z(), 4.0 - (j + 0.5) / 8.0, 1e-9);
+            EXPECT_NEAR(truth->normal[k].y(), 1.0f, 1e-6f);
+        }
+    }
+}
+
 TEST(GroundTruth, SingleRayQueriesAgreeWithStreams) {
     const Scene scene = SphereOverPlane(Point(Vec3(0.8, 5.0, 0.4)));
     TruthOptions single;

@@ -277,6 +277,28 @@ TEST_F(ServiceTest, ViewReturnsAMaskAndItsEvaluation) {
     }
 }
 
+TEST_F(ServiceTest, SilhouettesReturnEdgesWithMultiplicitiesAndSmoothLoops) {
+    v1::SilhouettesRequest request;
+    request.set_scene_id(*scene_id_);
+    auto edges = client_->Silhouettes(request);
+    ASSERT_TRUE(edges.ok()) << edges.error().Message();
+    EXPECT_GT(edges->edges_size(), 10);
+    for (const v1::SilhouetteEdge& e : edges->edges()) EXPECT_NE(e.multiplicity(), 0);
+    request.set_smooth(true);
+    request.set_epsilon(1e-3);
+    auto loops = client_->Silhouettes(request);
+    if (loops.ok()) {
+        EXPECT_GT(loops->loops_size(), 0);
+    } else {
+        // Meshes without vertex normals cannot have smooth silhouettes: refused by name.
+        EXPECT_NE(loops.error().reason.find(".normals"), std::string::npos)
+            << loops.error().Message();
+    }
+    request.set_epsilon(-1.0);
+    EXPECT_EQ(client_->Silhouettes(request).error().field, "INVALID_ARGUMENT");
+    ExpectStillServing();
+}
+
 TEST_F(ServiceTest, UnknownSceneIsNotFoundAndTheClientReuploadsItsOwn) {
     auto stub = RawStub(Target(*server_));
     v1::PlanRequest request = ScenePlan();

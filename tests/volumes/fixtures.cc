@@ -72,6 +72,32 @@ Mesh Sphere(const Vec3& centre, double radius, int stacks, int slices) {
     return m;
 }
 
+Mesh Torus(const Vec3& centre, double major, double minor, int rings, int sides) {
+    Mesh m;
+    m.name = "torus";
+    m.closed = true;
+    const double pi = std::numbers::pi;
+    for (int i = 0; i < rings; ++i) {
+        const double u = 2.0 * pi * i / rings;
+        const Vec3 axis(std::cos(u), 0.0, -std::sin(u));
+        for (int j = 0; j < sides; ++j) {
+            const double v = 2.0 * pi * j / sides;
+            const Vec3 n = std::cos(v) * axis + std::sin(v) * Vec3::UnitY();
+            m.positions.push_back(F(centre + major * axis + minor * n));
+            m.normals.push_back(F(n));
+        }
+    }
+    auto at = [&](int i, int j) {
+        return static_cast<std::uint32_t>((i % rings) * sides + (j % sides));
+    };
+    for (int i = 0; i < rings; ++i) {
+        for (int j = 0; j < sides; ++j) {
+            AddQuad(m, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+        }
+    }
+    return m;
+}
+
 Mesh SphereGrid(int n, double radius, int stacks, int slices) {
     std::vector<Mesh> parts;
     for (int i = 0; i < n; ++i) {

@@ -24,6 +24,9 @@ Mesh Box(const Vec3& min, const Vec3& max);
 // so both rims are creases.
 Mesh Cylinder(const Vec3& base, double radius, double height, int slices);
 
+// A closed torus about the y axis (major radius R, tube radius r), shared seams, exact normals.
+Mesh Torus(const Vec3& centre, double major, double minor, int rings, int sides);
+
 // `count` triangles sharing the edge (0,0,0)-(0,0,1), fanned around it at the given angles
 // (radians about the z axis); an edge of `count` triangles.
 Mesh Fan(const std::vector<double>& angles);

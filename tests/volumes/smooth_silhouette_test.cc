@@ -251,6 +251,32 @@ TEST(SmoothVolume, ClosedAndAgreesWithTheAnalyticShadow) {
         smooth_wrong, discrete_wrong, checked);
 }
 
+TEST(SmoothVolume, TorusLoopsCloseAndTheVolumeIsClosed) {
+    // A non-convex surface: the contour has several loops (outer rim, inner hole) that can
+    // touch; every loop must close and the smooth volume must be closed.
+    const Mesh torus = testing::Torus(Vec3(0, 1.0, 0), 1.0, 0.35, 12, 8);
+    auto adj = BuildEdgeAdjacency(torus);
+    ASSERT_TRUE(adj.ok());
+    for (const Vec4& light : {Vec4(0.7, 5, 0.4, 1), Vec4(3, 2, 1, 1), Vec4(1, 0.3, 0.2, 0)}) {
+        SmoothOptions options;
+        options.epsilon = 0.005;
+        auto s = ComputeSmoothSilhouette(torus, *adj, light, options);
+        ASSERT_TRUE(s.ok());
+        EXPECT_EQ(s->stats.open_chains, 0u);
+        EXPECT_GE(s->loops.size(), 2u);
+        for (const SmoothLoop& loop : s->loops) EXPECT_TRUE(loop.closed);
+        const VolumeMesh volume = ExtrudeSmoothVolume(torus, *adj, *s, light, Caps::kLightAndDark);
+        const Vec3 eye(6.1, 7.3, 5.9);
+        std::mt19937 rng(12351);
+        std::uniform_real_distribution<double> u(-2.5, 2.5);
+        for (int i = 0; i < 500; ++i) {
+            const Vec3 p(u(rng), 0.4 * u(rng) + 1.0, u(rng));
+            ASSERT_EQ(CountZPass(volume, eye, p), CountZFail(volume, eye, p))
+                << "light " << light.transpose() << " point " << p.transpose();
+        }
+    }
+}
+
 TEST(SmoothSilhouette, RefusesBadInput) {
     Mesh mesh = CoarseSphere();
     auto adj = BuildEdgeAdjacency(mesh);

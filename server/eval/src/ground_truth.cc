@@ -162,7 +162,7 @@ struct Counters {
 
 void TraceTile(const Setup& s, int x0, int y0, GroundTruth& out, Counters& counters,
                std::vector<RTCRayHit>& primary, std::vector<RTCRay>& shadow,
-               std::vector<std::size_t>& shadow_pixel, std::vector<Hit>& hits) {
+               std::vector<std::size_t>& shadow_pixel) {
     const int x1 = std::min(x0 + s.options.tile_size, s.width);
     const int y1 = std::min(y0 + s.options.tile_size, s.height);
     const int count = (x1 - x0) * (y1 - y0);
@@ -201,7 +201,6 @@ void TraceTile(const Setup& s, int x0, int y0, GroundTruth& out, Counters& count
             const std::size_t i = out.Index(x, y);
             const Hit h =
                 ResolveHit(s, origins[k], directions[k], primary[k].hit, primary[k].ray.tfar);
-            hits[k] = h;
             if (!h.visible) continue;
             out.position[i] = h.x;
             out.normal[i] = h.n.cast<float>();
@@ -329,10 +328,9 @@ Result<GroundTruth> ComputeGroundTruth(const RayScene& scene, const TruthRequest
         std::vector<RTCRayHit> primary(per_tile);
         std::vector<RTCRay> shadow(per_tile * kShadowRaysPerPixel);
         std::vector<std::size_t> shadow_pixel(per_tile);
-        std::vector<Hit> hits(per_tile);
         for (int t = next++; t < tiles; t = next++) {
             TraceTile(s, (t % tiles_x) * tile, (t / tiles_x) * tile, out, counters, primary, shadow,
-                      shadow_pixel, hits);
+                      shadow_pixel);
         }
     };
     std::vector<std::thread> pool;

@@ -10,6 +10,9 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #ifndef LIXEL_GNUPLOT_PATH
 #define LIXEL_GNUPLOT_PATH "gnuplot"

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
-#include <set>
 #include <sstream>
 
 namespace lixel::eval {

@@ -109,6 +109,7 @@ Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene&
     settings.viewport = job.viewport;
     settings.light = job.light;
     settings.method = job.method;
+    settings.options = job.options;
     auto view = worker.renderer->RenderView(scene, rendered, settings);
     if (!view) return view.error();
     if (times != nullptr) times->view_seconds = Seconds(start);

@@ -8,6 +8,9 @@
 #include <lixel/solver/baselines.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/plane_map.h>
+#include <lixel/volumes/edge_adjacency.h>
+#include <lixel/volumes/multiplicity.h>
+#include <lixel/volumes/smooth_silhouette.h>
 
 #include <unistd.h>
 
@@ -27,6 +30,10 @@ using Clock = std::chrono::steady_clock;
 double Since(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
+
+// Clip-depth bias for second depth when the scene has open surfaces: measured by the renderer's
+// tests as the smallest that clears the acne of an open planar floor (docs/render.md).
+constexpr float kOpenSurfaceSecondDepthBias = 1e-5f;
 
 grpc::Status NotFound(const std::string& id) {
     return grpc::Status(grpc::StatusCode::NOT_FOUND,
@@ -376,6 +383,11 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     job.viewport = decoded->viewport;
     job.light = plan->hull.light;
     job.method = method;
+    // Second depth needs no bias on closed solids (paper 003 §3.3); open or two-sided surfaces
+    // (a floor that is a single sheet) do, or their own rounding shadows them.
+    for (const Mesh& m : scene->scene.meshes) {
+        if (!m.closed) job.options.second_depth_bias = kOpenSurfaceSecondDepthBias;
+    }
     if (request.method() == v1::METHOD_PLANE_OPTIMAL) {
         job.maps = plan->maps;
     } else {
@@ -495,12 +507,65 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     return grpc::Status::OK;
 }
 
-grpc::Status SilhouettesJob(const ServiceState& state, const v1::SilhouettesRequest& request,
+grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& request,
                             v1::SilhouettesResponse* response) {
-    (void)request;
     response->set_instance(state.options.instance);
-    return grpc::Status(grpc::StatusCode::UNIMPLEMENTED,
-                        "Silhouettes: this server was built without the shadow-volume library");
+    if (request.scene_id().empty()) {
+        return InvalidArgument(Error{"scene_id", "is required: upload a scene first"});
+    }
+    const std::shared_ptr<const SceneRecord> scene = state.cache.Get(request.scene_id());
+    state.metrics.CacheLookup(scene != nullptr);
+    if (scene == nullptr) return NotFound(request.scene_id());
+    Vec4 light = scene->scene.light;
+    if (request.has_light()) {
+        auto decoded = DecodeLight(request.light(), true, "light");
+        if (!decoded) return InvalidArgument(decoded.error());
+        light = *decoded;
+    }
+    if (!(request.epsilon() >= 0.0) || !std::isfinite(request.epsilon())) {
+        return InvalidArgument(Error{"epsilon", "must be a finite length >= 0 (0 means 1e-3)"});
+    }
+    volumes::SmoothOptions smooth;
+    smooth.epsilon = request.epsilon() == 0.0 ? 1e-3 : request.epsilon();
+    std::uint64_t bytes = 0;
+    for (std::size_t i = 0; i < scene->scene.meshes.size(); ++i) {
+        const Mesh& mesh = scene->scene.meshes[i];
+        const std::string field = "scene.meshes[" + std::to_string(i) + "]";
+        auto adjacency = volumes::BuildEdgeAdjacency(mesh);
+        if (!adjacency) return InvalidArgument(Error{field, adjacency.error().Message()});
+        if (!request.smooth()) {
+            for (const volumes::SilhouetteEdge& e : volumes::ExtractSilhouette(*adjacency, light)) {
+                v1::SilhouetteEdge* out = response->add_edges();
+                out->set_mesh(static_cast<std::uint32_t>(i));
+                EncodeVec3(e.a.cast<double>(), out->mutable_a());
+                EncodeVec3(e.b.cast<double>(), out->mutable_b());
+                out->set_multiplicity(e.multiplicity);
+                bytes += 64;
+            }
+        } else {
+            if (mesh.normals.size() != mesh.positions.size()) {
+                return InvalidArgument(Error{field + ".normals",
+                                             "smooth silhouettes need one normal per vertex"});
+            }
+            auto loops = volumes::ComputeSmoothSilhouette(mesh, *adjacency, light, smooth);
+            if (!loops) return InvalidArgument(Error{field, loops.error().Message()});
+            for (const volumes::SmoothLoop& loop : loops->loops) {
+                v1::SilhouetteLoop* out = response->add_loops();
+                out->set_mesh(static_cast<std::uint32_t>(i));
+                out->set_closed(loop.closed);
+                for (const volumes::SmoothVertex& v : loop.vertices) {
+                    EncodeVec3(v.position, out->add_points());
+                    bytes += 32;
+                }
+            }
+        }
+        if (bytes > state.options.max_response_bytes) {
+            return Exhausted("silhouettes: over the " +
+                             std::to_string(state.options.max_response_bytes) +
+                             "-byte response limit");
+        }
+    }
+    return grpc::Status::OK;
 }
 
 }  // namespace lixel::service

@@ -98,9 +98,24 @@ struct Builder {
 
     void EdgePieces(std::uint32_t e, std::vector<TraceSegment>& out) const {
         const Edge& edge = adj.edges[e];
+        // Most edges lie wholly inside or outside R on every side and cancel: decide that
+        // without allocating (the common case on a large mesh).
+        {
+            int full_sum = 0;
+            bool trivial = true;
+            for (std::uint32_t k = edge.first; k < edge.first + edge.count && trivial; ++k) {
+                const std::uint32_t t = adj.opposite_triangle[k];
+                const auto [fa, fb] = EndFacing(t, edge);
+                if ((fa > 0.0) != (fb > 0.0)) trivial = false;
+                if (fa > 0.0 && fb > 0.0) {
+                    int slot = 0;
+                    while (adj.triangle_edges[3 * t + slot] != e) ++slot;
+                    full_sum += adj.triangles[3 * t + slot] == edge.a ? 1 : -1;
+                }
+            }
+            if (trivial && full_sum == 0) return;
+        }
         std::vector<Cover> covers;
-        int full_sum = 0;
-        bool all_full_or_empty = true;
         for (std::uint32_t k = edge.first; k < edge.first + edge.count; ++k) {
             const std::uint32_t t = adj.opposite_triangle[k];
             int slot = 0;
@@ -112,14 +127,12 @@ struct Builder {
             if (!ia && !ib) continue;
             if (ia && ib) {
                 covers.push_back({0.0, 1.0, sign, t});
-                full_sum += sign;
                 continue;
             }
-            all_full_or_empty = false;
             const double x = CrossingParameter(fa, fb);
             covers.push_back(ia ? Cover{0.0, x, sign, t} : Cover{x, 1.0, sign, t});
         }
-        if (covers.empty() || (all_full_or_empty && full_sum == 0)) return;
+        if (covers.empty()) return;
         std::vector<double> cuts = {0.0, 1.0};
         for (const Cover& c : covers) {
             cuts.push_back(c.lo);

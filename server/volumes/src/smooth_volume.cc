@@ -35,7 +35,8 @@ std::vector<Vec3> LitPolygon(const Mesh& mesh, const EdgeAdjacency& adj,
 VolumeMesh ExtrudeSmoothVolume(const Mesh& mesh, const EdgeAdjacency& adjacency,
                                const SmoothSilhouette& silhouette, const Vec4& light, Caps caps) {
     VolumeMesh out;
-    const Vec4 l = NormalizeLight(light).ok() ? *NormalizeLight(light) : light;
+    const Result<Vec4> normalized = NormalizeLight(light);
+    const Vec4 l = normalized.ok() ? *normalized : light;
     for (const SmoothLoop& loop : silhouette.loops) {
         const std::size_t n = loop.vertices.size();
         const std::size_t spans = loop.closed ? n : (n == 0 ? 0 : n - 1);

@@ -6,6 +6,7 @@
 #include <lixel/render/readback.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
+#include <lixel/volumes/extrusion.h>
 #include <lixel/volumes/multiplicity.h>
 #include <lixel/volumes/smooth_silhouette.h>
 #include <lixel/volumes/smooth_volume.h>
@@ -14,6 +15,8 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
+#include <string>
 
 #include "../fixtures.h"
 #include "gl_environment.h"
@@ -202,13 +205,15 @@ MaskCase SphereOverFloor() {
     return c;
 }
 
-void ExpectMaskExact(const MaskCase& c, CountingChoice counting, CountingMode expected_mode,
-                     const char* name) {
+void ExpectMaskExact(const MaskCase& c, CountingChoice counting,
+                     std::optional<CountingMode> expected_mode, const char* name) {
     const Rendered r = RenderMask(c, counting);
-    EXPECT_EQ(r.info.mode, expected_mode) << name;
+    if (expected_mode) {
+        EXPECT_EQ(r.info.mode, *expected_mode) << name;
+    }
     const Comparison cmp = Compare(c, r.mask, TruthMask(c));
     EXPECT_GT(cmp.compared, c.viewport.width * c.viewport.height / 2) << name;
-    EXPECT_GT(cmp.shadowed, 100) << name;
+    EXPECT_GT(cmp.shadowed, 100) << name << ", light " << c.light.transpose();
     EXPECT_EQ(cmp.wrong, 0) << name << " (" << CountingModeName(r.info.mode) << ")";
     EXPECT_GT(r.info.overdraw, 0.0) << name;
 }
@@ -226,6 +231,29 @@ TEST(VolumePassMask, SphereOverFloorPointAndDirectional) {
     ExpectMaskExact(c, CountingChoice::kZFail, CountingMode::kZFail, "sphere z-fail");
     c.light = Vec4(0.4, 1.0, 0.3, 0.0);
     ExpectMaskExact(c, CountingChoice::kZFail, CountingMode::kZFail, "sphere directional");
+}
+
+TEST(VolumePassMask, LightBehindTheViewerAndInsideTheView) {
+    // Volumes whose far ends project through w = 0: the light behind the camera, and the light
+    // in the view frustum in front of the camera (its volumes point away from the viewer).
+    MaskCase c = SphereOverFloor();
+    for (const Vec4& light :
+         {Point(Vec3(4.0, 7.0, 8.0)), Point(Vec3(1.2, 2.6, -1.5)), Vec4(-0.2, 0.6, -1.0, 0.0)}) {
+        c.light = light;
+        ExpectMaskExact(c, CountingChoice::kAuto, std::nullopt, "light placement, auto");
+        ExpectMaskExact(c, CountingChoice::kZFail, CountingMode::kZFail, "light placement, z-fail");
+    }
+}
+
+TEST(VolumePassMask, TorusShadowsItself) {
+    // Non-convex: the tube shadows the far side of the ring and the floor through the hole.
+    MaskCase c;
+    c.meshes = {volumes::testing::Square(4.0, 0.0),
+                volumes::testing::Torus(Vec3(0, 0.8, 0), 1.0, 0.35, 16, 10)};
+    c.viewer = Viewer(Vec3(0.5, 4.0, 4.5), Vec3(0.0, 0.5, 0.0));
+    c.light = Point(Vec3(2.5, 3.0, -1.0));
+    ExpectMaskExact(c, CountingChoice::kAuto, std::nullopt, "torus auto");
+    ExpectMaskExact(c, CountingChoice::kZFail, CountingMode::kZFail, "torus z-fail");
 }
 
 TEST(VolumePassMask, SphereGrid) {
@@ -264,6 +292,48 @@ TEST(VolumePassMask, LightInATrianglesPlaneCastsNothing) {
         for (float m : r.mask.pixels) shadowed += m == 0.0f;
         EXPECT_EQ(shadowed, 0);
     }
+}
+
+TEST(VolumePassMask, RefusesBadRequestsNamingTheField) {
+    const MaskCase c = SquareOverFloor();
+    render::GlContext& context = testing::Context();
+    auto surfaces = render::UploadScene(context, c.meshes, c.origin);
+    auto volumes = UploadVolumeScene(context, c.meshes, c.origin);
+    auto elsewhere = UploadVolumeScene(context, c.meshes, Vec3::Zero());
+    ASSERT_TRUE(surfaces.ok() && volumes.ok() && elsewhere.ok());
+    VolumeRequest request;
+    request.viewer = c.viewer;
+    request.viewport = c.viewport;
+    request.light = c.light;
+    render::ViewImages images;
+    auto field = [&](const VolumeScene& v, const VolumeRequest& r) {
+        auto info = testing::Pass().Render(*surfaces, v, r, images);
+        return info.ok() ? std::string("ok") : info.error().field;
+    };
+    EXPECT_EQ(field(*volumes, request), "ok");
+    EXPECT_EQ(field(*elsewhere, request), "origin");
+    VolumeRequest bad = request;
+    bad.light = Vec4::Zero();
+    EXPECT_EQ(field(*volumes, bad), "light");
+    bad = request;
+    bad.viewer = Mat4::Zero();
+    EXPECT_EQ(field(*volumes, bad).rfind("viewer", 0), 0u);
+    bad = request;
+    bad.viewport = {0, 10};
+    EXPECT_NE(field(*volumes, bad), "ok");
+    // A volume without caps cannot be counted the z-fail way.
+    auto adj = BuildEdgeAdjacency(c.meshes[1]);
+    ASSERT_TRUE(adj.ok());
+    auto sides = UploadVolumeMesh(
+        context,
+        ExtrudeSilhouetteVolume(*adj, ComputeMultiplicities(*adj, c.light), c.light, Caps::kNone),
+        c.origin);
+    ASSERT_TRUE(sides.ok());
+    bad = request;
+    bad.counting = CountingChoice::kZFail;
+    auto info = testing::Pass().Render(*surfaces, *volumes, *sides, bad, images);
+    ASSERT_FALSE(info.ok());
+    EXPECT_EQ(info.error().field, "volume.caps");
 }
 
 // --- smooth silhouettes on the GPU ----------------------------------------------------------

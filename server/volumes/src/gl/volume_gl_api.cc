@@ -1,8 +1,12 @@
 // The extra entry points, from the context's own backend.
-#include <lixel/volumes/gl/volume_gl_api.h>  // first: GL/glcorearb.h before GL/osmesa.h's GL/gl.h
+// GL/glcorearb.h (through volume_gl_api.h) must precede GL/osmesa.h, whose GL/gl.h would hide
+// glcorearb's typedefs; regrouping would sort them the other way.
+// clang-format off
+#include <lixel/volumes/gl/volume_gl_api.h>
 
 #include <EGL/egl.h>
 #include <GL/osmesa.h>
+// clang-format on
 
 #include <string>
 

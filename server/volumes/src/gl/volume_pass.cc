@@ -17,6 +17,7 @@ namespace {
 constexpr float kCapOffsetFactor = 1.0f;
 constexpr float kCapOffsetUnits = 4.0f;
 
+// Largest indexed GL_PATCHES draw llvmpipe gets right (see Create).
 constexpr std::size_t kSoftwarePatchIndicesPerDraw = 1024;
 
 Result<bool> Validate(const VolumeRequest& r, int max_texture_size) {

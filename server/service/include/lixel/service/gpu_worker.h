@@ -65,6 +65,7 @@ struct MaskJob {
     Viewport viewport;
     Vec4 light = Vec4::Zero();
     render::ShadowMethod method = render::ShadowMethod::kDepth;
+    render::ShadowOptions options;
     std::vector<PlannedMap> maps;
 };
 struct MaskTimes {

@@ -47,7 +47,7 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
 grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
                      const CancelCheck& cancelled, v1::ViewResponse* response);
 
-grpc::Status SilhouettesJob(const ServiceState& state, const v1::SilhouettesRequest& request,
+grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& request,
                             v1::SilhouettesResponse* response);
 
 }  // namespace lixel::service
