@@ -112,8 +112,18 @@ int ReportCommand(client::Client& client, const Flags& flags) {
                           uploaded->scene_id()});
     }
 
-    const std::vector<eval::Method> methods =
-        flags.Bool("depth_only") ? eval::DepthMethods() : eval::AllMethods();
+    // Every fitting x shadow test, then the exact silhouette shadow volumes (paper 001).
+    struct Run {
+        std::string name;
+        v1::Method method;
+        v1::Filter filter;
+    };
+    std::vector<Run> methods;
+    for (const eval::Method& m :
+         flags.Bool("depth_only") ? eval::DepthMethods() : eval::AllMethods()) {
+        methods.push_back({m.Name(), ProtoMethod(m.fitting), ProtoFilter(m.test)});
+    }
+    methods.push_back({"silhouette volumes", v1::METHOD_PLANE_OPTIMAL, v1::FILTER_VOLUMES});
     std::vector<std::int64_t> budgets = eval::DefaultBudgets();
     const int runs = static_cast<int>(*repeats);
     eval::ProgressBar bar(static_cast<std::int64_t>(scenes.size() * methods.size() * budgets.size()),
@@ -124,12 +134,12 @@ int ReportCommand(client::Client& client, const Flags& flags) {
         std::vector<eval::Mask> grid_masks;
         eval::GroundTruth grid_truth;
         for (std::int64_t budget : budgets) {
-            for (const eval::Method& method : methods) {
+            for (const Run& method : methods) {
                 v1::ViewRequest request;
                 request.mutable_plan()->set_scene_id(scene.id);
                 request.mutable_plan()->set_lixel_budget(static_cast<std::uint64_t>(budget));
-                request.set_method(ProtoMethod(method.fitting));
-                request.set_filter(ProtoFilter(method.test));
+                request.set_method(method.method);
+                request.set_filter(method.filter);
                 request.set_timings(true);
                 std::map<std::string, std::vector<double>> stage_ms;
                 v1::ViewResponse evaluated;
@@ -141,7 +151,7 @@ int ReportCommand(client::Client& client, const Flags& flags) {
                     const double round_trip =
                         std::chrono::duration<double, std::milli>(Clock::now() - start).count();
                     if (!view) {
-                        notes.push_back(scene.name + ", " + method.Name() + ", " +
+                        notes.push_back(scene.name + ", " + method.name + ", " +
                                         std::to_string(budget) + " lixels: skipped (" +
                                         view.error().Message() + ")");
                         failed = true;
@@ -161,12 +171,12 @@ int ReportCommand(client::Client& client, const Flags& flags) {
                     stage_ms["transfer"].push_back(std::max(0.0, round_trip - server_ms - truth_ms));
                     if (r == 0) evaluated = std::move(view).value();
                 }
-                bar.Advance(1, scene.name + " " + method.Name());
+                bar.Advance(1, scene.name + " " + method.name);
                 if (failed) continue;
                 const v1::Evaluation& e = evaluated.evaluation();
                 eval::ReportRow row;
                 row.scene = scene.name;
-                row.method = method.Name();
+                row.method = method.name;
                 row.budget = budget;
                 row.total_lixels = static_cast<std::int64_t>(evaluated.total_lixels());
                 row.maps = static_cast<int>(evaluated.maps());
@@ -184,7 +194,7 @@ int ReportCommand(client::Client& client, const Flags& flags) {
                 }
                 row.repeats = runs;
                 rows.push_back(row);
-                if (budget == 512 * 512) {
+                if (budget == 512 * 512 && method.filter != v1::FILTER_VOLUMES) {
                     grid_masks.push_back(MaskOf(evaluated));
                     grid_truth = TruthOf(evaluated);
                 }

@@ -28,8 +28,13 @@ TEST(RunReport, EndToEndOnASmallScene) {
     auto summary = RunReport(options);
     ASSERT_TRUE(summary.ok()) << summary.error().Message();
 
-    // A row for every method x budget: no method was skipped on this scene.
-    EXPECT_EQ(summary->rows.size(), options.methods.size() * options.budgets.size());
+    // A row for every method x budget: no method was skipped on this scene. Exact silhouette
+    // volumes, where lixel::volumes_gl is built, add one row per budget (they use no lixels).
+    const std::size_t runs = options.methods.size() * options.budgets.size();
+    std::size_t volume_rows = 0;
+    for (const ReportRow& r : summary->rows) volume_rows += r.method == "silhouette volumes";
+    EXPECT_TRUE(volume_rows == 0 || volume_rows == options.budgets.size()) << volume_rows;
+    EXPECT_EQ(summary->rows.size(), runs + volume_rows);
     for (const std::string& note : summary->notes) {
         EXPECT_EQ(note.find("skipped"), std::string::npos) << note;
     }
@@ -50,10 +55,16 @@ TEST(RunReport, EndToEndOnASmallScene) {
         EXPECT_EQ(scene, "floor_wall");
         seen.insert({method, budget});
     }
-    EXPECT_EQ(rows, static_cast<int>(options.methods.size() * options.budgets.size()));
-    EXPECT_EQ(seen.size(), options.methods.size() * options.budgets.size());
+    EXPECT_EQ(rows, static_cast<int>(runs + volume_rows));
+    EXPECT_EQ(seen.size(), runs + volume_rows);
 
     for (const ReportRow& r : summary->rows) {
+        if (r.method == "silhouette volumes") {
+            // Exact shadows: they agree with the ray-cast truth up to a few silhouette pixels.
+            EXPECT_LT(r.error.Percent(), 1.0);
+            EXPECT_EQ(r.total_lixels, 0);
+            continue;
+        }
         EXPECT_LE(r.total_lixels, r.budget) << r.method;
         EXPECT_GT(r.error.decided, 96 * 96 / 2) << r.method;
         EXPECT_GE(r.error.Percent(), 0.0);
@@ -72,9 +83,11 @@ TEST(RunReport, EndToEndOnASmallScene) {
     EXPECT_TRUE(fs::exists(out / "report.md"));
     auto grid = ReadPng((out / "floor_wall_masks.png").string());
     ASSERT_TRUE(grid.ok()) << grid.error().Message();
-    // A row pair per fitting (mask row, difference row), the truth then four tests across.
+    // A row pair per fitting (mask row, difference row), the truth then four tests across, and
+    // one more pair for the volumes when they ran.
+    const int pairs = 4 + (volume_rows ? 1 : 0);
     EXPECT_EQ(grid->width, 5 * 96 + 6 * 4);
-    EXPECT_EQ(grid->height, 8 * 96 + 9 * 4);
+    EXPECT_EQ(grid->height, 2 * pairs * 96 + (2 * pairs + 1) * 4);
     if (GnuplotAvailable()) {
         EXPECT_TRUE(fs::exists(out / "error_vs_time.png"));
     }
@@ -85,6 +98,7 @@ TEST(RunReport, RefusesEmptyOrUnknownInput) {
     options.output = (fs::path(::testing::TempDir()) / "lixel_report_bad").string();
     options.progress = false;
     options.scenes = {};
+    options.volumes = false;
     auto r = RunReport(options);
     ASSERT_FALSE(r.ok());
     EXPECT_EQ(r.error().field, "scenes");
@@ -93,6 +107,11 @@ TEST(RunReport, RefusesEmptyOrUnknownInput) {
     ASSERT_FALSE(r.ok());
     EXPECT_EQ(r.error().field, "scene");
     options.scenes = {"floor_wall"};
+    options.methods = {};
+    r = RunReport(options);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().field, "methods");
+    options.methods = DepthMethods();
     options.budgets = {0};
     r = RunReport(options);
     ASSERT_FALSE(r.ok());

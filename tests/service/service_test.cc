@@ -268,6 +268,14 @@ TEST_F(ServiceTest, ViewReturnsAMaskAndItsEvaluation) {
     EXPECT_LT(view->evaluation().misclassified_percent(), 5.0);
     EXPECT_EQ(view->truth().size(), 128u * 128u);
     EXPECT_GE(view->timings_size(), 4);
+    // Exact silhouette shadow volumes: no maps, and (outside the undecided band) the truth.
+    request.set_filter(v1::FILTER_VOLUMES);
+    auto volumes = client_->View(request);
+    ASSERT_TRUE(volumes.ok()) << volumes.error().Message();
+    EXPECT_EQ(volumes->maps(), 0u);
+    EXPECT_LT(volumes->evaluation().misclassified_percent(),
+              view->evaluation().misclassified_percent() + 1e-9);
+    EXPECT_LT(volumes->evaluation().misclassified_percent(), 0.5);
     for (v1::Method method : {v1::METHOD_UNIFORM, v1::METHOD_PSM, v1::METHOD_LISPSM}) {
         request.set_method(method);
         request.set_filter(v1::FILTER_PCF);

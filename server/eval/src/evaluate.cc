@@ -9,11 +9,17 @@ namespace lixel::eval {
 Result<ReportRow> EvaluateRun(const Scene& scene, const GroundTruth& truth, const Method& method,
                               std::int64_t budget, const Plan& plan, const Mask& mask,
                               const StageTimes& times) {
+    return EvaluateRun(scene, truth, method.Name(), budget, plan, mask, times);
+}
+
+Result<ReportRow> EvaluateRun(const Scene& scene, const GroundTruth& truth,
+                              const std::string& method_name, std::int64_t budget, const Plan& plan,
+                              const Mask& mask, const StageTimes& times) {
     auto error = Misclassified(truth, mask);
     if (!error) return error.error();
     ReportRow row;
     row.scene = scene.name;
-    row.method = method.Name();
+    row.method = method_name;
     row.budget = budget;
     row.total_lixels = plan.total_lixels;
     row.maps = static_cast<int>(plan.maps.size());

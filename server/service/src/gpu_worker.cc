@@ -34,6 +34,8 @@ Result<bool> StartGpuWorker(GpuWorker& worker) {
 }
 
 Result<bool> RebuildGpuWorker(GpuWorker& worker) {
+    worker.volume_scenes.clear();
+    worker.volume_pass.reset();
     worker.scenes.clear();
     worker.renderer.reset();
     return StartGpuWorker(worker);
@@ -116,6 +118,47 @@ Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene&
 
     start = std::chrono::steady_clock::now();
     auto mask = render::ReadMask(*worker.context, *view);
+    if (times != nullptr) times->readback_seconds = Seconds(start);
+    return mask;
+}
+
+Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string& id,
+                                            const SceneRecord& record,
+                                            const render::GpuScene& scene, const MaskJob& job,
+                                            MaskTimes* times) {
+    auto start = std::chrono::steady_clock::now();
+    if (worker.volume_pass == nullptr) {
+        auto pass = volumes::gl::VolumePass::Create(*worker.context);
+        if (!pass) return pass.error();
+        worker.volume_pass =
+            std::make_unique<volumes::gl::VolumePass>(std::move(pass).value());
+    }
+    std::shared_ptr<volumes::gl::VolumeScene> patches;
+    for (auto it = worker.volume_scenes.begin(); it != worker.volume_scenes.end(); ++it) {
+        if (it->first == id) patches = it->second;
+    }
+    if (patches == nullptr) {
+        auto uploaded = volumes::gl::UploadVolumeScene(*worker.context, record.scene.meshes,
+                                                       scene.origin());
+        if (!uploaded) return Error{"scene." + uploaded.error().field, uploaded.error().reason};
+        patches = std::make_shared<volumes::gl::VolumeScene>(std::move(uploaded).value());
+        worker.volume_scenes.emplace_front(id, patches);
+        while (worker.volume_scenes.size() > kGpuScenesPerWorker) worker.volume_scenes.pop_back();
+    }
+    if (times != nullptr) times->maps_seconds = Seconds(start);
+
+    start = std::chrono::steady_clock::now();
+    volumes::gl::VolumeRequest request;
+    request.viewer = job.viewer;
+    request.viewport = job.viewport;
+    request.light = job.light;
+    render::ViewImages images;
+    auto drawn = worker.volume_pass->Render(scene, *patches, request, images);
+    if (!drawn) return drawn.error();
+    if (times != nullptr) times->view_seconds = Seconds(start);
+
+    start = std::chrono::steady_clock::now();
+    auto mask = render::ReadMask(*worker.context, images);
     if (times != nullptr) times->readback_seconds = Seconds(start);
     return mask;
 }

@@ -361,10 +361,10 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         case v1::FILTER_PCF: method = render::ShadowMethod::kPcf; break;
         case v1::FILTER_SECOND_DEPTH: method = render::ShadowMethod::kSecondDepth; break;
         case v1::FILTER_SILHOUETTE_MAP: method = render::ShadowMethod::kSilhouette; break;
-        default:
-            return InvalidArgument(Error{"filter", "FILTER_VOLUMES is served by the shadow-volume "
-                                                   "renderer, which this server was built without"});
+        case v1::FILTER_VOLUMES: break;  // no maps: exact volumes over the view
+        default: return InvalidArgument(Error{"filter", "unknown filter"});
     }
+    const bool volumes = request.filter() == v1::FILTER_VOLUMES;
     auto decoded = DecodePlanRequest(plan_message, scene.get(), "plan");
     if (!decoded) return InvalidArgument(decoded.error());
     const std::uint64_t pixels =
@@ -388,7 +388,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     for (const Mesh& m : scene->scene.meshes) {
         if (!m.closed) job.options.second_depth_bias = kOpenSurfaceSecondDepthBias;
     }
-    if (request.method() == v1::METHOD_PLANE_OPTIMAL) {
+    if (volumes) {
+        job.maps.clear();  // shadow volumes need no map
+    } else if (request.method() == v1::METHOD_PLANE_OPTIMAL) {
         job.maps = plan->maps;
     } else {
         const BaselineMethod baseline = request.method() == v1::METHOD_UNIFORM ? BaselineMethod::kUniform
@@ -424,7 +426,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     auto gpu_scene = SceneOnGpu(worker, plan_message.scene_id(), *scene);
     if (!gpu_scene) return InvalidArgument(gpu_scene.error());
     MaskTimes mask_times;
-    auto mask = RenderMask(worker, **gpu_scene, job, cancelled, &mask_times);
+    auto mask = volumes ? RenderVolumeMask(worker, plan_message.scene_id(), *scene, **gpu_scene,
+                                           job, &mask_times)
+                        : RenderMask(worker, **gpu_scene, job, cancelled, &mask_times);
     if (!mask) {
         if (cancelled()) return CancelledStatus();
         return grpc::Status(grpc::StatusCode::INTERNAL, mask.error().Message());

@@ -11,12 +11,17 @@
 #include <lixel/render/gpu_scene.h>
 #include <lixel/render/readback.h>
 #include <lixel/render/renderer.h>
+#ifdef LIXEL_HAVE_VOLUMES
+#include <lixel/volumes/gl/volume_pass.h>
+#include <lixel/volumes/gl/volume_scene.h>
+#endif
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <utility>
 
 namespace lixel::eval {
@@ -68,6 +73,22 @@ struct RunOutput {
     StageTimes times;
     std::int64_t gl_visible_mismatch = 0;  // pixels where GL and Embree disagree on coverage
 };
+
+// The renderer's mask as a lixel::eval Mask; counts pixels where GL and Embree disagree on
+// whether there is a surface at all.
+Mask ToMask(const render::FloatImage& image, const GroundTruth& truth, std::int64_t& mismatch) {
+    Mask mask;
+    mask.width = image.width;
+    mask.height = image.height;
+    mask.lit.resize(image.pixels.size());
+    for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+        const float v = image.pixels[i];
+        const bool gl_surface = v != render::kNoSurface;
+        if (i < truth.state.size() && gl_surface != truth.Visible(i)) ++mismatch;
+        mask.lit[i] = gl_surface ? v : 1.0f;
+    }
+    return mask;
+}
 
 // One method at one budget: an untimed warm-up (llvmpipe compiles shader variants on first
 // use, which would otherwise land in the first repeat), then `repeats` timed repeats. The mask of
@@ -132,19 +153,39 @@ Result<RunOutput> RunMethod(render::Renderer& renderer, const render::GpuScene& 
         if (r >= 0) t.CommitTo(out.times);
         if (r + 1 == repeats) {
             out.plan = std::move(plan.value());
-            out.mask.width = mask->width;
-            out.mask.height = mask->height;
-            out.mask.lit.resize(mask->pixels.size());
-            for (std::size_t i = 0; i < mask->pixels.size(); ++i) {
-                const float v = mask->pixels[i];
-                const bool gl_surface = v != render::kNoSurface;
-                if (gl_surface != truth.Visible(i)) ++out.gl_visible_mismatch;
-                out.mask.lit[i] = gl_surface ? v : 1.0f;
-            }
+            out.mask = ToMask(*mask, truth, out.gl_visible_mismatch);
         }
     }
     return out;
 }
+
+#ifdef LIXEL_HAVE_VOLUMES
+constexpr const char* kVolumesName = "silhouette volumes";
+
+// Exact robust silhouette volumes (paper 001) over the view: no maps, a stencil count per pixel.
+Result<RunOutput> RunVolumes(render::GlContext& context, volumes::gl::VolumePass& pass,
+                             const render::GpuScene& gpu, const volumes::gl::VolumeScene& volumes,
+                             const Scene& scene, const GroundTruth& truth, int repeats) {
+    RunOutput out;
+    volumes::gl::VolumeRequest request;
+    request.viewer = scene.camera.Viewer();
+    request.viewport = scene.camera.viewport;
+    request.light = scene.light;
+    for (int r = -1; r < repeats; ++r) {
+        RepeatTimes t;
+        render::ViewImages images;
+        auto info = Timed(context, t, "volumes",
+                          [&] { return pass.Render(gpu, volumes, request, images); });
+        if (!info) return Error{"volumes: " + info.error().field, info.error().reason};
+        auto mask =
+            Timed(context, t, "transfer", [&] { return render::ReadMask(context, images); });
+        if (!mask) return Error{"transfer: " + mask.error().field, mask.error().reason};
+        if (r >= 0) t.CommitTo(out.times);
+        if (r + 1 == repeats) out.mask = ToMask(*mask, truth, out.gl_visible_mismatch);
+    }
+    return out;
+}
+#endif
 
 std::int64_t GridBudget(const std::vector<std::int64_t>& budgets, std::int64_t wanted) {
     std::int64_t best = budgets.front();
@@ -161,7 +202,12 @@ std::int64_t GridBudget(const std::vector<std::int64_t>& budgets, std::int64_t w
 
 Result<ReportSummary> RunReport(const ReportOptions& options) {
     if (options.scenes.empty()) return Error{"scenes", "no scene to report on"};
-    if (options.methods.empty()) return Error{"methods", "no method to compare"};
+#ifdef LIXEL_HAVE_VOLUMES
+    const bool volumes = options.volumes;
+#else
+    const bool volumes = false;
+#endif
+    if (options.methods.empty() && !volumes) return Error{"methods", "no method to compare"};
     if (options.budgets.empty()) return Error{"budgets", "no lixel budget"};
     for (const std::int64_t b : options.budgets) {
         if (b < 1) return Error{"budgets", "each budget must be >= 1 lixel"};
@@ -185,8 +231,18 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
     summary.notes.push_back("GL: " + (*context)->info().Summary());
     auto renderer = render::Renderer::Create(**context);
     if (!renderer) return renderer.error();
-    const std::int64_t runs = std::int64_t(scenes.size()) * std::int64_t(options.budgets.size()) *
-                              std::int64_t(options.methods.size());
+    const std::int64_t runs =
+        std::int64_t(scenes.size()) *
+        (std::int64_t(options.budgets.size()) * std::int64_t(options.methods.size()) +
+         (volumes ? 1 : 0));
+#ifdef LIXEL_HAVE_VOLUMES
+    std::optional<volumes::gl::VolumePass> volume_pass;
+    if (volumes) {
+        auto pass = volumes::gl::VolumePass::Create(**context);
+        if (!pass) return Error{"volumes: " + pass.error().field, pass.error().reason};
+        volume_pass.emplace(std::move(pass.value()));
+    }
+#endif
     std::optional<ProgressBar> bar;
     if (options.progress) bar.emplace(runs, "report");
     const std::int64_t grid_budget = GridBudget(options.budgets, options.grid_budget);
@@ -208,6 +264,28 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
         if (!gpu) return Error{scene.name + ": " + gpu.error().field, gpu.error().reason};
 
         std::vector<Mask> grid_masks;
+        std::optional<ReportRow> volume_row;
+        std::optional<Mask> volume_mask;
+#ifdef LIXEL_HAVE_VOLUMES
+        if (volumes) {
+            auto uploaded =
+                volumes::gl::UploadVolumeScene(**context, scene.meshes, scene.camera.eye);
+            auto run = uploaded ? RunVolumes(**context, *volume_pass, *gpu, *uploaded, scene,
+                                             *truth, options.repeats)
+                                : Result<RunOutput>(uploaded.error());
+            if (bar) bar->Advance(1, scene.name + " " + kVolumesName);
+            if (run) {
+                auto row =
+                    EvaluateRun(scene, *truth, kVolumesName, 0, Plan{}, run->mask, run->times);
+                if (!row) return row.error();
+                volume_row = std::move(row.value());
+                volume_mask = std::move(run->mask);
+            } else {
+                summary.notes.push_back(scene.name + ", " + kVolumesName +
+                                        ": skipped: " + run.error().Message());
+            }
+        }
+#endif
         for (const std::int64_t budget : options.budgets) {
             for (const Method& method : options.methods) {
                 auto run =
@@ -238,7 +316,13 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
                 }
                 if (budget == grid_budget) grid_masks.push_back(std::move(run->mask));
             }
+            if (volume_row) {
+                ReportRow row = *volume_row;
+                row.budget = budget;  // no lixels: the same run stands in every budget's table
+                summary.rows.push_back(std::move(row));
+            }
         }
+        if (volume_mask) grid_masks.push_back(std::move(*volume_mask));
         std::vector<const Mask*> pointers;
         for (const Mask& m : grid_masks) pointers.push_back(&m);
         const std::string grid_name = scene.name + "_masks.png";
@@ -261,6 +345,7 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
             columns += m.Name();
             columns += ';';
         }
+        if (volume_mask) columns += " silhouette volumes (no lixels; its row repeats per budget);";
         summary.notes.push_back(columns);
     }
     if (bar) bar->Finish();

@@ -22,6 +22,11 @@ namespace lixel::eval {
 Result<ReportRow> EvaluateRun(const Scene& scene, const GroundTruth& truth, const Method& method,
                               std::int64_t budget, const Plan& plan, const Mask& mask,
                               const StageTimes& times);
+// The same for a method outside Method's fittings x tests (exact shadow volumes: an empty plan,
+// so no aliasing or lixel figures), named by `method_name`.
+Result<ReportRow> EvaluateRun(const Scene& scene, const GroundTruth& truth,
+                              const std::string& method_name, std::int64_t budget, const Plan& plan,
+                              const Mask& mask, const StageTimes& times);
 
 // The side-by-side image of one scene. Masks go `masks_per_row` to a row pair: the upper row
 // holds the truth then the masks, the lower row the truth again then each mask's difference

@@ -10,6 +10,8 @@
 #include <lixel/service/proto_convert.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/scheduler.h>
+#include <lixel/volumes/gl/volume_pass.h>
+#include <lixel/volumes/gl/volume_scene.h>
 
 #include <atomic>
 #include <functional>
@@ -29,6 +31,10 @@ struct GpuWorker {
     std::unique_ptr<render::Renderer> renderer;
     std::string error;  // why this worker cannot render (empty when it can)
     std::list<std::pair<std::string, std::shared_ptr<render::GpuScene>>> scenes;
+    // Shadow-volume state, built on first use: the pass and each scene's edge patches (kept
+    // alongside `scenes`, same ids, same origin).
+    std::unique_ptr<volumes::gl::VolumePass> volume_pass;
+    std::list<std::pair<std::string, std::shared_ptr<volumes::gl::VolumeScene>>> volume_scenes;
     // Set from any thread to make the worker drop its GL state at its next job, as a lost
     // context would (fault injection); the worker then rebuilds it.
     std::atomic<bool> fault{false};
@@ -76,5 +82,11 @@ struct MaskTimes {
 Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene& scene,
                                       const MaskJob& job, const CancelCheck& cancelled,
                                       MaskTimes* times);
+
+// The exact mask of silhouette shadow volumes (paper 001) for the scene uploaded as `id`.
+Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string& id,
+                                            const SceneRecord& record,
+                                            const render::GpuScene& scene, const MaskJob& job,
+                                            MaskTimes* times);
 
 }  // namespace lixel::service

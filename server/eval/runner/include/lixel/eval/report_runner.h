@@ -21,6 +21,9 @@ struct ReportOptions {
     // Built-in scene names (builtin_scenes.h) or paths of scene files (docs/scenes.md).
     std::vector<std::string> scenes = {"floor_wall"};
     std::vector<Method> methods = AllMethods();
+    // Also exact robust silhouette volumes (paper 001) where lixel::volumes_gl is built: one run
+    // per scene, its row repeated under every budget since it allocates no lixels.
+    bool volumes = true;
     std::vector<std::int64_t> budgets = DefaultBudgets();
     int repeats = 3;                   // timed repeats per run; stage times are their medians, >= 1
     std::optional<Viewport> viewport;  // overrides every scene's default viewer image
