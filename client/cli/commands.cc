@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <set>
 
 namespace lixel::cli {
 
@@ -64,19 +65,16 @@ int Fail(const Error& error) {
     return 1;
 }
 
-std::string UploadSceneFrom(client::Client& client, const Flags& flags, SceneSource* source) {
+// The common start of plan, render and view: check the flags, upload the scene, build the plan.
+Result<v1::PlanRequest> ScenePlanRequest(client::Client& client, const Flags& flags,
+                                         std::set<std::string> known) {
+    known.insert({"scene", "scene_file", "budget", "fallback_floor"});
+    if (auto ok = flags.Check(known); !ok) return ok.error();
     auto loaded = LoadScene(flags);
-    if (!loaded) {
-        Fail(loaded.error());
-        return {};
-    }
+    if (!loaded) return loaded.error();
     auto uploaded = client.UploadScene(loaded->message);
-    if (!uploaded) {
-        Fail(uploaded.error());
-        return {};
-    }
-    if (source != nullptr) *source = std::move(loaded).value();
-    return uploaded->scene_id();
+    if (!uploaded) return uploaded.error();
+    return PlanRequestFrom(flags, uploaded->scene_id());
 }
 
 int UploadCommand(client::Client& client, const Flags& flags) {
@@ -136,14 +134,7 @@ int SolveCommand(client::Client& client, const Flags& flags) {
 }
 
 int PlanCommand(client::Client& client, const Flags& flags) {
-    if (auto ok = flags.Check({"scene", "scene_file", "budget", "fallback_floor", "second_depth",
-                               "silhouette_map", "volumes"});
-        !ok) {
-        return Fail(ok.error());
-    }
-    const std::string id = UploadSceneFrom(client, flags, nullptr);
-    if (id.empty()) return 1;
-    auto request = PlanRequestFrom(flags, id);
+    auto request = ScenePlanRequest(client, flags, {"second_depth", "silhouette_map", "volumes"});
     if (!request) return Fail(request.error());
     auto plan = client.Plan(*request);
     if (!plan) return Fail(plan.error());
@@ -165,14 +156,8 @@ int PlanCommand(client::Client& client, const Flags& flags) {
 }
 
 int RenderCommand(client::Client& client, const Flags& flags) {
-    if (auto ok = flags.Check({"scene", "scene_file", "budget", "fallback_floor", "second_depth",
-                               "silhouette_map", "volumes", "out", "pfm"});
-        !ok) {
-        return Fail(ok.error());
-    }
-    const std::string id = UploadSceneFrom(client, flags, nullptr);
-    if (id.empty()) return 1;
-    auto plan = PlanRequestFrom(flags, id);
+    auto plan = ScenePlanRequest(client, flags,
+                                 {"second_depth", "silhouette_map", "volumes", "out", "pfm"});
     if (!plan) return Fail(plan.error());
     v1::RenderRequest request;
     *request.mutable_plan() = *plan;
@@ -215,14 +200,8 @@ int RenderCommand(client::Client& client, const Flags& flags) {
 }
 
 int ViewCommand(client::Client& client, const Flags& flags) {
-    if (auto ok = flags.Check({"scene", "scene_file", "budget", "fallback_floor", "method",
-                               "filter", "evaluate", "timings", "out"});
-        !ok) {
-        return Fail(ok.error());
-    }
-    const std::string id = UploadSceneFrom(client, flags, nullptr);
-    if (id.empty()) return 1;
-    auto plan = PlanRequestFrom(flags, id);
+    auto plan =
+        ScenePlanRequest(client, flags, {"method", "filter", "evaluate", "timings", "out"});
     if (!plan) return Fail(plan.error());
     v1::ViewRequest request;
     *request.mutable_plan() = *plan;

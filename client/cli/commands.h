@@ -12,9 +12,6 @@ int RenderCommand(client::Client& client, const Flags& flags);
 int ViewCommand(client::Client& client, const Flags& flags);
 int ReportCommand(client::Client& client, const Flags& flags);
 
-// Uploads the scene of --scene / --scene_file; the id, or an error printed and empty.
-std::string UploadSceneFrom(client::Client& client, const Flags& flags, SceneSource* source);
-
 int Fail(const Error& error);
 
 }  // namespace lixel::cli

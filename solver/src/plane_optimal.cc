@@ -158,26 +158,33 @@ Result<PlaneOptimalMatrix> SolvePlaneOptimal(const PlaneOptimalInput& input) noe
     const double pl = p.dot(l);
     Mat4 m = PlaneOptimalRows(pixel, l, plane);
     // Needed points on P have viewer w > 0, so q = (P.l) a_w.X has the sign of P.l.
-    PlaneOptimalMatrix out;
-    out.sign = pl > 0.0 ? 1 : -1;
+    const int sign = pl > 0.0 ? 1 : -1;
     const double row_scale = std::max({m.row(0).norm(), m.row(1).norm(), m.row(3).norm()});
-    m *= out.sign / row_scale;
+    m *= sign / row_scale;
+    return FinishPlaneOptimal(m, sign, pixel, *normalized, input);
+}
 
+Result<PlaneOptimalMatrix> FinishPlaneOptimal(Mat4 m, int sign, const Mat4& pixel_matrix,
+                                              const NormalizedLightPlane& normalized,
+                                              const PlaneOptimalInput& input) noexcept {
     std::array<Vec4, 5> probes;
     std::span<const Vec4> depth_points = input.depth_points;
     if (depth_points.empty()) {
-        const int count = VisiblePlaneProbes(pixel, plane, input.viewport, probes);
+        const int count =
+            VisiblePlaneProbes(pixel_matrix, normalized.plane, input.viewport, probes);
         depth_points = std::span<const Vec4>(probes.data(), count);
     }
-    auto r_z = FitDepthRow(m.row(3), l, depth_points);
+    auto r_z = FitDepthRow(m.row(3), normalized.light, depth_points);
     if (!r_z) return r_z.error();
     m.row(2) = *r_z;
     if (!m.allFinite()) return Error{"light", "solve produced non-finite entries"};
 
+    PlaneOptimalMatrix out;
     out.matrix = m;
-    out.light = l;
-    out.plane = plane;
-    out.light_height = pl;
+    out.sign = sign;
+    out.light = normalized.light;
+    out.plane = normalized.plane;
+    out.light_height = normalized.plane.dot(normalized.light);
     return out;
 }
 

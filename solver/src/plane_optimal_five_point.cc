@@ -112,32 +112,14 @@ Result<PlaneOptimalMatrix> SolvePlaneOptimalFivePoint(const PlaneOptimalInput& i
     // Sign (paper §2, Fig. 5): needed points in front of the viewer must get q > 0. The null
     // vector's sign is arbitrary, so test it on the plane point under the viewport centre,
     // or, when that lies beyond the horizon, with the closed form's rule q ~ (P.l) a_w.X.
-    PlaneOptimalMatrix out;
     const Vec4 centre = PlanePointAtPixel(pixel, plane, 0.5 * g, 0.5 * h);
     double q_sign = 0.0;
     if (pixel.row(3).dot(centre) * centre.w() > 0.0) {
         q_sign = m.row(3).dot(centre) * centre.w();
     }
     const bool flip = q_sign != 0.0 ? q_sign < 0.0 : plane.dot(l) < 0.0;
-    out.sign = flip ? -1 : 1;
     if (flip) m = -m;
-
-    std::array<Vec4, 5> probes;
-    std::span<const Vec4> depth_points = input.depth_points;
-    if (depth_points.empty()) {
-        const int count = VisiblePlaneProbes(pixel, plane, input.viewport, probes);
-        depth_points = std::span<const Vec4>(probes.data(), count);
-    }
-    auto r_z = FitDepthRow(m.row(3), l, depth_points);
-    if (!r_z) return r_z.error();
-    m.row(2) = *r_z;
-    if (!m.allFinite()) return Error{"light", "five-point solve produced non-finite entries"};
-
-    out.matrix = m;
-    out.light = l;
-    out.plane = plane;
-    out.light_height = plane.dot(l);
-    return out;
+    return FinishPlaneOptimal(m, flip ? -1 : 1, pixel, *normalized, input);
 }
 
 }  // namespace lixel

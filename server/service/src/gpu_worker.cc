@@ -12,6 +12,12 @@ double Seconds(std::chrono::steady_clock::time_point since) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
+// Stage times must include the GPU's work, which GL queues: wait for it before reading the clock.
+double FinishedSeconds(GpuWorker& worker, std::chrono::steady_clock::time_point since) {
+    worker.context->gl().Finish();
+    return Seconds(since);
+}
+
 Error Cancelled() { return Error{"request", "cancelled or past its deadline"}; }
 
 }  // namespace
@@ -102,7 +108,7 @@ Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene&
         if (!one) return one.error();
         rendered.push_back(std::move(one->front()));
     }
-    if (times != nullptr) times->maps_seconds = Seconds(start);
+    if (times != nullptr) times->maps_seconds = FinishedSeconds(worker, start);
     if (cancelled()) return Cancelled();
 
     start = std::chrono::steady_clock::now();
@@ -114,7 +120,7 @@ Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene&
     settings.options = job.options;
     auto view = worker.renderer->RenderView(scene, rendered, settings);
     if (!view) return view.error();
-    if (times != nullptr) times->view_seconds = Seconds(start);
+    if (times != nullptr) times->view_seconds = FinishedSeconds(worker, start);
 
     start = std::chrono::steady_clock::now();
     auto mask = render::ReadMask(*worker.context, *view);
@@ -145,7 +151,7 @@ Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string
         worker.volume_scenes.emplace_front(id, patches);
         while (worker.volume_scenes.size() > kGpuScenesPerWorker) worker.volume_scenes.pop_back();
     }
-    if (times != nullptr) times->maps_seconds = Seconds(start);
+    if (times != nullptr) times->maps_seconds = FinishedSeconds(worker, start);
 
     start = std::chrono::steady_clock::now();
     volumes::gl::VolumeRequest request;
@@ -155,7 +161,7 @@ Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string
     render::ViewImages images;
     auto drawn = worker.volume_pass->Render(scene, *patches, request, images);
     if (!drawn) return drawn.error();
-    if (times != nullptr) times->view_seconds = Seconds(start);
+    if (times != nullptr) times->view_seconds = FinishedSeconds(worker, start);
 
     start = std::chrono::steady_clock::now();
     auto mask = render::ReadMask(*worker.context, images);

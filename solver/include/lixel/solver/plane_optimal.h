@@ -67,6 +67,13 @@ Vec4 PlanePointAtPixel(const Mat4& pixel_matrix, const Vec4& plane, double u, do
 int VisiblePlaneProbes(const Mat4& pixel_matrix, const Vec4& plane, const Viewport& viewport,
                        std::array<Vec4, 5>& out) noexcept;
 
+// Completes a solve whose rows x, y, w are `rows` (signed so needed points have q > 0; `sign` is
+// the factor that was applied): fits the depth row to input.depth_points, or to the plane's
+// points in view when there are none, and fills the result. Shared by both derivations.
+Result<PlaneOptimalMatrix> FinishPlaneOptimal(Mat4 rows, int sign, const Mat4& pixel_matrix,
+                                              const NormalizedLightPlane& normalized,
+                                              const PlaneOptimalInput& input) noexcept;
+
 // Whether the image of the plane's line at infinity (its horizon) crosses the viewport.
 bool HorizonInView(const Mat4& pixel_matrix, const Vec4& plane, const Viewport& viewport) noexcept;
 
