@@ -20,6 +20,8 @@ namespace lixel {
 namespace {
 
 constexpr const char* kCubeFaceNames[kCubeFaces] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+// Longest side over shortest side allowed for a fallback or cube-face map.
+constexpr int kMaxMapAspect = 16;
 // Viewer pixels sampled per side to estimate how many pixels read each map.
 constexpr int kPixelSamplesPerSide = 48;
 
@@ -430,6 +432,22 @@ auto FitWithinSide(Fit fit, std::int64_t budget, int max_side) -> decltype(fit(M
             1, static_cast<std::int64_t>(static_cast<double>(size.lixel_budget) * shrink * shrink *
                                          0.999));
         fitted = fit(size);
+    }
+    // A sliver of uncovered rays would get a map one lixel thick (16384 x 1 on a 256^2 budget):
+    // useless across the sliver and too long for a silhouette map's corner ring. Cap the aspect
+    // ratio; the lixels are then longer across the sliver than along it, which costs nothing.
+    if (fitted.ok()) {
+        const LightMap& m = MapOf(*fitted);
+        const int long_side = std::max(m.width, m.height);
+        const int short_side = std::min(m.width, m.height);
+        if (long_side > kMaxMapAspect * short_side) {
+            const std::int64_t area = std::min<std::int64_t>(
+                budget, static_cast<std::int64_t>(max_side) * max_side / kMaxMapAspect);
+            const int s = std::max(1, static_cast<int>(std::sqrt(
+                                          static_cast<double>(area) / kMaxMapAspect)));
+            const int l = std::min(max_side, kMaxMapAspect * s);
+            fitted = fit(m.width >= m.height ? MapSize{l, s, 0} : MapSize{s, l, 0});
+        }
     }
     return fitted;
 }

@@ -248,6 +248,11 @@ TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
         for (const PlannedMap& m : plan->maps) {
             EXPECT_LE(m.map.width, 2048);
             EXPECT_LE(m.map.height, 2048);
+            if (m.role != MapRole::kPlane) {  // no sliver maps (at most 16:1, with rounding)
+                EXPECT_LE(std::max(m.map.width, m.map.height),
+                          16 * std::min(m.map.width, m.map.height) + 16)
+                    << m.name << " " << m.map.width << " x " << m.map.height;
+            }
         }
         // Dense samples of the visible objects.
         const Mat4 pixel = PixelMatrix(r.viewer, r.viewport);
