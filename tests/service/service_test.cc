@@ -224,6 +224,32 @@ TEST_F(ServiceTest, UploadIsContentAddressedAndIdempotent) {
     EXPECT_NE(different->scene_id(), *scene_id_);
 }
 
+TEST_F(ServiceTest, UploadAcceptsObjContentWithPlanesFromTheHeader) {
+    const std::string obj =
+        "v -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 5\n"
+        "v -1 1 -1\nv 1 1 -1\nv 1 1 1\nv -1 1 1\n"
+        "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\n";
+    v1::SceneHeader header;
+    header.set_format(v1::SCENE_FORMAT_OBJ);
+    v1::PlaneOfInterest* floor = header.add_planes();
+    floor->set_name("floor");
+    floor->mutable_plane()->set_y(1.0);
+    auto uploaded = client_->UploadContent(header, obj);
+    ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
+    EXPECT_EQ(uploaded->triangles(), 4u);
+    v1::PlanRequest plan;
+    plan.set_scene_id(uploaded->scene_id());
+    auto planned = client_->Plan(plan);
+    ASSERT_TRUE(planned.ok()) << planned.error().Message();
+    EXPECT_EQ(planned->maps(0).name(), "plane floor");
+
+    auto broken = client_->UploadContent(header, "v 0 0 0\nf 1 2 3\n");
+    ASSERT_FALSE(broken.ok());
+    EXPECT_EQ(broken.error().field, "INVALID_ARGUMENT");
+    EXPECT_EQ(broken.error().reason.rfind("content", 0), 0u) << broken.error().reason;
+    ExpectStillServing();
+}
+
 TEST_F(ServiceTest, RenderStreamsAHeaderThenEveryMapInChunks) {
     v1::RenderRequest request;
     *request.mutable_plan() = ScenePlan();

@@ -244,12 +244,12 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
         // The loaders read files: write the bytes to a private temporary one.
         const bool obj = header.format() == v1::SCENE_FORMAT_OBJ;
         const bool binary = !obj && content.size() >= 4 && std::memcmp(content.data(), "glTF", 4) == 0;
-        char path[] = "/tmp/lixel-upload-XXXXXX";
-        const int fd = mkstemp(path);
+        const std::string suffix = obj ? ".obj" : binary ? ".glb" : ".gltf";
+        std::string name = "/tmp/lixel-upload-XXXXXX" + suffix;
+        const int fd = mkstemps(name.data(), static_cast<int>(suffix.size()));
         if (fd < 0) return grpc::Status(grpc::StatusCode::INTERNAL, "upload: no temporary file");
         close(fd);
-        const std::string file = std::string(path) + (obj ? ".obj" : binary ? ".glb" : ".gltf");
-        std::rename(path, file.c_str());
+        const std::string file = name;
         {
             std::ofstream out(file, std::ios::binary);
             out.write(content.data(), static_cast<std::streamsize>(content.size()));
