@@ -14,6 +14,7 @@ packages=(
     gnuplot-nox
     libgrpc++-dev protobuf-compiler-grpc protobuf-compiler libprotobuf-dev
     prometheus-cpp-dev libssl-dev openssl python3-grpcio python3-protobuf
+    clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer harnesses in fuzz/
 )
 
 missing=()

@@ -37,7 +37,8 @@ void Usage() {
                  "usage: lixel_server [--address=127.0.0.1:50051] [--metrics=ADDRESS]\n"
                  "  [--instance=NAME] [--workers=2] [--queue=64] [--gl=egl|osmesa]\n"
                  "  [--max_upload_mb=256] [--cache_mb=1024] [--memory_cap_mb=2048]\n"
-                 "  [--max_response_mb=1024] [--token=SECRET | --token_file=PATH]\n"
+                 "  [--max_response_mb=1024] [--max_calls_per_client=0]\n"
+                 "  [--max_inflight_mb_per_client=0] [--token=SECRET | --token_file=PATH]\n"
                  "  [--tls_cert=PEM --tls_key=PEM [--tls_client_ca=PEM]]\n");
 }
 
@@ -70,7 +71,11 @@ int main(int argc, char** argv) {
         else if (key == "--cache_mb") options.service.scene_cache_bytes = number() << 20;
         else if (key == "--memory_cap_mb") options.service.memory_cap_bytes = number() << 20;
         else if (key == "--max_response_mb") options.service.max_response_bytes = number() << 20;
-        else if (key == "--token") options.service.bearer_token = value;
+        else if (key == "--max_calls_per_client") {
+            options.service.max_calls_per_client = number();
+        } else if (key == "--max_inflight_mb_per_client") {
+            options.service.max_bytes_in_flight_per_client = number() << 20;
+        } else if (key == "--token") options.service.bearer_token = value;
         else if (key == "--token_file") {
             options.service.bearer_token = ReadFile(value);
             while (!options.service.bearer_token.empty() &&

@@ -44,6 +44,17 @@ Bounds2d RotatedBounds(const std::vector<Vec2>& points, double theta) {
 // solve (1e-13 lixel) does not add a column of lixels no ray needs.
 constexpr double kSnapLixels = 1e-6;
 
+// Sides are clamped here before the conversion to integers: finite images can lie 1e300 lixels
+// apart (a solve of an almost edge-on plane), and such a side is out of the range of int64
+// (undefined behaviour, found by fuzz/fuzz_solver). 2^30 is far past kMaxImageSide, so FitScale
+// still shrinks the rectangle, and the product of two sides stays inside int64.
+constexpr double kMaxRectangleSide = 1073741824.0;
+
+std::int64_t RectangleSide(double extent) {
+    if (!(extent >= 1.0)) return 1;  // NaN too
+    return static_cast<std::int64_t>(std::min(extent, kMaxRectangleSide));
+}
+
 // The tightest rectangle with integer corners around the scaled bounds; at least 1 x 1.
 Rectangle IntegerRectangle(const Bounds2d& b, double scale) {
     Rectangle r;
@@ -51,8 +62,8 @@ Rectangle IntegerRectangle(const Bounds2d& b, double scale) {
     r.y0 = std::floor(scale * b.min_y + kSnapLixels);
     const double x1 = std::ceil(scale * b.max_x - kSnapLixels);
     const double y1 = std::ceil(scale * b.max_y - kSnapLixels);
-    r.width = std::max<std::int64_t>(1, static_cast<std::int64_t>(x1 - r.x0));
-    r.height = std::max<std::int64_t>(1, static_cast<std::int64_t>(y1 - r.y0));
+    r.width = RectangleSide(x1 - r.x0);
+    r.height = RectangleSide(y1 - r.y0);
     return r;
 }
 
@@ -60,6 +71,10 @@ Rectangle IntegerRectangle(const Bounds2d& b, double scale) {
 // lixel count a step function of the scale, so it iterates from the continuous estimate.
 Result<Rectangle> FitScale(const Bounds2d& b, double& scale, const CropOptions& options) {
     const double extent = std::max(b.max_x - b.min_x, b.max_y - b.min_y);
+    if (!std::isfinite(extent)) {
+        return Error{"needed_points", "image spread past the range of double (" +
+                                          std::to_string(extent) + " lixels)"};
+    }
     // Rectangles past kMaxImageSide cannot be represented; start inside the limit.
     if (scale * extent > 4.0 * kMaxImageSide) scale = 4.0 * kMaxImageSide / extent;
     for (int iteration = 0; iteration < 200; ++iteration) {

@@ -85,8 +85,13 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
                                                                      local.z(), 1.0f);
         const Vec2 float_lixel((clip.x() / clip.w() + 1.0f) * 0.5f * static_cast<float>(gl.width),
                                (clip.y() / clip.w() + 1.0f) * 0.5f * static_cast<float>(gl.height));
+        // Past float range (receivers 1e39 from the origin) the GL pass cannot place them at
+        // all; NaN would be dropped by std::max, so it counts as infinite.
+        const double float_error = (float_lixel - expected.head<2>()).norm();
         d.residual_lixels_float =
-            std::max(d.residual_lixels_float, (float_lixel - expected.head<2>()).norm());
+            std::max(d.residual_lixels_float,
+                     std::isnan(float_error) ? std::numeric_limits<double>::infinity()
+                                             : float_error);
 
         worst_reach = std::max(worst_reach, (s - l.head<3>()).norm());
         // Depth step along the light ray at this receiver: ulp(z) / |dz/ds|.
@@ -175,6 +180,11 @@ Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept {
     if (!std::isfinite(d.residual_lixels) || !std::isfinite(d.conditioning) ||
         !std::isfinite(d.depth_resolution)) {
         return Error{"plane", "diagnostics are not finite: the configuration is degenerate"};
+    }
+    // Found by fuzz/fuzz_solver: a map whose receivers a float GL pass cannot project.
+    if (!std::isfinite(d.residual_lixels_float)) {
+        return Error{"needed_polygon", "outside what a float GL pass can draw: its float "
+                                       "projection overflows (world coordinates near 1e38)"};
     }
     return out;
 }

@@ -728,6 +728,19 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     plan.total_lixels = total(plan.maps);
     PlanPasses(c, plan);
     EstimatePixels(c, plan);
+    // Finite inputs can still overflow double on the way (fuzz/fuzz_scheduler: a point light at
+    // z = 2e307 gave a cube face with inf entries); a Result never carries NaN or Inf.
+    for (const PlannedMap& m : plan.maps) {
+        bool finite = m.map.matrix.allFinite() && std::isfinite(m.scale) &&
+                      std::isfinite(m.expected_pixels);
+        for (const Eigen::Vector3d& h : m.lookup.half_planes) finite = finite && h.allFinite();
+        if (!finite) {
+            return Error{"request", "the " + m.name + " map overflows double: light, bounds or "
+                                    "planes too far from the view (" +
+                                    std::to_string(r.light.head<3>().norm()) + " to the light)"};
+        }
+    }
+    if (!std::isfinite(plan.plane_scale)) return Error{"request", "plane scale is not finite"};
     return plan;
 }
 

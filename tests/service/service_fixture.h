@@ -10,17 +10,26 @@
 #include <lixel/service/server.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <thread>
 
 namespace lixel::testing {
 
+// Workers per test server: 1, or LIXEL_TEST_WORKERS (1 to 16) so that the ThreadSanitizer run in
+// scripts/sanitize.sh drives several GL workers at once.
+inline int TestWorkers() {
+    const char* value = std::getenv("LIXEL_TEST_WORKERS");
+    const int workers = value != nullptr ? std::atoi(value) : 1;
+    return workers >= 1 && workers <= 16 ? workers : 1;
+}
+
 inline service::ServerOptions SmallServerOptions(const std::string& instance) {
     service::ServerOptions options;
     options.address = "127.0.0.1:0";
     options.service.instance = instance;
-    options.service.workers = 1;
+    options.service.workers = TestWorkers();
     options.service.queue_capacity = 16;
     return options;
 }

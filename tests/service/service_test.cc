@@ -250,6 +250,19 @@ TEST_F(ServiceTest, UploadAcceptsObjContentWithPlanesFromTheHeader) {
     ExpectStillServing();
 }
 
+TEST_F(ServiceTest, UploadedGltfMayNotReferToServerFiles) {
+    const std::string gltf =
+        R"({"asset": {"version": "2.0"}, "buffers": [{"byteLength": 36, "uri": "../../etc/passwd"}]})";
+    v1::SceneHeader header;
+    header.set_format(v1::SCENE_FORMAT_GLTF);
+    auto refused = client_->UploadContent(header, gltf);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "INVALID_ARGUMENT");
+    EXPECT_NE(refused.error().reason.find("../../etc/passwd"), std::string::npos)
+        << refused.error().reason;
+    ExpectStillServing();
+}
+
 TEST_F(ServiceTest, RenderStreamsAHeaderThenEveryMapInChunks) {
     v1::RenderRequest request;
     *request.mutable_plan() = ScenePlan();

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <system_error>
 
 namespace lixel::eval {
 namespace {
@@ -173,7 +174,12 @@ Result<std::vector<std::uint32_t>> Corners(const tinygltf::Model& model,
 }  // namespace
 
 Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
-    if (!std::filesystem::is_regular_file(path)) return Error{path, "no such file"};
+    // The error_code overload: a path the OS refuses (too long) is an error, not an exception.
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error)) {
+        const bool missing = !error || error == std::errc::no_such_file_or_directory;
+        return Error{path, missing ? "no such file" : "cannot open: " + error.message()};
+    }
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&SkipImage, nullptr);
     tinygltf::Model model;

@@ -5,13 +5,18 @@
 
 #include <filesystem>
 #include <map>
+#include <system_error>
 #include <utility>
 
 namespace lixel::eval {
 
 Result<std::vector<Mesh>> LoadObj(const std::string& path) {
-    if (!std::filesystem::is_regular_file(path)) {
-        return Error{path, "no such file"};
+    // The error_code overload: a path the OS refuses (too long, found by fuzz/fuzz_mesh_load
+    // through a scene file's mesh line) is an error here, not a filesystem_error thrown.
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error)) {
+        const bool missing = !error || error == std::errc::no_such_file_or_directory;
+        return Error{path, missing ? "no such file" : "cannot open: " + error.message()};
     }
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;

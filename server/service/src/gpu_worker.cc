@@ -39,11 +39,15 @@ Result<bool> StartGpuWorker(GpuWorker& worker) {
     return true;
 }
 
-Result<bool> RebuildGpuWorker(GpuWorker& worker) {
+void StopGpuWorker(GpuWorker& worker) {
     worker.volume_scenes.clear();
     worker.volume_pass.reset();
     worker.scenes.clear();
     worker.renderer.reset();
+}
+
+Result<bool> RebuildGpuWorker(GpuWorker& worker) {
+    StopGpuWorker(worker);
     return StartGpuWorker(worker);
 }
 

@@ -94,6 +94,25 @@ v1::PassKind PassKindOf(Pass pass) {
     return v1::PASS_DEPTH;
 }
 
+// An uploaded glTF may only carry its buffers inline (data: URIs or the .glb BIN chunk): a
+// relative URI would make the loader read a file of the server's, next to the temporary copy.
+// Returns the first URI that is not a data: URI, or empty.
+std::string ExternalGltfUri(const std::string& content) {
+    std::size_t at = 0;
+    while ((at = content.find("\"uri\"", at)) != std::string::npos) {
+        at += 5;
+        std::size_t value = content.find_first_not_of(" \t\r\n", at);
+        if (value == std::string::npos || content[value] != ':') continue;
+        value = content.find_first_not_of(" \t\r\n", value + 1);
+        if (value == std::string::npos || content[value] != '"') continue;
+        if (content.compare(value + 1, 5, "data:") != 0) {
+            const std::size_t end = content.find('"', value + 1);
+            return content.substr(value + 1, std::min<std::size_t>(end - value - 1, 64));
+        }
+    }
+    return {};
+}
+
 // Embree scenes for evaluation, built once per uploaded scene and kept for a few.
 class RaySceneCache {
 public:
@@ -244,6 +263,13 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
         // The loaders read files: write the bytes to a private temporary one.
         const bool obj = header.format() == v1::SCENE_FORMAT_OBJ;
         const bool binary = !obj && content.size() >= 4 && std::memcmp(content.data(), "glTF", 4) == 0;
+        if (!obj) {
+            if (const std::string uri = ExternalGltfUri(content); !uri.empty()) {
+                return InvalidArgument(Error{"content", "glTF buffers and images must be embedded "
+                                                        "(data: URIs or .glb); refusing uri \"" +
+                                                            uri + "\""});
+            }
+        }
         const std::string suffix = obj ? ".obj" : binary ? ".glb" : ".gltf";
         std::string name = "/tmp/lixel-upload-XXXXXX" + suffix;
         const int fd = mkstemps(name.data(), static_cast<int>(suffix.size()));

@@ -38,23 +38,33 @@ grpc::Status QueueFull(std::size_t capacity) {
                             " waiting); retry later");
 }
 
-// A unary call run on the pool: authorise, submit, finish from the worker.
+// A unary call run on the pool: admit, submit, finish from the worker. The reactor owns the
+// caller's per-client share until OnDone, which gRPC runs on every path (OK, error, cancel).
+class UnaryCall final : public grpc::ServerUnaryReactor {
+public:
+    void OnDone() override { delete this; }
+    ClientLease lease;
+};
+
 template <class Job>
 grpc::ServerUnaryReactor* RunUnary(ShadowService& service, grpc::CallbackServerContext* context,
-                                   const char* rpc, Job job) {
-    grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+                                   const char* rpc, const google::protobuf::Message& request,
+                                   const google::protobuf::Message* response, Job job) {
+    auto* reactor = new UnaryCall();
     const auto start = Clock::now();
     grpc::Status status;
-    if (!service.Authorized(context, &status)) {
+    if (!service.Admit(context, request.ByteSizeLong(), &reactor->lease, &status)) {
         service.Record(rpc, status, Since(start), "");
         reactor->Finish(status);
         return reactor;
     }
-    const bool queued = service.pool().TrySubmit([&service, reactor, context, rpc, start,
+    const bool queued = service.pool().TrySubmit([&service, reactor, context, rpc, start, response,
                                                   job = std::move(job)](int worker) mutable {
         grpc::Status s = context->IsCancelled() ? grpc::Status(grpc::StatusCode::CANCELLED,
                                                                 "request: cancelled before work")
                                                  : job(worker);
+        // The answer counts against the caller's bytes in flight until it has been sent.
+        if (s.ok()) s = reactor->lease.Grow(response->ByteSizeLong());
         service.Record(rpc, s, Since(start), "");
         reactor->Finish(s);
     });
@@ -73,7 +83,7 @@ public:
                   v1::UploadSceneResponse* response)
         : service_(service), context_(context), response_(response), start_(Clock::now()) {
         grpc::Status status;
-        if (!service_.Authorized(context_, &status)) {
+        if (!service_.Admit(context_, 0, &lease_, &status)) {
             Done(status);
             return;
         }
@@ -102,6 +112,11 @@ public:
                                   "header.total_bytes: " + std::to_string(header_.total_bytes()) +
                                       " bytes, over the upload limit of " +
                                       std::to_string(limit)));
+                return;
+            }
+            // The whole upload counts against the caller's bytes in flight from its header on.
+            if (grpc::Status held = lease_.Grow(header_.total_bytes(), "upload"); !held.ok()) {
+                Done(held);
                 return;
             }
             content_.reserve(header_.total_bytes());
@@ -158,6 +173,7 @@ private:
     bool have_header_ = false;
     std::size_t chunks_ = 0;
     std::string content_;
+    ClientLease lease_;  // released with the reactor, in OnDone
 };
 
 class RenderReactor final : public grpc::ServerWriteReactor<v1::RenderChunk> {
@@ -166,7 +182,7 @@ public:
                   const v1::RenderRequest* request)
         : service_(service), context_(context), request_(*request), start_(Clock::now()) {
         grpc::Status status;
-        if (!service_.Authorized(context_, &status)) {
+        if (!service_.Admit(context_, request->ByteSizeLong(), &lease_, &status)) {
             Done(status);
             return;
         }
@@ -177,6 +193,13 @@ public:
                           &stream_);
             if (!s.ok()) {
                 Done(s);
+                return;
+            }
+            std::uint64_t bytes = 0;
+            for (const v1::RenderChunk& chunk : stream_) bytes += chunk.ByteSizeLong();
+            if (grpc::Status held = lease_.Grow(bytes); !held.ok()) {
+                stream_.clear();
+                Done(held);
                 return;
             }
             NextWrite();
@@ -217,6 +240,7 @@ private:
     std::vector<v1::RenderChunk> stream_;
     std::size_t next_ = 0;
     std::atomic<bool> cancelled_{false};
+    ClientLease lease_;  // released with the reactor, in OnDone
 };
 
 }  // namespace
@@ -240,7 +264,10 @@ ShadowService::ShadowService(ServiceOptions options, const std::string& metrics_
             if (started.ok() && !gl_reported_.exchange(true) && on_gl_ready_) {
                 on_gl_ready_(true, gpu.context->info().Summary());
             }
-        });
+        },
+        // GL objects go while the worker's thread_local context still exists (ASan found
+        // ~Renderer deleting through a freed context when ~ShadowService ran after the threads).
+        [this](int worker) { StopGpuWorker(*gpus_[worker]); });
 }
 
 ShadowService::~ShadowService() { pool_.reset(); }
@@ -259,6 +286,14 @@ bool ShadowService::Authorized(grpc::CallbackServerContext* context, grpc::Statu
     return false;
 }
 
+bool ShadowService::Admit(grpc::CallbackServerContext* context, std::uint64_t request_bytes,
+                          ClientLease* lease, grpc::Status* status) {
+    if (!Authorized(context, status)) return false;
+    *status = state_.limits.Acquire(ClientLimits::Identity(*context, state_.options.bearer_token),
+                                    request_bytes, lease);
+    return status->ok();
+}
+
 void ShadowService::Record(const char* rpc, const grpc::Status& status, double seconds,
                            const std::string& detail) {
     state_.metrics.Request(rpc, CodeName(status.error_code()), seconds);
@@ -273,15 +308,17 @@ void ShadowService::BreakWorkerContext(int worker) { gpus_.at(worker)->fault = t
 grpc::ServerUnaryReactor* ShadowService::Solve(grpc::CallbackServerContext* context,
                                                const v1::SolveRequest* request,
                                                v1::SolveResponse* response) {
-    return RunUnary(*this, context, "Solve",
-                    [this, request, response](int) { return SolveJob(state_, *request, response); });
+    return RunUnary(*this, context, "Solve", *request, response, [this, request, response](int) {
+        return SolveJob(state_, *request, response);
+    });
 }
 
 grpc::ServerUnaryReactor* ShadowService::Plan(grpc::CallbackServerContext* context,
                                               const v1::PlanRequest* request,
                                               v1::PlanResponse* response) {
-    return RunUnary(*this, context, "Plan",
-                    [this, request, response](int) { return PlanJob(state_, *request, response); });
+    return RunUnary(*this, context, "Plan", *request, response, [this, request, response](int) {
+        return PlanJob(state_, *request, response);
+    });
 }
 
 grpc::ServerReadReactor<v1::SceneChunk>* ShadowService::UploadScene(
@@ -297,7 +334,8 @@ grpc::ServerWriteReactor<v1::RenderChunk>* ShadowService::Render(
 grpc::ServerUnaryReactor* ShadowService::View(grpc::CallbackServerContext* context,
                                               const v1::ViewRequest* request,
                                               v1::ViewResponse* response) {
-    return RunUnary(*this, context, "View", [this, context, request, response](int worker) {
+    return RunUnary(*this, context, "View", *request, response,
+                    [this, context, request, response](int worker) {
         return ViewJob(state_, *gpus_[worker], *request,
                        [context] { return context->IsCancelled(); }, response);
     });
@@ -306,7 +344,8 @@ grpc::ServerUnaryReactor* ShadowService::View(grpc::CallbackServerContext* conte
 grpc::ServerUnaryReactor* ShadowService::Silhouettes(grpc::CallbackServerContext* context,
                                                      const v1::SilhouettesRequest* request,
                                                      v1::SilhouettesResponse* response) {
-    return RunUnary(*this, context, "Silhouettes", [this, request, response](int) {
+    return RunUnary(*this, context, "Silhouettes", *request, response,
+                    [this, request, response](int) {
         return SilhouettesJob(state_, *request, response);
     });
 }

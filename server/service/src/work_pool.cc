@@ -3,8 +3,9 @@
 
 namespace lixel::service {
 
-WorkPool::WorkPool(int workers, std::size_t capacity, std::function<void(int)> start)
-    : capacity_(capacity), start_(std::move(start)) {
+WorkPool::WorkPool(int workers, std::size_t capacity, std::function<void(int)> start,
+                   std::function<void(int)> stop)
+    : capacity_(capacity), start_(std::move(start)), stop_(std::move(stop)) {
     for (int i = 0; i < workers; ++i) threads_.emplace_back([this, i] { Run(i); });
 }
 
@@ -39,12 +40,13 @@ void WorkPool::Run(int worker) {
         {
             std::unique_lock lock(mutex_);
             ready_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
-            if (queue_.empty()) return;  // stopping, and nothing left to finish
+            if (queue_.empty()) break;  // stopping, and nothing left to finish
             task = std::move(queue_.front());
             queue_.pop_front();
         }
         task(worker);
     }
+    if (stop_) stop_(worker);
 }
 
 }  // namespace lixel::service

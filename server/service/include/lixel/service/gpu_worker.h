@@ -46,6 +46,10 @@ struct GpuWorker {
 // A worker whose context failed rebuilds it on its next job (Rebuild).
 Result<bool> StartGpuWorker(GpuWorker& worker);
 Result<bool> RebuildGpuWorker(GpuWorker& worker);
+// Deletes the worker's GL objects (scenes, passes, renderer). Call it on the worker's own thread
+// before the thread ends: its context is thread_local and dies with it, and the objects' handles
+// point into it.
+void StopGpuWorker(GpuWorker& worker);
 
 // The scene on this worker's GPU, uploading it (relative to its bounds' centre) when absent.
 Result<std::shared_ptr<render::GpuScene>> SceneOnGpu(GpuWorker& worker, const std::string& id,

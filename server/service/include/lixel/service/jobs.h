@@ -4,6 +4,7 @@
 #pragma once
 
 #include <grpcpp/support/status.h>
+#include <lixel/service/client_limits.h>
 #include <lixel/service/gpu_worker.h>
 #include <lixel/service/metrics.h>
 #include <lixel/service/scene_cache.h>
@@ -21,9 +22,13 @@ struct ServiceState {
     ServiceOptions options;
     SceneCache cache;
     Metrics metrics;
+    ClientLimits limits;
 
     ServiceState(ServiceOptions o, const std::string& metrics_address)
-        : options(std::move(o)), cache(options.scene_cache_bytes), metrics(metrics_address) {}
+        : options(std::move(o)),
+          cache(options.scene_cache_bytes),
+          metrics(metrics_address),
+          limits(options.max_calls_per_client, options.max_bytes_in_flight_per_client) {}
 };
 
 grpc::Status InvalidArgument(const Error& error);

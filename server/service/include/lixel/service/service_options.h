@@ -18,6 +18,11 @@ struct ServiceOptions {
     std::uint64_t max_response_bytes = 1ull << 30;    // bytes one Render or View may return
     std::uint64_t max_view_pixels = 4096ull * 4096ull;  // View's viewport
     std::string bearer_token;  // when set, every call needs "authorization: Bearer <token>"
+    // Per client (the bearer token when set, else the peer's host; every holder of the token
+    // shares one budget): calls at once, and request plus response bytes those calls hold.
+    // 0 means no limit; beyond either, RESOURCE_EXHAUSTED naming the limit.
+    std::uint64_t max_calls_per_client = 0;
+    std::uint64_t max_bytes_in_flight_per_client = 0;
     render::ContextOptions gl;  // backend for the workers' contexts
     std::uint64_t chunk_bytes = 1ull << 20;  // Render's map chunks
 };

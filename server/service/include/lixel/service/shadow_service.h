@@ -50,6 +50,9 @@ public:
 
     // Shared plumbing of the reactors (public for them; not part of the API).
     bool Authorized(grpc::CallbackServerContext* context, grpc::Status* status) const;
+    // Authorises, then takes the caller's per-client share for a call of `request_bytes`.
+    bool Admit(grpc::CallbackServerContext* context, std::uint64_t request_bytes,
+               ClientLease* lease, grpc::Status* status);
     void Record(const char* rpc, const grpc::Status& status, double seconds,
                 const std::string& detail);
     GpuWorker& gpu(int worker) { return *gpus_[worker]; }

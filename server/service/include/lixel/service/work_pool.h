@@ -18,7 +18,10 @@ class WorkPool {
 public:
     using Task = std::function<void(int worker)>;
 
-    WorkPool(int workers, std::size_t capacity, std::function<void(int worker)> start = {});
+    // `start` runs on each worker thread before its first task, `stop` after its last one, before
+    // the thread (and its thread_local state, such as a GL context) ends.
+    WorkPool(int workers, std::size_t capacity, std::function<void(int worker)> start = {},
+             std::function<void(int worker)> stop = {});
     ~WorkPool();
     WorkPool(const WorkPool&) = delete;
     WorkPool& operator=(const WorkPool&) = delete;
@@ -34,6 +37,7 @@ private:
 
     const std::size_t capacity_;
     std::function<void(int)> start_;
+    std::function<void(int)> stop_;
     mutable std::mutex mutex_;
     std::condition_variable ready_;
     std::deque<Task> queue_;

@@ -1,0 +1,87 @@
+// fuzz_mesh_load: mesh and scene decoding (DESIGN §9) on uploaded bytes. The first byte picks
+// the format (OBJ, glTF JSON, GLB, scene file); the rest is written to a private temporary file
+// (mkstemps, as the service's upload does) and read by lixel::eval::LoadMeshes or
+// LoadSceneFile. Scene files sit in a folder with a small cube.obj their `mesh` lines can name.
+// No crash; every loaded mesh's indices lie inside its positions.
+#include "fuzz_input.h"
+
+#include <lixel/eval/scene_io.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace lixel::fuzz {
+namespace {
+
+// The folder's name lives in static storage: the atexit cleanup runs after static strings die.
+char folder_name[] = "/tmp/lixel-fuzz-XXXXXX";
+
+const std::string& Folder() {
+    static const std::string folder = [] {
+        if (mkdtemp(folder_name) == nullptr) Fail("mkdtemp");
+        const std::string name = folder_name;
+        std::ofstream cube(name + "/cube.obj");
+        cube << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n";
+        std::atexit([] {
+            char cube_path[sizeof(folder_name) + 16];
+            std::snprintf(cube_path, sizeof(cube_path), "%s/cube.obj", folder_name);
+            std::remove(cube_path);
+            rmdir(folder_name);
+        });
+        return name;
+    }();
+    return folder;
+}
+
+std::string WriteTemp(const std::string& suffix, const std::uint8_t* data, std::size_t size) {
+    std::string name = Folder() + "/input-XXXXXX" + suffix;
+    const int fd = mkstemps(name.data(), static_cast<int>(suffix.size()));
+    if (fd < 0) Fail("mkstemps");
+    std::size_t written = 0;
+    while (written < size) {
+        const ssize_t n = write(fd, data + written, size - written);
+        if (n <= 0) Fail("write");
+        written += static_cast<std::size_t>(n);
+    }
+    close(fd);
+    return name;
+}
+
+void CheckMeshes(const std::vector<Mesh>& meshes) {
+    for (const Mesh& mesh : meshes) {
+        if (mesh.indices.size() % 3 != 0) Fail("mesh index count not a multiple of 3");
+        for (std::uint32_t index : mesh.indices) {
+            if (index >= mesh.positions.size()) Fail("mesh index out of range");
+        }
+        if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) {
+            Fail("mesh normals do not match positions");
+        }
+    }
+}
+
+}  // namespace
+}  // namespace lixel::fuzz
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    if (size == 0) return 0;
+    static const char* const kSuffix[] = {".obj", ".gltf", ".glb", ".scene"};
+    const int format = data[0] % 4;
+    const std::string path = lixel::fuzz::WriteTemp(kSuffix[format], data + 1, size - 1);
+    if (format < 3) {
+        const auto meshes = lixel::eval::LoadMeshes(path);
+        if (meshes) lixel::fuzz::CheckMeshes(*meshes);
+    } else {
+        const auto scene = lixel::eval::LoadSceneFile(path);
+        if (scene) lixel::fuzz::CheckMeshes(scene->meshes);
+    }
+    std::remove(path.c_str());
+    return 0;
+}

@@ -1,0 +1,88 @@
+// fuzz_scheduler: PlanShadowMaps on structured random requests (FuzzedDataProvider): a viewer,
+// a light, up to 8 objects (some with a box mesh), up to 4 planes (some bounded), budgets,
+// texture limits and passes. No crash; an ok() plan is finite, within its budget, and its
+// lookup answers an index into its maps.
+#include "fuzz_input.h"
+
+#include <lixel/solver/homogeneous.h>
+#include <lixel/solver/mesh.h>
+#include <lixel/solver/scheduler.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace lixel::fuzz {
+namespace {
+
+// A unit cube, closed and counter-clockwise, for objects that carry a mesh.
+const Mesh& UnitCube() {
+    static const Mesh cube = [] {
+        Mesh m;
+        m.name = "cube";
+        for (int i = 0; i < 8; ++i) {
+            m.positions.emplace_back(static_cast<float>(i & 1), static_cast<float>((i >> 1) & 1),
+                                     static_cast<float>((i >> 2) & 1));
+        }
+        m.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                     2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+        m.closed = true;
+        return m;
+    }();
+    return cube;
+}
+
+PlanRequest PickRequest(FuzzedDataProvider& in) {
+    PlanRequest r;
+    r.viewer = PickViewer(in);
+    r.viewport = {PickSide(in), PickSide(in)};
+    switch (in.ConsumeIntegral<std::uint8_t>() % 3) {
+        case 0: r.light = Point(PickVec3(in)); break;
+        case 1: r.light = Direction(PickVec3(in)); break;
+        default: r.light = PickVec4(in); break;
+    }
+    const int objects = in.ConsumeIntegralInRange<int>(0, 8);
+    for (int i = 0; i < objects; ++i) {
+        SceneObject o;
+        o.name = "object " + std::to_string(i);
+        o.bounds.min = PickVec3(in);
+        o.bounds.max = o.bounds.min + Vec3::Constant(in.ConsumeBool() ? 1.0 : PickDouble(in));
+        if (in.ConsumeBool()) {
+            o.mesh = &UnitCube();
+            o.bounds = UnitCube().Bounds();
+        }
+        o.closed = in.ConsumeBool();
+        r.objects.push_back(o);
+    }
+    if (in.ConsumeBool()) {
+        r.scene_bounds.min = PickVec3(in);
+        r.scene_bounds.max = PickVec3(in);
+    }
+    const int planes = in.ConsumeIntegralInRange<int>(0, 4);
+    for (int i = 0; i < planes; ++i) {
+        PlaneOfInterest p;
+        p.name = "plane " + std::to_string(i);
+        p.plane = in.ConsumeBool() ? Vec4(0.0, 1.0, 0.0, PickDouble(in)) : PickVec4(in);
+        p.polygon.resize(in.ConsumeBool() ? 0 : in.ConsumeIntegralInRange<int>(0, 6));
+        for (Vec3& v : p.polygon) v = PickVec3(in);
+        r.planes.push_back(p);
+    }
+    if (in.ConsumeBool()) r.lixel_budget = in.ConsumeIntegral<std::int64_t>();
+    if (in.ConsumeBool()) r.fallback_floor = in.ConsumeIntegral<std::int64_t>();
+    if (in.ConsumeBool()) r.max_texture_size = in.ConsumeIntegral<int>();
+    r.passes.second_depth = in.ConsumeBool();
+    r.passes.silhouette_map = in.ConsumeBool();
+    r.passes.volumes = in.ConsumeBool();
+    return r;
+}
+
+}  // namespace
+}  // namespace lixel::fuzz
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    FuzzedDataProvider in(data, size);
+    const lixel::PlanRequest request = lixel::fuzz::PickRequest(in);
+    const auto plan = lixel::PlanShadowMaps(request);
+    if (plan) lixel::fuzz::CheckPlan(request, *plan, in);
+    return 0;
+}

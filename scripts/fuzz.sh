@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses (fuzz/, clang-14, ASan + UBSan) into build-fuzz/ (or
+# $LIXEL_FUZZ_BUILD_DIR) and runs each for LIXEL_FUZZ_SECONDS (default 20) over its seed corpus
+# fuzz/corpus/<harness>/. Fails on the first crash, leak, timeout or out-of-memory, leaving the
+# input in <build>/artifacts/. Harnesses to run can be named: scripts/fuzz.sh fuzz_solver.
+# New inputs the fuzzer finds go to <build>/corpus/<harness>/, never into the committed seeds.
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build_dir=${LIXEL_FUZZ_BUILD_DIR:-$root/build-fuzz}
+seconds=${LIXEL_FUZZ_SECONDS:-20}
+jobs=${LIXEL_JOBS:-$(nproc)}
+harnesses=("$@")
+if ((${#harnesses[@]} == 0)); then
+    harnesses=(fuzz_request_decode fuzz_solver fuzz_mesh_load fuzz_scheduler)
+fi
+
+"$root/scripts/install_deps.sh"
+# -O1 -g with assertions on (Eigen's included): a failed assert is a crash the fuzzer reports.
+CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build_dir" -G Ninja \
+    -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" -DLIXEL_BUILD_FUZZ=ON \
+    -DLIXEL_BUILD_TESTS=OFF -DLIXEL_BUILD_BENCH=OFF -DLIXEL_BUILD_EXAMPLES=OFF >/dev/null
+cmake --build "$build_dir" --parallel "$jobs" --target "${harnesses[@]}"
+
+mkdir -p "$build_dir/artifacts"
+summary=()
+for h in "${harnesses[@]}"; do
+    mkdir -p "$build_dir/corpus/$h"
+    log="$build_dir/$h.log"
+    echo "lixel fuzz: $h for ${seconds} s"
+    status=0
+    # UBSan aborts (halt_on_error) so libFuzzer records the input; leaks are failures too.
+    ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
+    UBSAN_OPTIONS=halt_on_error=1:abort_on_error=1:print_stacktrace=1 \
+        "$build_dir/fuzz/$h" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+        -max_len=4096 -print_final_stats=1 -artifact_prefix="$build_dir/artifacts/$h-" \
+        "$build_dir/corpus/$h" "$root/fuzz/corpus/$h" >"$log" 2>&1 || status=$?
+    runs=$(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)
+    secs=$(grep -m1 -o 'Done [0-9]* runs in [0-9]* second' "$log" | awk '{print $5}' || true)
+    summary+=("$h: ${runs:-?} inputs in ${secs:-$seconds} s, exit $status")
+    if ((status != 0)); then
+        tail -n 60 "$log"
+        printf '%s\n' "${summary[@]}"
+        echo "lixel fuzz: $h failed; the input is in $build_dir/artifacts/ (log: $log)" >&2
+        exit 1
+    fi
+done
+printf '%s\n' "${summary[@]}"
