@@ -211,30 +211,24 @@ void TimePaired(benchmark::State& state, const GpuScene& scene, int side, PassFn
     SetCounters(state, scene, side);
 }
 
-void BM_DepthPass(benchmark::State& state) {
+// One depth-pass flavour (all faces, or second depth) against the paired bare draw.
+void DepthPassBenchmark(benchmark::State& state, FaceSelection faces) {
     Fixture& f = Get();
     const GpuScene& scene = SceneFor(state.range(0));
     const int side = static_cast<int>(state.range(1));
     const LightMap map = GridMap(side);
     DepthMap target;
     TimePaired(state, scene, side, [&] {
-        auto ok = f.renderer->depth().Render(scene, map, FaceSelection::kBoth, target);
+        auto ok = f.renderer->depth().Render(scene, map, faces, target);
         f.context->gl().Finish();
         benchmark::DoNotOptimize(ok);
     });
 }
 
+void BM_DepthPass(benchmark::State& state) { DepthPassBenchmark(state, FaceSelection::kBoth); }
+
 void BM_SecondDepthPass(benchmark::State& state) {
-    Fixture& f = Get();
-    const GpuScene& scene = SceneFor(state.range(0));
-    const int side = static_cast<int>(state.range(1));
-    const LightMap map = GridMap(side);
-    DepthMap target;
-    TimePaired(state, scene, side, [&] {
-        auto ok = f.renderer->depth().Render(scene, map, FaceSelection::kSecondDepth, target);
-        f.context->gl().Finish();
-        benchmark::DoNotOptimize(ok);
-    });
+    DepthPassBenchmark(state, FaceSelection::kSecondDepth);
 }
 
 // Corner depth map plus silhouette edges (the silhouette map needs both).
