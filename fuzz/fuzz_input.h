@@ -4,6 +4,7 @@
 
 #include <lixel/solver/camera.h>
 #include <lixel/solver/light_map.h>
+#include <lixel/solver/mesh.h>
 #include <lixel/solver/scheduler.h>
 #include <lixel/solver/types.h>
 
@@ -14,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 namespace lixel::fuzz {
 
@@ -126,6 +128,20 @@ inline void CheckPlan(const PlanRequest& request, const Plan& plan, FuzzedDataPr
         const Vec4 x = in.ConsumeBool() ? Vec4(PickVec3(in).homogeneous()) : PickVec4(in);
         const int index = LookupMap(plan, x);
         if (index < -1 || index >= static_cast<int>(plan.maps.size())) Fail("lookup index");
+    }
+}
+
+// Loaded or uploaded meshes are usable: whole triangles, indices inside the positions, normals
+// absent or one per position.
+inline void CheckMeshes(const std::vector<Mesh>& meshes) {
+    for (const Mesh& mesh : meshes) {
+        if (mesh.indices.size() % 3 != 0) Fail("mesh index count not a multiple of 3");
+        for (std::uint32_t index : mesh.indices) {
+            if (index >= mesh.positions.size()) Fail("mesh index out of range");
+        }
+        if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) {
+            Fail("mesh normals do not match positions");
+        }
     }
 }
 

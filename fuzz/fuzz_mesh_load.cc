@@ -55,18 +55,6 @@ std::string WriteTemp(const std::string& suffix, const std::uint8_t* data, std::
     return name;
 }
 
-void CheckMeshes(const std::vector<Mesh>& meshes) {
-    for (const Mesh& mesh : meshes) {
-        if (mesh.indices.size() % 3 != 0) Fail("mesh index count not a multiple of 3");
-        for (std::uint32_t index : mesh.indices) {
-            if (index >= mesh.positions.size()) Fail("mesh index out of range");
-        }
-        if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) {
-            Fail("mesh normals do not match positions");
-        }
-    }
-}
-
 }  // namespace
 }  // namespace lixel::fuzz
 

@@ -119,6 +119,33 @@ put("fuzz_mesh_load", "scene", b"\x03" + scene_file)
 put("fuzz_mesh_load", "scene_directional",
     b"\x03mesh cube.obj\nplane floor 0 1 0 0\nlight directional 0.3 1 0.2\n")
 
+# fuzz_upload: the upload limit in KiB (2 bytes), then records: kind (even header, odd data),
+# a 16-bit little-endian length, the bytes.
+def record(kind, payload):
+    return struct.pack("<BH", kind, len(payload)) + payload
+
+
+def upload(fmt, content, pieces, planes=""):
+    header = encode("SceneHeader", "format: %s total_bytes: %d %s" % (fmt, len(content), planes))
+    out = struct.pack("<H", 63) + record(0, header)
+    step = -(-len(content) // pieces)
+    for i in range(0, len(content), step):
+        out += record(1, content[i:i + step])
+    return out
+
+
+scene_bytes = encode("Scene", scene_text)
+floor = 'planes { name: "floor" plane { y: 1 } }'
+put("fuzz_upload", "lixel", upload("SCENE_FORMAT_LIXEL", scene_bytes, 3))
+put("fuzz_upload", "obj", upload("SCENE_FORMAT_OBJ", obj, 2, floor))
+put("fuzz_upload", "gltf", upload("SCENE_FORMAT_GLTF", gltf(
+    "data:application/octet-stream;base64," + base64.b64encode(binary).decode()), 1, floor))
+put("fuzz_upload", "glb", upload("SCENE_FORMAT_GLTF",
+                                 struct.pack("<4sII", b"glTF", 2, 12 + len(glb)) + glb, 2, floor))
+put("fuzz_upload", "short", upload("SCENE_FORMAT_LIXEL", scene_bytes, 2)[:-20])
+put("fuzz_upload", "two_headers", upload("SCENE_FORMAT_OBJ", obj, 1) +
+    record(0, encode("SceneHeader", "format: SCENE_FORMAT_OBJ total_bytes: 1")))
+
 # fuzz_solver and fuzz_scheduler read FuzzedDataProvider streams (integers from the end, bytes
 # from the front): seeds are fixed pseudo-random streams of a few lengths, one per entry point.
 rng = random.Random(12351)

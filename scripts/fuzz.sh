@@ -1,24 +1,23 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer harnesses (fuzz/, clang-14, ASan + UBSan) into build-fuzz/ (or
-# $LIXEL_FUZZ_BUILD_DIR) and runs each for LIXEL_FUZZ_SECONDS (default 20) over its seed corpus
-# fuzz/corpus/<harness>/. Fails on the first crash, leak, timeout or out-of-memory, leaving the
-# input in <build>/artifacts/. Harnesses to run can be named: scripts/fuzz.sh fuzz_solver.
-# New inputs the fuzzer finds go to <build>/corpus/<harness>/, never into the committed seeds.
+# Builds the libFuzzer harnesses (fuzz/) in the clang-14 ASan + UBSan build they share with the
+# sanitized test suite (scripts/lib/asan_build.sh; build-asan/ or $LIXEL_FUZZ_BUILD_DIR) and runs
+# each for LIXEL_FUZZ_SECONDS (default 20) over its seed corpus fuzz/corpus/<harness>/. Fails on
+# the first crash, leak, timeout or out-of-memory, leaving the input in <build>/artifacts/.
+# Harnesses to run can be named: scripts/fuzz.sh fuzz_solver. New inputs the fuzzer finds go to
+# <build>/corpus/<harness>/, never into the committed seeds.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-build_dir=${LIXEL_FUZZ_BUILD_DIR:-$root/build-fuzz}
+build_dir=${LIXEL_FUZZ_BUILD_DIR:-$root/build-asan}
 seconds=${LIXEL_FUZZ_SECONDS:-20}
 jobs=${LIXEL_JOBS:-$(nproc)}
 harnesses=("$@")
 if ((${#harnesses[@]} == 0)); then
-    harnesses=(fuzz_request_decode fuzz_solver fuzz_mesh_load fuzz_scheduler)
+    harnesses=(fuzz_request_decode fuzz_solver fuzz_mesh_load fuzz_scheduler fuzz_upload)
 fi
+source "$root/scripts/lib/asan_build.sh"
 
 "$root/scripts/install_deps.sh"
-# -O1 -g with assertions on (Eigen's included): a failed assert is a crash the fuzzer reports.
-CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build_dir" -G Ninja \
-    -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g" -DLIXEL_BUILD_FUZZ=ON \
-    -DLIXEL_BUILD_TESTS=OFF -DLIXEL_BUILD_BENCH=OFF -DLIXEL_BUILD_EXAMPLES=OFF >/dev/null
+configure_asan_build "$root" "$build_dir"
 cmake --build "$build_dir" --parallel "$jobs" --target "${harnesses[@]}"
 
 mkdir -p "$build_dir/artifacts"

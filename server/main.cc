@@ -1,6 +1,7 @@
 // lixel_server: flags only (DESIGN §1). Starts the Shadow service on an address, with its worker
-// pool, limits, optional TLS and bearer token, and the Prometheus endpoint.
+// pool, limits, optional TLS, bearer or per-client tokens, and the Prometheus endpoint.
 #include <lixel/render/context.h>
+#include <lixel/service/access.h>
 #include <lixel/service/server.h>
 
 #include <csignal>
@@ -39,6 +40,7 @@ void Usage() {
                  "  [--max_upload_mb=256] [--cache_mb=1024] [--memory_cap_mb=2048]\n"
                  "  [--max_response_mb=1024] [--max_calls_per_client=0]\n"
                  "  [--max_inflight_mb_per_client=0] [--token=SECRET | --token_file=PATH]\n"
+                 "  [--clients_file=PATH (lines \"<name> <token>\": one token per client)]\n"
                  "  [--tls_cert=PEM --tls_key=PEM [--tls_client_ca=PEM]]\n");
 }
 
@@ -82,6 +84,15 @@ int main(int argc, char** argv) {
                    std::isspace(static_cast<unsigned char>(options.service.bearer_token.back()))) {
                 options.service.bearer_token.pop_back();
             }
+        }
+        else if (key == "--clients_file") {
+            auto tokens = lixel::service::ParseClientTokens(ReadFile(value));
+            if (!tokens) {
+                std::fprintf(stderr, "lixel_server: %s: %s\n", value.c_str(),
+                             tokens.error().Message().c_str());
+                return 2;
+            }
+            options.service.client_tokens = std::move(*tokens);
         }
         else if (key == "--tls_cert") options.tls_certificate = ReadFile(value);
         else if (key == "--tls_key") options.tls_private_key = ReadFile(value);

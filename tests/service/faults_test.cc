@@ -24,31 +24,15 @@ extern char** environ;
 namespace lixel {
 namespace {
 
+using testing::BigRender;
 using testing::Connect;
+using testing::Eventually;
 using testing::RawStub;
 using testing::SmallScene;
 using testing::SmallServerOptions;
 using testing::StartServer;
 using testing::Target;
 using testing::WithDeadline;
-
-bool Eventually(const std::function<bool()>& done, double seconds = 10.0) {
-    const auto end = std::chrono::steady_clock::now() +
-                     std::chrono::milliseconds(static_cast<long>(seconds * 1000));
-    while (std::chrono::steady_clock::now() < end) {
-        if (done()) return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return done();
-}
-
-v1::RenderRequest BigRender(const std::string& scene_id) {
-    v1::RenderRequest request;
-    request.mutable_plan()->set_scene_id(scene_id);
-    request.mutable_plan()->set_lixel_budget(2048 * 2048);
-    request.mutable_plan()->mutable_passes()->set_second_depth(true);
-    return request;
-}
 
 // Opens a Render on a channel of its own, reads `chunks` messages, then drops the channel and
 // the context without cancelling or finishing: what a client process that dies looks like.
@@ -297,6 +281,20 @@ TEST(Faults, ARequestLargerThanEveryLimitIsResourceExhausted) {
         std::printf("[ figures  ] upload announcing %llu bytes: %s\n",
                     static_cast<unsigned long long>(announced), s.error_message().c_str());
     }
+    // The server's count says what the client saw: the upload refused at its header is
+    // RESOURCE_EXHAUSTED; the one gRPC broke off mid-stream is CANCELLED on the server (gRPC sent
+    // the client RESOURCE_EXHAUSTED), not an upload that merely ended short (INVALID_ARGUMENT).
+    const service::Metrics& metrics = server->service().state().metrics;
+    auto count = [&](const char* code) {
+        const std::string text = metrics.Serialize();
+        const std::string counter = std::string("lixel_requests_total{code=\"") + code +
+                                    "\",rpc=\"UploadScene\"} ";
+        const auto at = text.find(counter);
+        return at == std::string::npos ? 0.0 : std::stod(text.substr(at + counter.size(), 32));
+    };
+    EXPECT_TRUE(Eventually([&] { return count("CANCELLED") == 1.0; }));
+    EXPECT_EQ(count("RESOURCE_EXHAUSTED"), 1.0);
+    EXPECT_EQ(count("INVALID_ARGUMENT"), 0.0);
     // Still serving, the earlier scene intact.
     v1::PlanRequest plan;
     plan.set_scene_id(uploaded->scene_id());

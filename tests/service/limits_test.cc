@@ -14,10 +14,14 @@ namespace {
 
 using service::ClientLease;
 using service::ClientLimits;
+using testing::BigRender;
+using testing::CallSolve;
 using testing::Connect;
+using testing::Eventually;
 using testing::RawStub;
 using testing::SmallScene;
 using testing::SmallServerOptions;
+using testing::SmallSolve;
 using testing::StartServer;
 using testing::Target;
 using testing::WithDeadline;
@@ -77,50 +81,6 @@ TEST(ClientLimits, BytesInFlightCoverRequestsAndResponses) {
     EXPECT_EQ(limits.clients(), 0u);
 }
 
-// Polls until `done` holds (reactors give shares back in OnDone, after the client saw the end).
-bool Eventually(const std::function<bool()>& done) {
-    for (int i = 0; i < 500; ++i) {
-        if (done()) return true;
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return done();
-}
-
-v1::SolveRequest SmallSolve() {
-    v1::SolveRequest request;
-    v1::Camera* camera = request.add_views();
-    service::EncodeMat4(
-        Perspective(1.0, 1.0, 0.1, 100.0) * LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY()),
-        camera->mutable_viewer());
-    camera->set_width(256);
-    camera->set_height(256);
-    request.add_planes()->mutable_plane()->set_y(1.0);
-    v1::Light* light = request.add_lights();
-    light->mutable_position()->set_y(9);
-    light->mutable_position()->set_w(1);
-    service::EncodeVec3(Vec3(-10, 0, -5), request.mutable_bounds()->mutable_min());
-    service::EncodeVec3(Vec3(10, 8, 10), request.mutable_bounds()->mutable_max());
-    return request;
-}
-
-// A Render whose stream (tens of MiB) the client does not read: the call stays in flight.
-v1::RenderRequest BigRender(const std::string& scene_id) {
-    v1::RenderRequest request;
-    request.mutable_plan()->set_scene_id(scene_id);
-    request.mutable_plan()->set_lixel_budget(2048 * 2048);
-    request.mutable_plan()->mutable_passes()->set_second_depth(true);
-    return request;
-}
-
-grpc::Status CallSolve(v1::Shadow::Stub& stub, const v1::SolveRequest& request,
-                       const std::string& token = "", double deadline = 60.0) {
-    grpc::ClientContext context;
-    WithDeadline(context, deadline);
-    if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
-    v1::SolveResponse response;
-    return stub.Solve(&context, request, &response);
-}
-
 TEST(ClientLimitsService, ACallBeyondTheConcurrentLimitIsRefusedAndEveryPathGivesItBack) {
     service::ServerOptions options = SmallServerOptions("test-calls");
     options.service.max_calls_per_client = 1;
@@ -175,37 +135,6 @@ TEST(ClientLimitsService, ACallBeyondTheConcurrentLimitIsRefusedAndEveryPathGive
     auto maps = client->Render(BigRender(uploaded->scene_id()));
     ASSERT_TRUE(maps.ok()) << maps.error().Message();
     ASSERT_TRUE(Eventually([&] { return limits.clients() == 0; }));
-}
-
-TEST(ClientLimitsService, WithATokenTheTokenIsTheIdentityAndAuthorisationComesFirst) {
-    service::ServerOptions options = SmallServerOptions("test-calls-token");
-    options.service.bearer_token = "s3cret";
-    options.service.max_calls_per_client = 1;
-    auto server = StartServer(options);
-    ClientLimits& limits = server->service().state().limits;
-    auto client = Connect(Target(*server), "s3cret");
-    auto uploaded = client->UploadScene(SmallScene());
-    ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
-    // The upload's share goes back in its reactor's OnDone, just after the client saw the answer.
-    ASSERT_TRUE(Eventually([&] { return limits.clients() == 0; }));
-    auto stub = RawStub(Target(*server));
-    grpc::ClientContext held;
-    WithDeadline(held);
-    held.AddMetadata("authorization", "Bearer s3cret");
-    auto reader = stub->Render(&held, BigRender(uploaded->scene_id()));
-    v1::RenderChunk chunk;
-    ASSERT_TRUE(reader->Read(&chunk));
-    EXPECT_EQ(limits.calls("token:s3cret"), 1u);
-    EXPECT_EQ(limits.calls(kLoopback), 0u);
-    EXPECT_EQ(CallSolve(*stub, SmallSolve()).error_code(), grpc::StatusCode::UNAUTHENTICATED);
-    EXPECT_EQ(CallSolve(*stub, SmallSolve(), "s3cret").error_code(),
-              grpc::StatusCode::RESOURCE_EXHAUSTED);
-    held.TryCancel();
-    while (reader->Read(&chunk)) {
-    }
-    reader->Finish();
-    ASSERT_TRUE(Eventually([&] { return limits.clients() == 0; }));
-    EXPECT_TRUE(CallSolve(*stub, SmallSolve(), "s3cret").ok());
 }
 
 TEST(ClientLimitsService, BytesInFlightBoundRequestsUploadsAndAnswers) {

@@ -8,9 +8,11 @@
 #include <lixel/eval/builtin_scenes.h>
 #include <lixel/service/proto_convert.h>
 #include <lixel/service/server.h>
+#include <lixel/solver/camera.h>
 
 #include <chrono>
 #include <cstdlib>
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -72,6 +74,56 @@ inline std::unique_ptr<v1::Shadow::Stub> RawStub(const std::string& target) {
 inline void WithDeadline(grpc::ClientContext& context, double seconds = 60.0) {
     context.set_deadline(std::chrono::system_clock::now() +
                          std::chrono::milliseconds(static_cast<long>(seconds * 1000)));
+}
+
+// Polls until `done` holds (reactors give shares back in OnDone, just after the client saw the
+// end of its call; a killed server's successor takes a moment to start).
+inline bool Eventually(const std::function<bool()>& done, double seconds = 10.0) {
+    const auto end = std::chrono::steady_clock::now() +
+                     std::chrono::milliseconds(static_cast<long>(seconds * 1000));
+    while (std::chrono::steady_clock::now() < end) {
+        if (done()) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return done();
+}
+
+// A one-view, one-plane, one-light Solve at 256 x 256 pixels.
+inline v1::SolveRequest SmallSolve() {
+    v1::SolveRequest request;
+    v1::Camera* camera = request.add_views();
+    service::EncodeMat4(
+        Perspective(1.0, 1.0, 0.1, 100.0) * LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY()),
+        camera->mutable_viewer());
+    camera->set_width(256);
+    camera->set_height(256);
+    request.add_planes()->mutable_plane()->set_y(1.0);
+    v1::Light* light = request.add_lights();
+    light->mutable_position()->set_y(9);
+    light->mutable_position()->set_w(1);
+    service::EncodeVec3(Vec3(-10, 0, -5), request.mutable_bounds()->mutable_min());
+    service::EncodeVec3(Vec3(10, 8, 10), request.mutable_bounds()->mutable_max());
+    return request;
+}
+
+// A Render of tens of MiB (2048^2 lixels, second depth): a client that does not read its stream
+// keeps the call in flight.
+inline v1::RenderRequest BigRender(const std::string& scene_id) {
+    v1::RenderRequest request;
+    request.mutable_plan()->set_scene_id(scene_id);
+    request.mutable_plan()->set_lixel_budget(2048 * 2048);
+    request.mutable_plan()->mutable_passes()->set_second_depth(true);
+    return request;
+}
+
+// One Solve on a raw stub, with a bearer token when one is given.
+inline grpc::Status CallSolve(v1::Shadow::Stub& stub, const v1::SolveRequest& request,
+                              const std::string& token = "", double deadline = 60.0) {
+    grpc::ClientContext context;
+    WithDeadline(context, deadline);
+    if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
+    v1::SolveResponse response;
+    return stub.Solve(&context, request, &response);
 }
 
 }  // namespace lixel::testing

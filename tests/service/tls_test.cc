@@ -1,14 +1,7 @@
 // Tests for the service's TLS: a test CA made at test time signs the server's certificate (and a
 // client's, for mutual TLS); clients that trust the CA get in, plaintext clients do not.
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
-#include <unistd.h>
-
 #include "service_fixture.h"
+#include "test_ca.h"
 
 namespace lixel {
 namespace {
@@ -16,46 +9,7 @@ namespace {
 using testing::SmallScene;
 using testing::SmallServerOptions;
 using testing::StartServer;
-
-std::string Read(const std::filesystem::path& path) {
-    std::ifstream in(path);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-// A CA, a server certificate for 127.0.0.1 / localhost, and a client certificate, in a fresh
-// temporary folder, made with the openssl command.
-class TestCa {
-public:
-    TestCa() {
-        dir_ = std::filesystem::temp_directory_path() /
-               ("lixel-ca-" + std::to_string(::getpid()));
-        std::filesystem::create_directories(dir_);
-        const std::string d = dir_.string();
-        const std::string script =
-            "set -e; cd " + d + "; "
-            "openssl req -x509 -newkey rsa:2048 -nodes -days 1 -subj /CN=lixel-test-ca "
-            "-keyout ca.key -out ca.pem 2>/dev/null; "
-            "printf 'subjectAltName=IP:127.0.0.1,DNS:localhost' > san.ext; "
-            "openssl req -newkey rsa:2048 -nodes -subj /CN=localhost -keyout server.key "
-            "-out server.csr 2>/dev/null; "
-            "openssl x509 -req -in server.csr -CA ca.pem -CAkey ca.key -CAcreateserial -days 1 "
-            "-extfile san.ext -out server.pem 2>/dev/null; "
-            "openssl req -newkey rsa:2048 -nodes -subj /CN=lixel-client -keyout client.key "
-            "-out client.csr 2>/dev/null; "
-            "openssl x509 -req -in client.csr -CA ca.pem -CAkey ca.key -CAcreateserial -days 1 "
-            "-out client.pem 2>/dev/null";
-        ok_ = std::system(("bash -c '" + script + "'").c_str()) == 0;
-    }
-    ~TestCa() { std::filesystem::remove_all(dir_); }
-    bool ok() const { return ok_; }
-    std::string File(const char* name) const { return Read(dir_ / name); }
-
-private:
-    std::filesystem::path dir_;
-    bool ok_ = false;
-};
+using testing::TestCa;
 
 std::unique_ptr<client::Client> TlsClient(int port, const TestCa& ca, bool with_certificate,
                                           double deadline_seconds = 20.0) {

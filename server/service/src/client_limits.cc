@@ -117,10 +117,4 @@ std::string ClientLimits::PeerHost(const std::string& peer) {
     return std::string(p.substr(0, colon));
 }
 
-std::string ClientLimits::Identity(const grpc::CallbackServerContext& context,
-                                   const std::string& bearer_token) {
-    if (!bearer_token.empty()) return "token:" + bearer_token;
-    return PeerHost(context.peer());
-}
-
 }  // namespace lixel::service

@@ -170,19 +170,22 @@ grpc::Status SolveJob(const ServiceState& state, const v1::SolveRequest& request
     }
     std::vector<DecodedCamera> cameras;
     for (std::size_t i = 0; i < views; ++i) {
-        auto c = DecodeCamera(request.views(i), true, "views[" + std::to_string(i) + "]");
+        auto c = DecodeCamera(request.views(static_cast<int>(i)), true,
+                              "views[" + std::to_string(i) + "]");
         if (!c) return InvalidArgument(c.error());
         cameras.push_back(*c);
     }
     std::vector<PlaneOfInterest> plane_list;
     for (std::size_t i = 0; i < planes; ++i) {
-        auto p = DecodePlane(request.planes(i), i, "planes[" + std::to_string(i) + "]");
+        auto p = DecodePlane(request.planes(static_cast<int>(i)), i,
+                             "planes[" + std::to_string(i) + "]");
         if (!p) return InvalidArgument(p.error());
         plane_list.push_back(*p);
     }
     std::vector<Vec4> light_list;
     for (std::size_t i = 0; i < lights; ++i) {
-        auto l = DecodeLight(request.lights(i), true, "lights[" + std::to_string(i) + "]");
+        auto l = DecodeLight(request.lights(static_cast<int>(i)), true,
+                             "lights[" + std::to_string(i) + "]");
         if (!l) return InvalidArgument(l.error());
         light_list.push_back(*l);
     }

@@ -46,13 +46,15 @@ Result<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
         std::min<std::size_t>(options.max_receive_bytes, INT_MAX)));
     builder.SetMaxSendMessageSize(static_cast<int>(
         std::min<std::uint64_t>(options.service.max_response_bytes, INT_MAX)));
-    server->server_ = builder.BuildAndStart();
-    if (server->server_ == nullptr || server->port_ == 0) {
+    std::unique_ptr<grpc::Server> started = builder.BuildAndStart();
+    if (started == nullptr || server->port_ == 0) {
         return Error{"address", "cannot listen on " + options.address};
     }
+    // Workers may already be calling MarkServing (TSan found the unguarded store racing it).
     // NOT_SERVING until a worker reports a working GL context (which may have happened already).
     {
         std::lock_guard lock(server->health_mutex_);
+        server->server_ = std::move(started);
         server->server_->GetHealthCheckService()->SetServingStatus(
             server->service_->gl_ready());
     }
@@ -61,26 +63,36 @@ Result<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
 
 void Server::MarkServing() {
     std::lock_guard lock(health_mutex_);
-    if (server_ != nullptr) server_->GetHealthCheckService()->SetServingStatus(true);
+    if (server_ != nullptr && !shut_down_) {
+        server_->GetHealthCheckService()->SetServingStatus(true);
+    }
 }
 
 Server::~Server() { Shutdown(); }
 
 void Server::Wait() {
-    if (server_) server_->Wait();
+    grpc::Server* server = nullptr;
+    {
+        std::lock_guard lock(health_mutex_);
+        server = server_.get();
+    }
+    if (server != nullptr) server->Wait();
 }
 
 void Server::Shutdown() {
-    std::unique_ptr<grpc::Server> server;
-    {
-        std::lock_guard lock(health_mutex_);
-        server = std::move(server_);
-    }
-    if (server) {
-        server->Shutdown();
-        server->Wait();
-    }
-    service_.reset();
+    std::call_once(shutdown_once_, [this] {
+        grpc::Server* server = nullptr;
+        {
+            std::lock_guard lock(health_mutex_);
+            shut_down_ = true;
+            server = server_.get();
+        }
+        if (server != nullptr) {
+            server->Shutdown();
+            server->Wait();
+        }
+        service_.reset();
+    });
 }
 
 }  // namespace lixel::service

@@ -1,6 +1,9 @@
 // The gRPC reactors: authorise, queue the job on the pool, answer, log and count.
 #include <lixel/service/shadow_service.h>
 
+#include <lixel/service/access.h>
+#include <lixel/service/upload_assembler.h>
+
 #include <chrono>
 #include <cstdio>
 #include <string_view>
@@ -81,7 +84,11 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::SceneChunk> {
 public:
     UploadReactor(ShadowService& service, grpc::CallbackServerContext* context,
                   v1::UploadSceneResponse* response)
-        : service_(service), context_(context), response_(response), start_(Clock::now()) {
+        : service_(service),
+          context_(context),
+          response_(response),
+          start_(Clock::now()),
+          upload_(service.state().options.max_upload_bytes) {
         grpc::Status status;
         if (!service_.Admit(context_, 0, &lease_, &status)) {
             Done(status);
@@ -95,72 +102,53 @@ public:
             Complete();
             return;
         }
-        const std::uint64_t limit = service_.state().options.max_upload_bytes;
-        if (!have_header_) {
-            if (!chunk_.has_header()) {
-                Done(InvalidArgument(Error{"chunks[0]", "must be the header"}));
-                return;
-            }
-            header_ = chunk_.header();
-            have_header_ = true;
-            if (header_.total_bytes() == 0) {
-                Done(InvalidArgument(Error{"header.total_bytes", "must be at least 1"}));
-                return;
-            }
-            if (header_.total_bytes() > limit) {
-                Done(grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                                  "header.total_bytes: " + std::to_string(header_.total_bytes()) +
-                                      " bytes, over the upload limit of " +
-                                      std::to_string(limit)));
-                return;
-            }
-            // The whole upload counts against the caller's bytes in flight from its header on.
-            if (grpc::Status held = lease_.Grow(header_.total_bytes(), "upload"); !held.ok()) {
+        const bool header = !upload_.has_header();
+        if (grpc::Status added = upload_.Add(chunk_); !added.ok()) {
+            Done(added);
+            return;
+        }
+        // The whole upload counts against the caller's bytes in flight from its header on.
+        if (header) {
+            if (grpc::Status held = lease_.Grow(upload_.header().total_bytes(), "upload");
+                !held.ok()) {
                 Done(held);
                 return;
             }
-            content_.reserve(header_.total_bytes());
-        } else {
-            if (chunk_.has_header()) {
-                Done(InvalidArgument(Error{"chunks[" + std::to_string(chunks_) + "]",
-                                           "a second header"}));
-                return;
-            }
-            if (content_.size() + chunk_.data().size() > header_.total_bytes()) {
-                Done(InvalidArgument(Error{"chunks[" + std::to_string(chunks_) + "]",
-                                           "more bytes than header.total_bytes announced"}));
-                return;
-            }
-            content_ += chunk_.data();
         }
-        ++chunks_;
         StartRead(&chunk_);
     }
 
-    void OnDone() override { delete this; }
+    // Logged and counted here, once the call is over: a stream gRPC broke off (a client that
+    // cancelled or went away, a deadline, a message over the receive limit) ends in OnReadDone
+    // like a client that stopped sending early, but the client never saw the status Done chose.
+    void OnDone() override {
+        grpc::Status delivered = status_;
+        if (context_->IsCancelled()) {
+            delivered = grpc::Status(
+                grpc::StatusCode::CANCELLED,
+                "stream: broken off before the answer (a cancel, a deadline, a lost client, or a "
+                "message over the receive limit, which gRPC answers RESOURCE_EXHAUSTED); after " +
+                    std::to_string(upload_.content().size()) + " bytes");
+        }
+        service_.Record("UploadScene", delivered, Since(start_),
+                        delivered.ok() ? response_->scene_id() : std::string());
+        delete this;
+    }
 
 private:
     void Complete() {
-        if (!have_header_) {
-            Done(InvalidArgument(Error{"chunks", "empty upload: no header"}));
-            return;
-        }
-        if (content_.size() != header_.total_bytes()) {
-            Done(InvalidArgument(Error{"chunks", "ended after " + std::to_string(content_.size()) +
-                                                     " of " +
-                                                     std::to_string(header_.total_bytes()) +
-                                                     " bytes"}));
+        if (grpc::Status complete = upload_.Finish(); !complete.ok()) {
+            Done(complete);
             return;
         }
         const bool queued = service_.pool().TrySubmit([this](int) {
-            Done(UploadJob(service_.state(), header_, content_, response_));
+            Done(UploadJob(service_.state(), upload_.header(), upload_.content(), response_));
         });
         if (!queued) Done(QueueFull(service_.state().options.queue_capacity));
     }
 
     void Done(const grpc::Status& status) {
-        service_.Record("UploadScene", status, Since(start_),
-                        status.ok() ? response_->scene_id() : std::string());
+        status_ = status;
         Finish(status);
     }
 
@@ -169,10 +157,8 @@ private:
     v1::UploadSceneResponse* response_;
     Clock::time_point start_;
     v1::SceneChunk chunk_;
-    v1::SceneHeader header_;
-    bool have_header_ = false;
-    std::size_t chunks_ = 0;
-    std::string content_;
+    UploadAssembler upload_;
+    grpc::Status status_;
     ClientLease lease_;  // released with the reactor, in OnDone
 };
 
@@ -272,25 +258,12 @@ ShadowService::ShadowService(ServiceOptions options, const std::string& metrics_
 
 ShadowService::~ShadowService() { pool_.reset(); }
 
-bool ShadowService::Authorized(grpc::CallbackServerContext* context, grpc::Status* status) const {
-    const std::string& token = state_.options.bearer_token;
-    if (token.empty()) return true;
-    const auto& metadata = context->client_metadata();
-    const auto it = metadata.find("authorization");
-    if (it != metadata.end() &&
-        std::string_view(it->second.data(), it->second.size()) == "Bearer " + token) {
-        return true;
-    }
-    *status = grpc::Status(grpc::StatusCode::UNAUTHENTICATED,
-                           "authorization: missing or wrong bearer token");
-    return false;
-}
-
 bool ShadowService::Admit(grpc::CallbackServerContext* context, std::uint64_t request_bytes,
                           ClientLease* lease, grpc::Status* status) {
-    if (!Authorized(context, status)) return false;
-    *status = state_.limits.Acquire(ClientLimits::Identity(*context, state_.options.bearer_token),
-                                    request_bytes, lease);
+    std::string identity;
+    *status = IdentifyCaller(*context, state_.options, &identity);
+    if (!status->ok()) return false;
+    *status = state_.limits.Acquire(identity, request_bytes, lease);
     return status->ok();
 }
 

@@ -55,10 +55,6 @@ class ClientLimits {
     // Identities holding at least one call.
     std::size_t clients() const;
 
-    // The identity of a call: its bearer token when the server checks one (every holder of the
-    // token shares one budget), else the host part of context->peer() ("ipv4:127.0.0.1").
-    static std::string Identity(const grpc::CallbackServerContext& context,
-                                const std::string& bearer_token);
     // The host part of a gRPC peer string: "ipv4:127.0.0.1:5000" -> "ipv4:127.0.0.1",
     // "ipv6:[::1]:5000" -> "ipv6:[::1]".
     static std::string PeerHost(const std::string& peer);

@@ -33,15 +33,20 @@ public:
     ShadowService& service() noexcept { return *service_; }
     // Blocks until Shutdown.
     void Wait();
+    // Stops taking calls, lets those in flight end, then stops the workers. Safe from any thread
+    // and more than once (later calls wait for the first); the gRPC server object itself lives
+    // until ~Server, so a thread still returning from Wait() never meets a freed one.
     void Shutdown();
 
 private:
     Server() = default;
     void MarkServing();
 
-    std::mutex health_mutex_;
+    std::mutex health_mutex_;  // guards server_'s health status against workers' MarkServing
+    std::once_flag shutdown_once_;
+    bool shut_down_ = false;  // under health_mutex_
     std::unique_ptr<ShadowService> service_;
-    std::unique_ptr<grpc::Server> server_;
+    std::unique_ptr<grpc::Server> server_;  // set once in Start, before any Wait or Shutdown
     int port_ = 0;
 };
 

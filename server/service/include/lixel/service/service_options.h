@@ -4,6 +4,7 @@
 #include <lixel/render/context.h>
 
 #include <cstdint>
+#include <map>
 #include <string>
 
 namespace lixel::service {
@@ -17,9 +18,13 @@ struct ServiceOptions {
     std::uint64_t memory_cap_bytes = 2ull << 30;      // maps of one request (w * h * 4 * passes)
     std::uint64_t max_response_bytes = 1ull << 30;    // bytes one Render or View may return
     std::uint64_t max_view_pixels = 4096ull * 4096ull;  // View's viewport
-    std::string bearer_token;  // when set, every call needs "authorization: Bearer <token>"
-    // Per client (the bearer token when set, else the peer's host; every holder of the token
-    // shares one budget): calls at once, and request plus response bytes those calls hold.
+    // Tokens (access.h). With either set, every call needs "authorization: Bearer <token>" naming
+    // one of them. bearer_token is shared by its holders; client_tokens maps each client's own
+    // token to its name, which is then the client's identity for the limits below.
+    std::string bearer_token;
+    std::map<std::string, std::string> client_tokens;  // token -> client name
+    // Per client (its name from client_tokens, else its mutual-TLS certificate subject, else the
+    // peer's host): calls at once, and request plus response bytes those calls hold.
     // 0 means no limit; beyond either, RESOURCE_EXHAUSTED naming the limit.
     std::uint64_t max_calls_per_client = 0;
     std::uint64_t max_bytes_in_flight_per_client = 0;

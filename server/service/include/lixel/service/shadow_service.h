@@ -49,8 +49,8 @@ public:
     void BreakWorkerContext(int worker);
 
     // Shared plumbing of the reactors (public for them; not part of the API).
-    bool Authorized(grpc::CallbackServerContext* context, grpc::Status* status) const;
-    // Authorises, then takes the caller's per-client share for a call of `request_bytes`.
+    // Authorises and names the caller (access.h), then takes its per-client share for a call
+    // of `request_bytes`.
     bool Admit(grpc::CallbackServerContext* context, std::uint64_t request_bytes,
                ClientLease* lease, grpc::Status* status);
     void Record(const char* rpc, const grpc::Status& status, double seconds,
