@@ -164,23 +164,14 @@ TEST(ClientIdentity, MutualTlsClientsAreCountedByCertificateSubject) {
     TestCa ca;
     ASSERT_TRUE(ca.ok()) << "openssl could not make the test CA";
     service::ServerOptions options = SmallServerOptions("test-mtls-identity");
-    options.tls_certificate = ca.File("server.pem");
-    options.tls_private_key = ca.File("server.key");
-    options.tls_client_ca = ca.File("ca.pem");
+    ca.ServeTls(options, true);
     options.service.max_calls_per_client = 1;
     auto server = StartServer(options);
     ClientLimits& limits = server->service().state().limits;
     auto first = MutualTlsStub(server->port(), ca, "client");
     auto second = MutualTlsStub(server->port(), ca, "client2");
 
-    client::ClientOptions tls;
-    tls.target = "127.0.0.1:" + std::to_string(server->port());
-    tls.tls_root_certificate = ca.File("ca.pem");
-    tls.tls_server_name = "localhost";
-    tls.tls_client_certificate = ca.File("client.pem");
-    tls.tls_client_key = ca.File("client.key");
-    tls.deadline_seconds = 60.0;
-    auto uploaded = client::Client::Connect(tls).value()->UploadScene(SmallScene());
+    auto uploaded = ca.Client(server->port(), "client", 60.0)->UploadScene(SmallScene());
     ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
     ASSERT_TRUE(Eventually([&] { return limits.clients() == 0; }));
     {

@@ -3,9 +3,13 @@
 // lixel-client-2) for mutual TLS, in a fresh temporary folder removed afterwards.
 #pragma once
 
+#include <lixel/client/client.h>
+#include <lixel/service/server.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -49,6 +53,29 @@ public:
         std::ostringstream text;
         text << in.rdbuf();
         return text.str();
+    }
+
+    // Serves TLS with the server certificate; `mutual`: clients must present one the CA signed.
+    void ServeTls(service::ServerOptions& options, bool mutual) const {
+        options.tls_certificate = File("server.pem");
+        options.tls_private_key = File("server.key");
+        if (mutual) options.tls_client_ca = File("ca.pem");
+    }
+
+    // A client that trusts the CA, with `certificate` ("client", "client2") or none ("").
+    std::unique_ptr<client::Client> Client(int port, const std::string& certificate,
+                                           double deadline_seconds = 20.0) const {
+        client::ClientOptions options;
+        options.target = "127.0.0.1:" + std::to_string(port);
+        options.tls_root_certificate = File("ca.pem");
+        options.tls_server_name = "localhost";
+        options.deadline_seconds = deadline_seconds;
+        options.retries = 0;
+        if (!certificate.empty()) {
+            options.tls_client_certificate = File(certificate + ".pem");
+            options.tls_client_key = File(certificate + ".key");
+        }
+        return std::move(client::Client::Connect(options)).value();
     }
 
 private:

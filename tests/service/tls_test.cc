@@ -11,29 +11,13 @@ using testing::SmallServerOptions;
 using testing::StartServer;
 using testing::TestCa;
 
-std::unique_ptr<client::Client> TlsClient(int port, const TestCa& ca, bool with_certificate,
-                                          double deadline_seconds = 20.0) {
-    client::ClientOptions options;
-    options.target = "127.0.0.1:" + std::to_string(port);
-    options.tls_root_certificate = ca.File("ca.pem");
-    options.tls_server_name = "localhost";
-    options.deadline_seconds = deadline_seconds;
-    options.retries = 0;
-    if (with_certificate) {
-        options.tls_client_certificate = ca.File("client.pem");
-        options.tls_client_key = ca.File("client.key");
-    }
-    return std::move(client::Client::Connect(options)).value();
-}
-
 TEST(ServiceTls, TrustedClientsGetInAndPlaintextOnesDoNot) {
     TestCa ca;
     ASSERT_TRUE(ca.ok()) << "openssl could not make the test CA";
     service::ServerOptions options = SmallServerOptions("test-tls");
-    options.tls_certificate = ca.File("server.pem");
-    options.tls_private_key = ca.File("server.key");
+    ca.ServeTls(options, false);
     auto server = StartServer(options);
-    auto trusted = TlsClient(server->port(), ca, false);
+    auto trusted = ca.Client(server->port(), "");
     auto uploaded = trusted->UploadScene(SmallScene());
     ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
 
@@ -53,14 +37,12 @@ TEST(ServiceTls, MutualTlsWantsAClientCertificate) {
     TestCa ca;
     ASSERT_TRUE(ca.ok());
     service::ServerOptions options = SmallServerOptions("test-mtls");
-    options.tls_certificate = ca.File("server.pem");
-    options.tls_private_key = ca.File("server.key");
-    options.tls_client_ca = ca.File("ca.pem");
+    ca.ServeTls(options, true);
     auto server = StartServer(options);
-    auto with = TlsClient(server->port(), ca, true);
+    auto with = ca.Client(server->port(), "client");
     auto uploaded = with->UploadScene(SmallScene());
     EXPECT_TRUE(uploaded.ok()) << uploaded.error().Message();
-    auto without = TlsClient(server->port(), ca, false, 3.0);
+    auto without = ca.Client(server->port(), "", 3.0);
     auto refused = without->UploadScene(SmallScene());
     EXPECT_FALSE(refused.ok());
 }
