@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "echo.grpc.pb.h"
+#include "floor_solve.h"
 #include "ratio_reporter.h"
 
 namespace lixel {
@@ -105,23 +106,7 @@ service::Server& Lixel() {
 std::string Target(service::Server& s) { return "127.0.0.1:" + std::to_string(s.port()); }
 
 v1::SolveRequest FloorSolve() {
-    v1::SolveRequest request;
-    v1::Camera* camera = request.add_views();
-    service::EncodeMat4(Perspective(1.0, 1.0, 0.1, 100.0) *
-                            LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY()),
-                        camera->mutable_viewer());
-    camera->set_width(1024);
-    camera->set_height(1024);
-    v1::PlaneOfInterest* floor = request.add_planes();
-    floor->mutable_plane()->set_y(1.0);
-    v1::Light* light = request.add_lights();
-    light->mutable_position()->set_x(4);
-    light->mutable_position()->set_y(9);
-    light->mutable_position()->set_z(3);
-    light->mutable_position()->set_w(1);
-    service::EncodeVec3(Vec3(-10, 0, -5), request.mutable_bounds()->mutable_min());
-    service::EncodeVec3(Vec3(10, 8, 10), request.mutable_bounds()->mutable_max());
-    return request;
+    return lixel::testing::FloorSolve(1024, Vec3(0, 3, 8), Vec3(4, 9, 3));
 }
 
 // `callers` threads each making calls until `total` are done; per-call latencies in seconds.

@@ -8,7 +8,6 @@
 #include <lixel/eval/builtin_scenes.h>
 #include <lixel/service/proto_convert.h>
 #include <lixel/service/server.h>
-#include <lixel/solver/camera.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -16,6 +15,8 @@
 #include <memory>
 #include <string>
 #include <thread>
+
+#include "floor_solve.h"
 
 namespace lixel::testing {
 
@@ -88,23 +89,8 @@ inline bool Eventually(const std::function<bool()>& done, double seconds = 10.0)
     return done();
 }
 
-// A one-view, one-plane, one-light Solve at 256 x 256 pixels.
-inline v1::SolveRequest SmallSolve() {
-    v1::SolveRequest request;
-    v1::Camera* camera = request.add_views();
-    service::EncodeMat4(
-        Perspective(1.0, 1.0, 0.1, 100.0) * LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY()),
-        camera->mutable_viewer());
-    camera->set_width(256);
-    camera->set_height(256);
-    request.add_planes()->mutable_plane()->set_y(1.0);
-    v1::Light* light = request.add_lights();
-    light->mutable_position()->set_y(9);
-    light->mutable_position()->set_w(1);
-    service::EncodeVec3(Vec3(-10, 0, -5), request.mutable_bounds()->mutable_min());
-    service::EncodeVec3(Vec3(10, 8, 10), request.mutable_bounds()->mutable_max());
-    return request;
-}
+// A one-view, one-plane, one-light Solve at 256 x 256 pixels, the light above the origin.
+inline v1::SolveRequest SmallSolve() { return FloorSolve(256, Vec3(0, 3, 8), Vec3(0, 9, 0)); }
 
 // A Render of tens of MiB (2048^2 lixels, second depth): a client that does not read its stream
 // keeps the call in flight.

@@ -54,24 +54,7 @@ protected:
     }
 
     static v1::SolveRequest FloorSolve() {
-        v1::SolveRequest request;
-        v1::Camera* camera = request.add_views();
-        service::EncodeMat4(Perspective(1.0, 1.0, 0.1, 100.0) *
-                                LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY()),
-                            camera->mutable_viewer());
-        camera->set_width(256);
-        camera->set_height(256);
-        v1::PlaneOfInterest* floor = request.add_planes();
-        floor->set_name("floor");
-        floor->mutable_plane()->set_y(1.0);
-        v1::Light* light = request.add_lights();
-        light->mutable_position()->set_x(4);
-        light->mutable_position()->set_y(9);
-        light->mutable_position()->set_z(3);
-        light->mutable_position()->set_w(1);
-        service::EncodeVec3(Vec3(-10, 0, -5), request.mutable_bounds()->mutable_min());
-        service::EncodeVec3(Vec3(10, 8, 10), request.mutable_bounds()->mutable_max());
-        return request;
+        return testing::FloorSolve(256, Vec3(0, 3, 8), Vec3(4, 9, 3), "floor");
     }
 
     static service::Server* server_;

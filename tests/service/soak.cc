@@ -31,6 +31,8 @@
 #include <thread>
 #include <vector>
 
+#include "floor_solve.h"
+
 namespace {
 
 using namespace lixel;
@@ -99,22 +101,9 @@ v1::Scene SceneVariant(int i) {
 
 v1::SolveRequest SolveRequest(std::mt19937& rng) {
     std::uniform_real_distribution<double> jitter(-1.0, 1.0);
-    v1::SolveRequest request;
-    v1::Camera* camera = request.add_views();
-    service::EncodeMat4(Perspective(1.0, 1.0, 0.1, 100.0) *
-                            LookAt(Vec3(jitter(rng), 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY()),
-                        camera->mutable_viewer());
-    camera->set_width(256);
-    camera->set_height(256);
-    request.add_planes()->mutable_plane()->set_y(1.0);
-    v1::Light* light = request.add_lights();
-    light->mutable_position()->set_x(4 + jitter(rng));
-    light->mutable_position()->set_y(9);
-    light->mutable_position()->set_z(3);
-    light->mutable_position()->set_w(1);
-    service::EncodeVec3(Vec3(-10, 0, -5), request.mutable_bounds()->mutable_min());
-    service::EncodeVec3(Vec3(10, 8, 10), request.mutable_bounds()->mutable_max());
-    return request;
+    const double eye_x = jitter(rng);  // drawn in this order, so a seed gives the same calls
+    const double light_x = 4 + jitter(rng);
+    return lixel::testing::FloorSolve(256, Vec3(eye_x, 3, 8), Vec3(light_x, 9, 3));
 }
 
 // A unary call through the callback API, cancelled after `cancel_ms` when that is >= 0.

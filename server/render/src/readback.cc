@@ -13,42 +13,34 @@ Result<bool> Read(GlContext& context, const GlTexture& texture, GLenum format, G
     return context.Check(what);
 }
 
-FloatImage Sized(int width, int height, int channels) {
+// A float image of `channels` channels read from `texture` in `format`.
+Result<FloatImage> ReadFloats(GlContext& context, const GlTexture& texture, int width, int height,
+                              int channels, GLenum format, const char* what) {
     FloatImage image{width, height, channels, {}};
     image.pixels.resize(static_cast<std::size_t>(width) * height * channels);
+    if (auto ok = Read(context, texture, format, GL_FLOAT, image.pixels.size() * sizeof(float),
+                       image.pixels.data(), what);
+        !ok) {
+        return ok.error();
+    }
     return image;
 }
 
 }  // namespace
 
 Result<FloatImage> ReadDepth(GlContext& context, const DepthMap& map) {
-    FloatImage image = Sized(map.map.width, map.map.height, 1);
-    if (auto ok = Read(context, map.texture, GL_DEPTH_COMPONENT, GL_FLOAT,
-                       image.pixels.size() * sizeof(float), image.pixels.data(), "depth map");
-        !ok) {
-        return ok.error();
-    }
-    return image;
+    return ReadFloats(context, map.texture, map.map.width, map.map.height, 1, GL_DEPTH_COMPONENT,
+                      "depth map");
 }
 
 Result<FloatImage> ReadSilhouettePoints(GlContext& context, const SilhouetteMap& map) {
-    FloatImage image = Sized(map.map.width, map.map.height, 2);
-    if (auto ok = Read(context, map.points, GL_RG, GL_FLOAT, image.pixels.size() * sizeof(float),
-                       image.pixels.data(), "silhouette map");
-        !ok) {
-        return ok.error();
-    }
-    return image;
+    return ReadFloats(context, map.points, map.map.width, map.map.height, 2, GL_RG,
+                      "silhouette map");
 }
 
 Result<FloatImage> ReadMask(GlContext& context, const ViewImages& view) {
-    FloatImage image = Sized(view.viewport.width, view.viewport.height, 1);
-    if (auto ok = Read(context, view.mask, GL_RED, GL_FLOAT, image.pixels.size() * sizeof(float),
-                       image.pixels.data(), "view mask");
-        !ok) {
-        return ok.error();
-    }
-    return image;
+    return ReadFloats(context, view.mask, view.viewport.width, view.viewport.height, 1, GL_RED,
+                      "view mask");
 }
 
 Result<Rgb8Image> ReadPreview(GlContext& context, const ViewImages& view) {
