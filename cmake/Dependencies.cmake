@@ -19,15 +19,17 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(LIXEL_EGL REQUIRED IMPORTED_TARGET egl)        # libegl-dev
 pkg_check_modules(LIXEL_OSMESA REQUIRED IMPORTED_TARGET osmesa)  # libosmesa6-dev
 find_path(LIXEL_GLCOREARB_DIR GL/glcorearb.h REQUIRED)           # libgl-dev (headers only)
-find_package(PNG REQUIRED)                                       # libpng-dev
 find_package(OpenEXR 3 REQUIRED CONFIG)                          # libopenexr-dev
+
+# --- server/png: previews, mask and difference images ----------------------------------
+
+find_package(PNG REQUIRED)  # libpng-dev
 
 # --- server/eval: exact visibility, scenes ----------------------------------------------
 
 find_package(embree 3 REQUIRED)               # libembree-dev: ground-truth ray casting
 find_package(tinyobjloader REQUIRED)          # libtinyobjloader-dev: OBJ scenes
 find_package(TinyGLTF REQUIRED)               # libtinygltf-dev: glTF 2.0 scenes
-find_package(PNG REQUIRED)                    # libpng-dev: mask and difference images
 find_program(LIXEL_GNUPLOT gnuplot)           # gnuplot-nox: error_vs_time.png
 find_package(Threads REQUIRED)                # ground truth traces tiles on std::thread
 

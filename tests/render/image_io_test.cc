@@ -39,7 +39,9 @@ TEST(Pfm, RoundTripsOneTwoAndThreeChannelsBitExact) {
                 for (int c = 0; c < channels; ++c) {
                     ASSERT_EQ(read->at(x, y, c), image.at(x, y, c)) << x << "," << y << "," << c;
                 }
-                if (channels == 2) ASSERT_EQ(read->at(x, y, 2), 0.0f);
+                if (channels == 2) {
+                    ASSERT_EQ(read->at(x, y, 2), 0.0f);
+                }
             }
         }
         std::filesystem::remove(path);
@@ -93,6 +95,16 @@ TEST(Png, RoundTripsBytesWithRowOrder) {
     EXPECT_EQ(read->pixels, image.pixels);
     std::filesystem::remove(path);
     EXPECT_FALSE(ReadPng("/nonexistent/x.png").ok());
+    // A buffer one byte short, or an empty image, is refused naming the path; nothing is written.
+    const std::string refused = TempPath("refused.png");
+    image.pixels.pop_back();
+    for (const Rgb8Image& bad : {image, Rgb8Image{0, 5, {}}}) {
+        auto written = WritePng(refused, bad);
+        ASSERT_FALSE(written.ok());
+        EXPECT_EQ(written.error().field, refused);
+        EXPECT_NE(written.error().reason.find("3 * width * height"), std::string::npos);
+    }
+    EXPECT_FALSE(std::filesystem::exists(refused));
 }
 
 TEST(MaskPreview, GreyForLitFractionBlueForNoSurface) {

@@ -1,22 +1,13 @@
 // PNG output and the mask / difference images (png_image.h).
 #include <lixel/eval/png_image.h>
-#include <png.h>
+#include <lixel/png/rgb_png.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstdio>
 #include <cstring>
-#include <memory>
+#include <utility>
 
 namespace lixel::eval {
 namespace {
-
-struct FileCloser {
-    void operator()(std::FILE* f) const {
-        if (f) std::fclose(f);
-    }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
 
 void Put(RgbImage& image, int x, int y, const std::uint8_t (&c)[3]) {
     std::memcpy(image.At(x, y), c, 3);
@@ -39,56 +30,16 @@ const std::uint8_t (&TruthColour(Truth t))[3] {
 }  // namespace
 
 Result<bool> WritePng(const std::string& path, const RgbImage& image) {
-    if (image.width < 1 || image.height < 1 ||
-        image.rgb.size() != static_cast<std::size_t>(3) * image.width * image.height) {
-        return Error{path, "image is empty or its pixel buffer does not match its size"};
-    }
-    File file(std::fopen(path.c_str(), "wb"));
-    if (!file) return Error{path, std::string("cannot open for writing: ") + std::strerror(errno)};
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    if (!png) return Error{path, "png_create_write_struct failed"};
-    png_infop info = png_create_info_struct(png);
-    if (!info) {
-        png_destroy_write_struct(&png, nullptr);
-        return Error{path, "png_create_info_struct failed"};
-    }
-    std::vector<png_bytep> rows(image.height);
-    for (int y = 0; y < image.height; ++y) {
-        // PNG rows go top to bottom; ours bottom to top.
-        rows[y] = const_cast<png_bytep>(image.At(0, image.height - 1 - y));
-    }
-    if (setjmp(png_jmpbuf(png))) {
-        png_destroy_write_struct(&png, &info);
-        return Error{path, "libpng failed while writing"};
-    }
-    png_init_io(png, file.get());
-    png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
-                 static_cast<png_uint_32>(image.height), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    png_write_image(png, rows.data());
-    png_write_end(png, nullptr);
-    png_destroy_write_struct(&png, &info);
-    if (std::fflush(file.get()) != 0) {
-        return Error{path, std::string("write failed: ") + std::strerror(errno)};
-    }
-    return true;
+    return png::WriteRgb(path, image.width, image.height, image.rgb);
 }
 
 Result<RgbImage> ReadPng(const std::string& path) {
-    png_image png;
-    std::memset(&png, 0, sizeof(png));
-    png.version = PNG_IMAGE_VERSION;
-    if (!png_image_begin_read_from_file(&png, path.c_str())) {
-        return Error{path, std::string("cannot read PNG: ") + png.message};
-    }
-    png.format = PNG_FORMAT_RGB;
-    RgbImage image(static_cast<int>(png.width), static_cast<int>(png.height));
-    // Negative stride: libpng writes the top row last, so row 0 ends up at the bottom.
-    const png_int_32 stride = -static_cast<png_int_32>(PNG_IMAGE_ROW_STRIDE(png));
-    if (!png_image_finish_read(&png, nullptr, image.rgb.data(), stride, nullptr)) {
-        return Error{path, std::string("cannot decode PNG: ") + png.message};
-    }
+    auto read = png::ReadRgb(path);
+    if (!read) return read.error();
+    RgbImage image;
+    image.width = read->width;
+    image.height = read->height;
+    image.rgb = std::move(read->rgb);
     return image;
 }
 
