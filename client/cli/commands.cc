@@ -3,6 +3,7 @@
 
 #include <lixel/eval/progress.h>
 #include <lixel/render/image_io.h>
+#include <lixel/service/proto_convert.h>
 
 #include <cstdio>
 #include <cstring>
@@ -103,13 +104,8 @@ int SolveCommand(client::Client& client, const Flags& flags) {
     *request.add_lights() = loaded->message.default_light();
     for (const auto& p : loaded->message.planes()) *request.add_planes() = p;
     const Aabb b = loaded->scene.Bounds();
-    auto* bounds = request.mutable_bounds();
-    bounds->mutable_min()->set_x(b.min.x());
-    bounds->mutable_min()->set_y(b.min.y());
-    bounds->mutable_min()->set_z(b.min.z());
-    bounds->mutable_max()->set_x(b.max.x());
-    bounds->mutable_max()->set_y(b.max.y());
-    bounds->mutable_max()->set_z(b.max.z());
+    service::EncodeVec3(b.min, request.mutable_bounds()->mutable_min());
+    service::EncodeVec3(b.max, request.mutable_bounds()->mutable_max());
     auto budget = flags.Number("budget", 0.0);
     if (!budget) return Fail(budget.error());
     request.set_lixel_budget(static_cast<std::uint64_t>(*budget));

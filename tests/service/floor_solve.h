@@ -22,11 +22,8 @@ inline v1::SolveRequest FloorSolve(int side, const Vec3& eye, const Vec3& light,
     v1::PlaneOfInterest* floor = request.add_planes();
     if (!plane_name.empty()) floor->set_name(plane_name);
     floor->mutable_plane()->set_y(1.0);
-    v1::Vec4* position = request.add_lights()->mutable_position();
-    position->set_x(light.x());
-    position->set_y(light.y());
-    position->set_z(light.z());
-    position->set_w(1);
+    service::EncodeVec4(Vec4(light.x(), light.y(), light.z(), 1.0),
+                        request.add_lights()->mutable_position());
     service::EncodeVec3(Vec3(-10, 0, -5), request.mutable_bounds()->mutable_min());
     service::EncodeVec3(Vec3(10, 8, 10), request.mutable_bounds()->mutable_max());
     return request;

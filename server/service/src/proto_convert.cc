@@ -270,6 +270,13 @@ void EncodeVec3(const Vec3& v, v1::Vec3* out) {
     out->set_z(v.z());
 }
 
+void EncodeVec4(const Vec4& v, v1::Vec4* out) {
+    out->set_x(v.x());
+    out->set_y(v.y());
+    out->set_z(v.z());
+    out->set_w(v.w());
+}
+
 void EncodeLightMap(const LightMap& map, v1::LightMap* out) {
     EncodeMat4(map.matrix, out->mutable_matrix());
     out->set_width(static_cast<std::uint32_t>(map.width));
@@ -345,17 +352,10 @@ void EncodeScene(const SceneRecord& record, v1::Scene* out) {
     for (const PlaneOfInterest& p : scene.planes) {
         v1::PlaneOfInterest* pp = out->add_planes();
         pp->set_name(p.name);
-        pp->mutable_plane()->set_x(p.plane.x());
-        pp->mutable_plane()->set_y(p.plane.y());
-        pp->mutable_plane()->set_z(p.plane.z());
-        pp->mutable_plane()->set_w(p.plane.w());
+        EncodeVec4(p.plane, pp->mutable_plane());
         for (const Vec3& v : p.polygon) EncodeVec3(v, pp->add_polygon());
     }
-    v1::Vec4* light = out->mutable_default_light()->mutable_position();
-    light->set_x(scene.light.x());
-    light->set_y(scene.light.y());
-    light->set_z(scene.light.z());
-    light->set_w(scene.light.w());
+    EncodeVec4(scene.light, out->mutable_default_light()->mutable_position());
     v1::Camera* camera = out->mutable_default_camera();
     EncodeMat4(record.default_viewer, camera->mutable_viewer());
     camera->set_width(static_cast<std::uint32_t>(record.default_viewport.width));

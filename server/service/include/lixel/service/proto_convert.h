@@ -60,6 +60,7 @@ Result<SceneRecord> DecodeScene(const v1::Scene& message, const std::string& fie
 
 void EncodeMat4(const Mat4& m, v1::Mat4* out);
 void EncodeVec3(const Vec3& v, v1::Vec3* out);
+void EncodeVec4(const Vec4& v, v1::Vec4* out);
 void EncodeLightMap(const LightMap& map, v1::LightMap* out);
 void EncodeDiagnostics(const SolveDiagnostics& d, v1::SolveDiagnostics* out);
 void EncodePlan(const Plan& plan, v1::PlanResponse* out);
