@@ -3,7 +3,7 @@
 // primary-ray pass alone at 512^2 on 100k triangles (ratios are printed against it); the
 // single-ray rtcIntersect1 / rtcOccluded1 path is measured beside the stream path.
 #include <benchmark/benchmark.h>
-#include <lixel/eval/builtin_scenes.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/eval/ground_truth.h>
 
 #include <chrono>
@@ -13,6 +13,10 @@
 #include "ratio_reporter.h"
 
 namespace lixel::eval {
+
+using scene::Camera;
+using scene::Scene;
+using scene::SphereGridScene;
 namespace {
 
 struct Prepared {

@@ -4,7 +4,7 @@
 #include <benchmark/benchmark.h>
 #include <grpcpp/grpcpp.h>
 #include <lixel/client/client.h>
-#include <lixel/eval/builtin_scenes.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/service/proto_convert.h>
 #include <lixel/service/server.h>
 #include <lixel/solver/camera.h>
@@ -195,7 +195,7 @@ RenderScene& Scene() {
         client::ClientOptions options;
         options.target = Target(Lixel());
         s.client = std::move(client::Client::Connect(options)).value();
-        eval::Scene floor_wall = eval::FloorWallScene();
+        scene::Scene floor_wall = scene::FloorWallScene();
         v1::Scene message;
         service::EncodeScene(service::MakeSceneRecord(std::move(floor_wall)), &message);
         s.id = s.client->UploadScene(message)->scene_id();

@@ -1,11 +1,11 @@
 // fuzz_mesh_load: mesh and scene decoding (DESIGN §9) on uploaded bytes. The first byte picks
 // the format (OBJ, glTF JSON, GLB, scene file); the rest is written to a private temporary file
-// (mkstemps, as the service's upload does) and read by lixel::eval::LoadMeshes or
+// (mkstemps, as the service's upload does) and read by lixel::scene::LoadMeshes or
 // LoadSceneFile. Scene files sit in a folder with a small cube.obj their `mesh` lines can name.
 // No crash; every loaded mesh's indices lie inside its positions.
 #include "fuzz_input.h"
 
-#include <lixel/eval/scene_io.h>
+#include <lixel/scene/scene_io.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -64,10 +64,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const int format = data[0] % 4;
     const std::string path = lixel::fuzz::WriteTemp(kSuffix[format], data + 1, size - 1);
     if (format < 3) {
-        const auto meshes = lixel::eval::LoadMeshes(path);
+        const auto meshes = lixel::scene::LoadMeshes(path);
         if (meshes) lixel::fuzz::CheckMeshes(*meshes);
     } else {
-        const auto scene = lixel::eval::LoadSceneFile(path);
+        const auto scene = lixel::scene::LoadSceneFile(path);
         if (scene) lixel::fuzz::CheckMeshes(scene->meshes);
     }
     std::remove(path.c_str());

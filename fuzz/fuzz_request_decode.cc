@@ -35,7 +35,7 @@ constexpr std::size_t kMaxSolves = 8;
 // What an uploaded scene looks like once cached: a unit cube on a floor plane.
 const SceneRecord& CachedScene() {
     static const SceneRecord record = [] {
-        eval::Scene scene;
+        scene::Scene scene;
         scene.name = "fuzz";
         Mesh cube;
         cube.name = "cube";

@@ -1,8 +1,8 @@
 // Flag parsing and scene loading for the lixel CLI.
 #include "cli_options.h"
 
-#include <lixel/eval/builtin_scenes.h>
-#include <lixel/eval/scene_io.h>
+#include <lixel/scene/builtin_scenes.h>
+#include <lixel/scene/scene_io.h>
 #include <lixel/service/proto_convert.h>
 
 #include <cstdio>
@@ -99,7 +99,7 @@ Result<client::ClientOptions> ClientOptionsFrom(const Flags& flags) {
 
 Result<SceneSource> LoadNamedScene(const std::string& name, bool is_file) {
     SceneSource source;
-    auto scene = is_file ? eval::LoadSceneFile(name) : eval::BuiltinScene(name);
+    auto scene = is_file ? scene::LoadSceneFile(name) : scene::BuiltinScene(name);
     if (!scene) return scene.error();
     source.scene = std::move(scene).value();
     service::EncodeScene(service::MakeSceneRecord(source.scene), &source.message);

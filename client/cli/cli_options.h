@@ -2,7 +2,7 @@
 #pragma once
 
 #include <lixel/client/client.h>
-#include <lixel/eval/scene.h>
+#include <lixel/scene/scene.h>
 #include <lixel/solver/result.h>
 #include <lixel/v1/lixel.pb.h>
 
@@ -37,7 +37,7 @@ const std::set<std::string>& ConnectionFlags();
 // The scene a command works on: --scene=NAME (built in, default floor_wall) or
 // --scene_file=PATH (docs/scenes.md). Uploaded on first use.
 struct SceneSource {
-    eval::Scene scene;
+    scene::Scene scene;
     v1::Scene message;
 };
 Result<SceneSource> LoadScene(const Flags& flags);

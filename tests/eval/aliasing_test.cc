@@ -2,7 +2,7 @@
 // Jacobian against finite differences, and m = 1 on the plane of a plane-optimal map.
 #include <gtest/gtest.h>
 #include <lixel/eval/aliasing.h>
-#include <lixel/eval/builtin_scenes.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/eval/plan_metrics.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
@@ -14,6 +14,7 @@
 #include <random>
 
 namespace lixel::eval {
+using namespace lixel::scene;  // NOLINT: the scenes the metrics run on
 namespace {
 
 TEST(AliasingM, ClosedFormSingularValues) {

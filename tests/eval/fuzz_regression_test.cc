@@ -1,6 +1,6 @@
 // Scene loading fuzz regressions (scene_io.h): inputs fuzz/fuzz_mesh_load crashed on, reduced.
 // Each must come back as an Error naming the file, never as an exception or a crash.
-#include <lixel/eval/scene_io.h>
+#include <lixel/scene/scene_io.h>
 
 #include <gtest/gtest.h>
 
@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 namespace lixel::eval {
+using namespace lixel::scene;  // NOLINT: the scenes the metrics run on
 namespace {
 
 std::string WriteTemp(const std::string& suffix, const std::string& content) {

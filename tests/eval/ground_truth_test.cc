@@ -2,7 +2,7 @@
 // shadow of a sphere over a plane, the undecided band, and refused requests.
 #include <gtest/gtest.h>
 #include <lixel/eval/ground_truth.h>
-#include <lixel/eval/mesh_builders.h>
+#include <lixel/scene/mesh_builders.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
 
@@ -10,6 +10,7 @@
 #include <numbers>
 
 namespace lixel::eval {
+using namespace lixel::scene;  // NOLINT: the scenes the metrics run on
 namespace {
 
 constexpr double kRadius = 0.5;

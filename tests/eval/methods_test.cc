@@ -1,7 +1,7 @@
 // Tests for lixel::eval methods and report rows (methods.h, evaluate.h): every method plans
 // within its budget on every built-in scene, and a perfect mask scores zero error.
 #include <gtest/gtest.h>
-#include <lixel/eval/builtin_scenes.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/eval/evaluate.h>
 #include <lixel/eval/methods.h>
 #include <lixel/eval/plan_metrics.h>
@@ -9,6 +9,7 @@
 #include <set>
 
 namespace lixel::eval {
+using namespace lixel::scene;  // NOLINT: the scenes the metrics run on
 namespace {
 
 TEST(Methods, NamesAndPasses) {

@@ -5,7 +5,7 @@
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 #include <lixel/client/client.h>
-#include <lixel/eval/builtin_scenes.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/service/proto_convert.h>
 #include <lixel/service/server.h>
 
@@ -60,7 +60,7 @@ inline std::string Target(const service::Server& server) {
 
 // A small built-in scene as a message: the floor/wall room seen at 128 x 128 pixels.
 inline v1::Scene SmallScene() {
-    eval::Scene scene = eval::FloorWallScene();
+    scene::Scene scene = scene::FloorWallScene();
     scene.camera.viewport = {128, 128};
     v1::Scene message;
     service::EncodeScene(service::MakeSceneRecord(std::move(scene)), &message);

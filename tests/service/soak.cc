@@ -7,7 +7,7 @@
 // (not in ASan or TSan builds, whose shadow memory and quarantine make VmRSS no measure of lixel).
 #include <fcntl.h>
 #include <lixel/client/client.h>
-#include <lixel/eval/builtin_scenes.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/render/context.h>
 #include <lixel/service/proto_convert.h>
 #include <lixel/service/server.h>
@@ -91,7 +91,7 @@ bool Allowed(grpc::StatusCode code) {
 }
 
 v1::Scene SceneVariant(int i) {
-    eval::Scene scene = eval::FloorWallScene();
+    scene::Scene scene = scene::FloorWallScene();
     scene.camera.viewport = {128, 128};
     v1::Scene message;
     service::EncodeScene(service::MakeSceneRecord(std::move(scene)), &message);

@@ -2,7 +2,7 @@
 //   lixel_report [--out DIR] [--sweep] [--scene NAME|FILE.scene]... [--methods depth|all]
 //                [--budgets 65536,262144,...] [--repeats N] [--size WxH] [--gl egl|osmesa]
 //                [--no-plot] [--quiet]
-#include <lixel/eval/builtin_scenes.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/eval/report_runner.h>
 
 #include <cstdio>
@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
         auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
         if (flag == "--help" || flag == "-h") return Usage(nullptr);
         if (flag == "--sweep") {
-            options.scenes = lixel::eval::BuiltinSceneNames();
+            options.scenes = lixel::scene::BuiltinSceneNames();
             scenes_given = true;
         } else if (flag == "--scene") {
             const char* v = value();

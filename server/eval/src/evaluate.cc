@@ -6,13 +6,13 @@
 
 namespace lixel::eval {
 
-Result<ReportRow> EvaluateRun(const Scene& scene, const GroundTruth& truth, const Method& method,
+Result<ReportRow> EvaluateRun(const scene::Scene& scene, const GroundTruth& truth, const Method& method,
                               std::int64_t budget, const Plan& plan, const Mask& mask,
                               const StageTimes& times) {
     return EvaluateRun(scene, truth, method.Name(), budget, plan, mask, times);
 }
 
-Result<ReportRow> EvaluateRun(const Scene& scene, const GroundTruth& truth,
+Result<ReportRow> EvaluateRun(const scene::Scene& scene, const GroundTruth& truth,
                               const std::string& method_name, std::int64_t budget, const Plan& plan,
                               const Mask& mask, const StageTimes& times) {
     auto error = Misclassified(truth, mask);

@@ -344,7 +344,7 @@ Result<GroundTruth> ComputeGroundTruth(const RayScene& scene, const TruthRequest
     return out;
 }
 
-Result<GroundTruth> ComputeGroundTruth(const Scene& scene, const TruthOptions& options) {
+Result<GroundTruth> ComputeGroundTruth(const scene::Scene& scene, const TruthOptions& options) {
     auto rays = RayScene::Build(scene.meshes);
     if (!rays) return rays.error();
     TruthRequest request;

@@ -65,7 +65,7 @@ std::vector<Method> DepthMethods() {
 
 std::vector<std::int64_t> DefaultBudgets() { return {256 * 256, 512 * 512, 1024 * 1024}; }
 
-Result<Plan> PlanMethod(const Scene& scene, const Method& method, std::int64_t budget) {
+Result<Plan> PlanMethod(const scene::Scene& scene, const Method& method, std::int64_t budget) {
     PlanRequest request = scene.MakePlanRequest(budget);
     request.passes = method.Passes();
     if (method.fitting == Fitting::kPlaneOptimal) {

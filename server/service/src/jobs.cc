@@ -3,7 +3,7 @@
 #include <lixel/eval/misclassification.h>
 #include <lixel/eval/plan_metrics.h>
 #include <lixel/solver/camera.h>
-#include <lixel/eval/scene_io.h>
+#include <lixel/scene/scene_io.h>
 #include <lixel/service/jobs.h>
 #include <lixel/solver/baselines.h>
 #include <lixel/solver/homogeneous.h>
@@ -283,10 +283,10 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
             std::ofstream out(file, std::ios::binary);
             out.write(content.data(), static_cast<std::streamsize>(content.size()));
         }
-        auto meshes = eval::LoadMeshes(file);
+        auto meshes = scene::LoadMeshes(file);
         std::remove(file.c_str());
         if (!meshes) return InvalidArgument(Error{"content", meshes.error().reason});
-        eval::Scene scene;
+        scene::Scene scene;
         scene.meshes = std::move(*meshes);
         for (int i = 0; i < header.planes_size(); ++i) {
             auto p = DecodePlane(header.planes(i), i, "header.planes[" + std::to_string(i) + "]");

@@ -103,7 +103,7 @@ Result<PlaneOfInterest> DecodePlane(const v1::PlaneOfInterest& plane, std::size_
     return out;
 }
 
-SceneRecord MakeSceneRecord(eval::Scene scene) {
+SceneRecord MakeSceneRecord(scene::Scene scene) {
     SceneRecord record;
     record.default_viewer = scene.camera.Viewer();
     record.default_viewport = scene.camera.viewport;
@@ -120,7 +120,7 @@ SceneRecord MakeSceneRecord(eval::Scene scene) {
 
 Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const SceneRecord* record,
                                       const std::string& field) {
-    const eval::Scene* scene = record != nullptr ? &record->scene : nullptr;
+    const scene::Scene* scene = record != nullptr ? &record->scene : nullptr;
     PlanRequest out;
     if (message.has_camera()) {
         auto camera = DecodeCamera(message.camera(), true, field + ".camera");
@@ -195,7 +195,7 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
 }
 
 Result<SceneRecord> DecodeScene(const v1::Scene& message, const std::string& field) {
-    eval::Scene scene;
+    scene::Scene scene;
     scene.name = message.name();
     if (message.meshes_size() == 0) return Error{field + ".meshes", "is empty: no geometry"};
     for (int i = 0; i < message.meshes_size(); ++i) {
@@ -331,7 +331,7 @@ void EncodePlan(const Plan& plan, v1::PlanResponse* out) {
 }
 
 void EncodeScene(const SceneRecord& record, v1::Scene* out) {
-    const eval::Scene& scene = record.scene;
+    const scene::Scene& scene = record.scene;
     out->set_name(scene.name);
     for (const Mesh& mesh : scene.meshes) {
         v1::Mesh* m = out->add_meshes();

@@ -1,7 +1,7 @@
 // Tests for lixel::volumes_gl against lixel::eval's Embree ground truth on the built-in
 // procedural sphere grid (DESIGN §9): the stencil-volume mask equals exact ray-cast visibility on
 // every decided pixel outside a one-pixel band around true boundaries.
-#include <lixel/eval/builtin_scenes.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/eval/ground_truth.h>
 #include <lixel/render/gpu_scene.h>
 #include <lixel/render/readback.h>
@@ -13,8 +13,8 @@
 namespace lixel::volumes::gl {
 namespace {
 
-void ExpectMatchesEmbree(const eval::Scene& scene, Viewport viewport, CountingChoice counting) {
-    eval::Camera camera = scene.camera;
+void ExpectMatchesEmbree(const scene::Scene& scene, Viewport viewport, CountingChoice counting) {
+    scene::Camera camera = scene.camera;
     camera.viewport = viewport;
     auto rays = eval::RayScene::Build(scene.meshes);
     ASSERT_TRUE(rays.ok()) << rays.error().Message();
@@ -70,7 +70,7 @@ void ExpectMatchesEmbree(const eval::Scene& scene, Viewport viewport, CountingCh
 }
 
 TEST(VolumePassEmbree, SphereGridMatchesRayCastVisibility) {
-    const eval::Scene scene = eval::SphereGridScene(30'000);
+    const scene::Scene scene = scene::SphereGridScene(30'000);
     ExpectMatchesEmbree(scene, {160, 160}, CountingChoice::kAuto);
     ExpectMatchesEmbree(scene, {160, 160}, CountingChoice::kZFail);
 }

@@ -1,12 +1,12 @@
 // The sweep behind report_runner.h: ground truth once per scene, then per budget and method the
 // plan, the passes, the view and the read-back, each timed with glFinish so GPU work is counted.
-#include <lixel/eval/builtin_scenes.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/eval/evaluate.h>
 #include <lixel/eval/ground_truth.h>
 #include <lixel/eval/png_image.h>
 #include <lixel/eval/progress.h>
 #include <lixel/eval/report_runner.h>
-#include <lixel/eval/scene_io.h>
+#include <lixel/scene/scene_io.h>
 #include <lixel/eval/timing.h>
 #include <lixel/render/gpu_scene.h>
 #include <lixel/render/readback.h>
@@ -25,6 +25,11 @@
 #include <utility>
 
 namespace lixel::eval {
+
+using scene::BuiltinScene;
+using scene::LoadSceneFile;
+using scene::Scene;
+
 namespace {
 
 namespace fs = std::filesystem;

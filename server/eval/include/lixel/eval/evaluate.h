@@ -7,7 +7,7 @@
 #include <lixel/eval/methods.h>
 #include <lixel/eval/png_image.h>
 #include <lixel/eval/report.h>
-#include <lixel/eval/scene.h>
+#include <lixel/scene/scene.h>
 #include <lixel/eval/timing.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/scheduler.h>
@@ -19,12 +19,12 @@ namespace lixel::eval {
 
 // Misclassification from `mask`, aliasing and lixel use from `plan`'s maps and lookup rule,
 // stage medians from `times`. Refuses a mask whose size differs from the truth's.
-Result<ReportRow> EvaluateRun(const Scene& scene, const GroundTruth& truth, const Method& method,
+Result<ReportRow> EvaluateRun(const scene::Scene& scene, const GroundTruth& truth, const Method& method,
                               std::int64_t budget, const Plan& plan, const Mask& mask,
                               const StageTimes& times);
 // The same for a method outside Method's fittings x tests (exact shadow volumes: an empty plan,
 // so no aliasing or lixel figures), named by `method_name`.
-Result<ReportRow> EvaluateRun(const Scene& scene, const GroundTruth& truth,
+Result<ReportRow> EvaluateRun(const scene::Scene& scene, const GroundTruth& truth,
                               const std::string& method_name, std::int64_t budget, const Plan& plan,
                               const Mask& mask, const StageTimes& times);
 

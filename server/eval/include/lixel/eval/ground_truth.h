@@ -7,7 +7,7 @@
 #pragma once
 
 #include <lixel/eval/image.h>
-#include <lixel/eval/scene.h>
+#include <lixel/scene/scene.h>
 #include <lixel/solver/mesh.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/scheduler.h>
@@ -108,6 +108,6 @@ Result<GroundTruth> ComputeGroundTruth(const RayScene& scene, const TruthRequest
                                        const TruthOptions& options = {});
 
 // Builds the BVH and traces the scene's own camera and light.
-Result<GroundTruth> ComputeGroundTruth(const Scene& scene, const TruthOptions& options = {});
+Result<GroundTruth> ComputeGroundTruth(const scene::Scene& scene, const TruthOptions& options = {});
 
 }  // namespace lixel::eval

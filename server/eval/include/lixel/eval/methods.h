@@ -3,7 +3,7 @@
 // silhouette map), each planned for a scene and a lixel budget without GL.
 #pragma once
 
-#include <lixel/eval/scene.h>
+#include <lixel/scene/scene.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/scheduler.h>
 
@@ -42,6 +42,6 @@ std::vector<std::int64_t> DefaultBudgets();
 // scheduler (PlanShadowMaps). A baseline is one map fitted to the extent hull (FitBaseline),
 // wrapped as a plan whose single map accepts every point inside it; it is refused when the light
 // is inside the hull (one map cannot hold C_tot). Errors name the method.
-Result<Plan> PlanMethod(const Scene& scene, const Method& method, std::int64_t budget);
+Result<Plan> PlanMethod(const scene::Scene& scene, const Method& method, std::int64_t budget);
 
 }  // namespace lixel::eval

@@ -3,7 +3,7 @@
 // into INVALID_ARGUMENT as it is.
 #pragma once
 
-#include <lixel/eval/scene.h>
+#include <lixel/scene/scene.h>
 #include <lixel/solver/light_map.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/result.h>
@@ -41,14 +41,14 @@ Result<PlaneOfInterest> DecodePlane(const v1::PlaneOfInterest& plane, std::size_
 // An uploaded scene as the service keeps it: the meshes, planes and light, and the default viewer
 // as a matrix (requests that omit their camera use it).
 struct SceneRecord {
-    eval::Scene scene;
+    scene::Scene scene;
     Mat4 default_viewer = Mat4::Identity();
     Viewport default_viewport{1024, 1024};
     std::uint64_t bytes = 0;  // decoded size, what the cache charges
 };
 
 // Builds the record of a built-in or loaded scene, its default viewer from its look-at camera.
-SceneRecord MakeSceneRecord(eval::Scene scene);
+SceneRecord MakeSceneRecord(scene::Scene scene);
 
 // A PlanRequest for the solver. With a scene, objects point into `scene`'s meshes (which must
 // outlive the result) and its planes, camera and light fill what the message leaves out.

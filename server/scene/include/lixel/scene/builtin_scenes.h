@@ -2,13 +2,13 @@
 // parameters give bit-identical meshes on every run.
 #pragma once
 
-#include <lixel/eval/scene.h>
+#include <lixel/scene/scene.h>
 #include <lixel/solver/result.h>
 
 #include <string>
 #include <vector>
 
-namespace lixel::eval {
+namespace lixel::scene {
 
 // The paper's room: floor y = 0 and wall z = -5 as planes of interest (floor first), with a
 // sphere, a box, a torus and a lathe-turned cone bouncing on the floor. `time` in seconds moves
@@ -42,4 +42,4 @@ std::vector<std::string> BuiltinSceneNames();
 // "sphere_torus", "pins") with its default parameters. Error names the scene.
 Result<Scene> BuiltinScene(const std::string& name);
 
-}  // namespace lixel::eval
+}  // namespace lixel::scene

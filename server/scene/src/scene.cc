@@ -1,11 +1,11 @@
 // Scene helpers: the default camera's matrices, objects, bounds and plan requests.
-#include <lixel/eval/scene.h>
+#include <lixel/scene/scene.h>
 #include <lixel/solver/camera.h>
 
 #include <limits>
 #include <numbers>
 
-namespace lixel::eval {
+namespace lixel::scene {
 
 Mat4 Camera::Viewer() const {
     const double aspect = static_cast<double>(viewport.width) / viewport.height;
@@ -59,4 +59,4 @@ PlanRequest Scene::MakePlanRequest(std::int64_t lixel_budget) const {
     return request;
 }
 
-}  // namespace lixel::eval
+}  // namespace lixel::scene

@@ -1,14 +1,14 @@
 // The built-in scenes (builtin_scenes.h). Dimensions are in metres; the floor/wall room and its
 // viewer match the solver's floor/wall fixtures and examples/floor_wall.cc.
-#include <lixel/eval/builtin_scenes.h>
-#include <lixel/eval/mesh_builders.h>
+#include <lixel/scene/builtin_scenes.h>
+#include <lixel/scene/mesh_builders.h>
 #include <lixel/solver/homogeneous.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-namespace lixel::eval {
+namespace lixel::scene {
 namespace {
 
 // y = 0, lit side up.
@@ -233,4 +233,4 @@ Result<Scene> BuiltinScene(const std::string& name) {
     return Error{"scene", "unknown built-in scene '" + name + "' (known: " + known + ")"};
 }
 
-}  // namespace lixel::eval
+}  // namespace lixel::scene

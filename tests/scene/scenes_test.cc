@@ -1,14 +1,14 @@
 // Tests for lixel::eval built-in scenes and mesh builders (builtin_scenes.h, mesh_builders.h):
 // determinism, triangle counts, closed flags, planes of interest, cameras and lights.
 #include <gtest/gtest.h>
-#include <lixel/eval/builtin_scenes.h>
-#include <lixel/eval/mesh_builders.h>
+#include <lixel/scene/builtin_scenes.h>
+#include <lixel/scene/mesh_builders.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
 
 #include <cmath>
 
-namespace lixel::eval {
+namespace lixel::scene {
 namespace {
 
 bool SameMeshes(const Scene& a, const Scene& b) {
@@ -213,4 +213,4 @@ TEST(BuiltinScenes, PinsAreClosedLatheSolids) {
 }
 
 }  // namespace
-}  // namespace lixel::eval
+}  // namespace lixel::scene

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace lixel::eval {
+namespace lixel::scene {
 
 // An open, zero-thickness rectangle: corner, then the two edge vectors; the front face's normal is
 // edge_u x edge_v. `subdivisions` >= 1 cells per side (more helps nothing but vertex lighting).
@@ -46,4 +46,4 @@ bool IsClosedByPosition(const Mesh& mesh);
 // Recomputes per-vertex normals as the area-weighted mean of the adjacent faces' normals.
 void ComputeSmoothNormals(Mesh& mesh);
 
-}  // namespace lixel::eval
+}  // namespace lixel::scene

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace lixel::eval {
+namespace lixel::scene {
 
 // The default viewer of a scene: a perspective look-at camera and its image.
 struct Camera {
@@ -45,4 +45,4 @@ struct Scene {
     PlanRequest MakePlanRequest(std::int64_t lixel_budget) const;
 };
 
-}  // namespace lixel::eval
+}  // namespace lixel::scene

@@ -1,5 +1,5 @@
 // The text scene file (docs/scenes.md): one keyword per line, '#' starts a comment.
-#include <lixel/eval/scene_io.h>
+#include <lixel/scene/scene_io.h>
 #include <lixel/solver/homogeneous.h>
 
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace lixel::eval {
+namespace lixel::scene {
 namespace {
 
 struct Line {
@@ -214,4 +214,4 @@ Result<Scene> LoadSceneFile(const std::string& path) {
     return scene;
 }
 
-}  // namespace lixel::eval
+}  // namespace lixel::scene

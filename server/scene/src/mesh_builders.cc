@@ -1,6 +1,6 @@
 // Procedural meshes (see mesh_builders.h): quads, boxes, UV spheres, tori, lathes, and the
 // closedness tests the scenes' `closed` flags are checked with.
-#include <lixel/eval/mesh_builders.h>
+#include <lixel/scene/mesh_builders.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <tuple>
 #include <utility>
 
-namespace lixel::eval {
+namespace lixel::scene {
 namespace {
 
 using Index = std::uint32_t;
@@ -224,4 +224,4 @@ void ComputeSmoothNormals(Mesh& mesh) {
     }
 }
 
-}  // namespace lixel::eval
+}  // namespace lixel::scene

@@ -1,8 +1,8 @@
 // Tests for lixel::eval scene loading (scene_io.h): OBJ and glTF round trips on files written
 // here, the text scene file, and the errors for bad or empty files.
 #include <gtest/gtest.h>
-#include <lixel/eval/mesh_builders.h>
-#include <lixel/eval/scene_io.h>
+#include <lixel/scene/mesh_builders.h>
+#include <lixel/scene/scene_io.h>
 #include <lixel/solver/homogeneous.h>
 
 #include <algorithm>
@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <fstream>
 
-namespace lixel::eval {
+namespace lixel::scene {
 namespace {
 
 namespace fs = std::filesystem;
@@ -315,4 +315,4 @@ TEST_F(SceneIo, SceneFileErrorsNameFileLineAndKeyword) {
 }
 
 }  // namespace
-}  // namespace lixel::eval
+}  // namespace lixel::scene

@@ -1,21 +1,24 @@
-// User scenes (DESIGN §9): meshes from Wavefront OBJ (tinyobjloader) and glTF 2.0 (tinygltf),
-// planes of interest, camera and light from a small text scene file (docs/scenes.md).
-// Every error names the file, and where it can the line or the glTF field.
+// Local user scenes (DESIGN §9), named by an operator on the command line: meshes from
+// Wavefront OBJ (tinyobjloader) and glTF 2.0 (tinygltf) files, planes of interest, camera and
+// light from a small text scene file (docs/scenes.md). Never reachable through the service:
+// uploaded bytes go through mesh_parsing.h, which opens no file. Every error names the file,
+// and where it can the line or the glTF field.
 #pragma once
 
-#include <lixel/eval/scene.h>
+#include <lixel/scene/scene.h>
 #include <lixel/solver/mesh.h>
 #include <lixel/solver/result.h>
 
 #include <string>
 #include <vector>
 
-namespace lixel::eval {
+namespace lixel::scene {
 
 // One mesh per OBJ object/group, faces triangulated, vertices shared where the file shares both
 // position and normal. Normals kept when every corner has one. `closed` from the topology
-// (IsClosedByPosition). Refuses a missing or unparsable file, indices out of range, and a file
-// without triangles.
+// (IsClosedByPosition). Parsed in memory by ParseObj: `mtllib` lines are ignored and no material
+// file is read. Refuses a missing or unparsable file, indices out of range, and a file without
+// triangles.
 Result<std::vector<Mesh>> LoadObj(const std::string& path);
 
 // One mesh per triangle primitive of the default scene (all root nodes when there is none),
@@ -33,4 +36,4 @@ Result<std::vector<Mesh>> LoadMeshes(const std::string& path);
 // bounds from +z; a missing light sits above them.
 Result<Scene> LoadSceneFile(const std::string& path);
 
-}  // namespace lixel::eval
+}  // namespace lixel::scene

@@ -1,7 +1,9 @@
-// glTF 2.0 meshes through tinygltf (scene_io.h). tinygltf parses; this file checks every
-// accessor read against its buffer and flattens the node hierarchy into world-space meshes.
-#include <lixel/eval/mesh_builders.h>
-#include <lixel/eval/scene_io.h>
+// glTF 2.0 meshes through tinygltf (mesh_parsing.h, scene_io.h). tinygltf parses; this file
+// checks every accessor read against its buffer, counts what it keeps against the decode budget
+// and flattens the node hierarchy into world-space meshes.
+#include <lixel/scene/mesh_builders.h>
+#include <lixel/scene/mesh_parsing.h>
+#include <lixel/scene/scene_io.h>
 #include <tiny_gltf.h>
 
 #include <Eigen/Geometry>
@@ -11,10 +13,11 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <string>
 #include <system_error>
 
-namespace lixel::eval {
+namespace lixel::scene {
 namespace {
 
 // Textures play no part in shadows: skip decoding them.
@@ -171,27 +174,57 @@ Result<std::vector<std::uint32_t>> Corners(const tinygltf::Model& model,
     return list;
 }
 
-}  // namespace
+Error Stopped(const std::string& origin, const DecodeBudget& budget) {
+    return Error{origin + ": " + budget.error().field, budget.error().reason};
+}
 
-Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
-    // The error_code overload: a path the OS refuses (too long) is an error, not an exception.
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(path, error)) {
-        const bool missing = !error || error == std::errc::no_such_file_or_directory;
-        return Error{path, missing ? "no such file" : "cannot open: " + error.message()};
-    }
-    tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(&SkipImage, nullptr);
-    tinygltf::Model model;
-    std::string err, warn;
-    const bool binary = Lower(std::filesystem::path(path).extension().string()) == ".glb";
-    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                           : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-    if (!ok) {
-        return Error{path,
-                     "glTF parse failed: " + (err.empty() ? std::string("unknown error") : err)};
-    }
+// The file system tinygltf sees when it decodes uploaded bytes: no file exists, no name is
+// expanded (tinygltf's default expands names with wordexp), nothing is read or written. The
+// first name asked for is kept, so the refusal can say which URI it was.
+struct NoFiles {
+    std::string first_name;
+};
 
+void Remember(void* user_data, const std::string& name) {
+    auto* refused = static_cast<NoFiles*>(user_data);
+    if (refused->first_name.empty()) refused->first_name = name.substr(0, 96);
+}
+
+bool NoFileExists(const std::string& name, void* user_data) {
+    Remember(user_data, name);
+    return false;
+}
+
+std::string NoExpansion(const std::string& name, void* user_data) {
+    Remember(user_data, name);
+    return name;
+}
+
+bool NoRead(std::vector<unsigned char>*, std::string* err, const std::string& name,
+            void* user_data) {
+    Remember(user_data, name);
+    if (err != nullptr) *err = "files are never read";
+    return false;
+}
+
+bool NoWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err != nullptr) *err = "files are never written";
+    return false;
+}
+
+// The JSON text of a .gltf, or of a .glb's first chunk (empty when the header is malformed:
+// tinygltf then says what is wrong).
+std::string_view JsonPart(std::string_view bytes, bool glb) {
+    if (!glb) return bytes;
+    if (bytes.size() < 20) return {};
+    std::uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + 12, sizeof(length));
+    if (length > bytes.size() - 20) return {};
+    return bytes.substr(20, length);
+}
+
+Result<std::vector<Mesh>> Flatten(const tinygltf::Model& model, const std::string& origin,
+                                  DecodeBudget& budget) {
     // Roots: the default scene's nodes, else every node no other node lists as a child.
     std::vector<int> roots;
     const int scene_index = model.defaultScene >= 0 ? model.defaultScene : 0;
@@ -214,18 +247,18 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
     std::function<Result<bool>(int, const Eigen::Matrix4d&)> visit =
         [&](int node_index, const Eigen::Matrix4d& parent) -> Result<bool> {
         if (node_index < 0 || node_index >= static_cast<int>(model.nodes.size())) {
-            return Error{path + ": nodes", "index " + std::to_string(node_index) + " out of range"};
+            return Error{origin + ": nodes", "index " + std::to_string(node_index) + " out of range"};
         }
         // A node reached again on the current path is a cycle, which glTF forbids.
         if (depth_guard[node_index]++) {
-            return Error{path + ": nodes[" + std::to_string(node_index) + "]",
+            return Error{origin + ": nodes[" + std::to_string(node_index) + "]",
                          "node hierarchy has a cycle"};
         }
         const tinygltf::Node& node = model.nodes[node_index];
         const Eigen::Matrix4d world = parent * LocalTransform(node);
         if (node.mesh >= 0) {
             if (node.mesh >= static_cast<int>(model.meshes.size())) {
-                return Error{path + ": nodes[" + std::to_string(node_index) + "].mesh",
+                return Error{origin + ": nodes[" + std::to_string(node_index) + "].mesh",
                              "index " + std::to_string(node.mesh) + " out of range"};
             }
             const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
@@ -234,7 +267,7 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
             const tinygltf::Mesh& source = model.meshes[node.mesh];
             for (std::size_t p = 0; p < source.primitives.size(); ++p) {
                 const tinygltf::Primitive& prim = source.primitives[p];
-                const std::string field = path + ": meshes[" + std::to_string(node.mesh) +
+                const std::string field = origin + ": meshes[" + std::to_string(node.mesh) +
                                           "].primitives[" + std::to_string(p) + "]";
                 if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES &&
                     prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
@@ -245,7 +278,7 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
                 if (position == prim.attributes.end()) {
                     return Error{field + ".attributes", "no POSITION"};
                 }
-                auto pv = View(model, position->second, TINYGLTF_TYPE_VEC3, path);
+                auto pv = View(model, position->second, TINYGLTF_TYPE_VEC3, origin);
                 if (!pv) return pv.error();
                 if (pv->component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) {
                     return Error{field + ".attributes.POSITION", "must be float VEC3"};
@@ -254,7 +287,20 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
                 mesh.name = (node.name.empty() ? source.name : node.name);
                 if (mesh.name.empty()) mesh.name = "mesh " + std::to_string(node.mesh);
                 if (source.primitives.size() > 1) mesh.name += "[" + std::to_string(p) + "]";
+                // Counted before anything is kept: a node tree may instance one mesh many times.
+                const std::size_t corner_count =
+                    prim.indices >= 0 && prim.indices < static_cast<int>(model.accessors.size())
+                        ? model.accessors[prim.indices].count
+                        : pv->count;
+                const std::size_t triangle_count =
+                    prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1
+                        ? corner_count / 3
+                        : (corner_count >= 2 ? corner_count - 2 : 0);
+                if (!budget.AddVertices(pv->count) || !budget.AddTriangles(triangle_count)) {
+                    return Stopped(origin, budget);
+                }
                 for (std::size_t i = 0; i < pv->count; ++i) {
+                    if (budget.Cancelled()) return Stopped(origin, budget);
                     const Eigen::Vector3f local = ReadVec3(*pv, i);
                     if (!local.allFinite()) {
                         return Error{field + ".attributes.POSITION[" + std::to_string(i) + "]",
@@ -266,7 +312,7 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
                 }
                 const auto normal = prim.attributes.find("NORMAL");
                 if (normal != prim.attributes.end()) {
-                    auto nv = View(model, normal->second, TINYGLTF_TYPE_VEC3, path);
+                    auto nv = View(model, normal->second, TINYGLTF_TYPE_VEC3, origin);
                     if (!nv) return nv.error();
                     if (nv->count != pv->count ||
                         nv->component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) {
@@ -278,7 +324,7 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
                         mesh.normals.push_back((n.norm() > 0 ? n.normalized() : n).cast<float>());
                     }
                 }
-                auto corners = Corners(model, prim, pv->count, field, path);
+                auto corners = Corners(model, prim, pv->count, field, origin);
                 if (!corners) return corners.error();
                 mesh.indices = std::move(*corners);
                 if (mirrored) {
@@ -302,15 +348,70 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
         auto visited = visit(root, Eigen::Matrix4d::Identity());
         if (!visited) return visited.error();
     }
-    if (meshes.empty()) return Error{path, "no triangles: a glTF scene needs a triangle mesh"};
+    if (meshes.empty()) return Error{origin, "no triangles: a glTF scene needs a triangle mesh"};
     return meshes;
 }
 
-Result<std::vector<Mesh>> LoadMeshes(const std::string& path) {
-    const std::string ext = Lower(std::filesystem::path(path).extension().string());
-    if (ext == ".obj") return LoadObj(path);
-    if (ext == ".gltf" || ext == ".glb") return LoadGltf(path);
-    return Error{path, "unknown mesh format '" + ext + "' (expected .obj, .gltf or .glb)"};
+}  // namespace
+
+bool IsGlb(std::string_view bytes) { return bytes.size() >= 4 && bytes.substr(0, 4) == "glTF"; }
+
+Result<std::vector<Mesh>> ParseGltf(std::string_view bytes, const MeshSource& source,
+                                    DecodeBudget& budget) {
+    if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
+        return Error{source.field, "over 4 GiB: too large for a glTF document"};
+    }
+    const bool glb = IsGlb(bytes);
+    const JsonShape shape = ScanJson(JsonPart(bytes, glb));
+    if (!budget.AcceptJson(shape.values, shape.depth)) return Stopped(source.field, budget);
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&SkipImage, nullptr);
+    NoFiles refused;
+    loader.SetFsCallbacks({&NoFileExists, &NoExpansion, &NoRead, &NoWrite, &refused});
+    tinygltf::Model model;
+    std::string err, warn;
+    const auto length = static_cast<unsigned int>(bytes.size());
+    const bool ok =
+        glb ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                          reinterpret_cast<const unsigned char*>(bytes.data()),
+                                          length, "")
+            : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), length, "");
+    // Any name asked for is a URI outside the upload, a buffer's or an image's: refused whether
+    // or not tinygltf would have carried on without it.
+    if (!refused.first_name.empty()) {
+        return Error{source.field, "uri \"" + refused.first_name +
+                                       "\": external files are never read; embed buffers as "
+                                       "data: URIs or upload a .glb"};
+    }
+    if (!ok) {
+        return Error{source.field, "glTF parse failed: " +
+                                       (err.empty() ? std::string("unknown error")
+                                                    : err.substr(0, 300))};
+    }
+    return Flatten(model, source.field, budget);
 }
 
-}  // namespace lixel::eval
+Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
+    // The error_code overload: a path the OS refuses (too long) is an error, not an exception.
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(path, error)) {
+        const bool missing = !error || error == std::errc::no_such_file_or_directory;
+        return Error{path, missing ? "no such file" : "cannot open: " + error.message()};
+    }
+    // A local file, named by the operator: its external buffers are read beside it.
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&SkipImage, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    const bool binary = Lower(std::filesystem::path(path).extension().string()) == ".glb";
+    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                           : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+    if (!ok) {
+        return Error{path,
+                     "glTF parse failed: " + (err.empty() ? std::string("unknown error") : err)};
+    }
+    DecodeBudget unlimited;
+    return Flatten(model, path, unlimited);
+}
+
+}  // namespace lixel::scene
