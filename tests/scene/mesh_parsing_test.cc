@@ -96,7 +96,7 @@ TEST(ParseObj, LimitsAreNamedWhenReached) {
     ASSERT_FALSE(v.ok());
     EXPECT_EQ(vertices.outcome(), DecodeOutcome::kOverLimit);
     EXPECT_EQ(v.error().field, "content: max_vertices");
-    EXPECT_NE(v.error().reason.find("3"), std::string::npos);
+    EXPECT_NE(v.error().reason.find("over the limit of 3:"), std::string::npos);
 
     limits = {};
     limits.max_triangles = 100;

@@ -7,8 +7,8 @@ namespace lixel::scene {
 
 bool DecodeBudget::Over(const std::string& limit, std::uint64_t value, std::uint64_t wanted) {
     outcome_ = DecodeOutcome::kOverLimit;
-    error_ = Error{limit, "the scene needs more than " + std::to_string(value) +
-                              " (at least " + std::to_string(wanted) + ")"};
+    error_ = Error{limit, "over the limit of " + std::to_string(value) +
+                              ": the scene needs at least " + std::to_string(wanted)};
     return false;
 }
 
@@ -34,9 +34,10 @@ bool DecodeBudget::AcceptJson(std::uint64_t values, int depth) {
     }
     if (depth > limits_.max_json_depth) {
         outcome_ = DecodeOutcome::kOverLimit;
-        error_ = Error{"max_json_depth", "the glTF JSON nests " + std::to_string(depth) +
-                                             " levels deep, over the limit of " +
-                                             std::to_string(limits_.max_json_depth)};
+        error_ = Error{"max_json_depth", "over the limit of " +
+                                             std::to_string(limits_.max_json_depth) +
+                                             ": the glTF JSON nests " + std::to_string(depth) +
+                                             " levels deep"};
         return false;
     }
     return true;

@@ -3,7 +3,7 @@
 #include <lixel/eval/misclassification.h>
 #include <lixel/eval/plan_metrics.h>
 #include <lixel/solver/camera.h>
-#include <lixel/scene/scene_io.h>
+#include <lixel/scene/upload.h>
 #include <lixel/service/jobs.h>
 #include <lixel/solver/baselines.h>
 #include <lixel/solver/homogeneous.h>
@@ -12,13 +12,10 @@
 #include <lixel/volumes/multiplicity.h>
 #include <lixel/volumes/smooth_silhouette.h>
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <mutex>
 
 namespace lixel::service {
@@ -92,25 +89,6 @@ v1::PassKind PassKindOf(Pass pass) {
         case Pass::kSilhouetteMap: return v1::PASS_SILHOUETTE_MAP;
     }
     return v1::PASS_DEPTH;
-}
-
-// An uploaded glTF may only carry its buffers inline (data: URIs or the .glb BIN chunk): a
-// relative URI would make the loader read a file of the server's, next to the temporary copy.
-// Returns the first URI that is not a data: URI, or empty.
-std::string ExternalGltfUri(const std::string& content) {
-    std::size_t at = 0;
-    while ((at = content.find("\"uri\"", at)) != std::string::npos) {
-        at += 5;
-        std::size_t value = content.find_first_not_of(" \t\r\n", at);
-        if (value == std::string::npos || content[value] != ':') continue;
-        value = content.find_first_not_of(" \t\r\n", value + 1);
-        if (value == std::string::npos || content[value] != '"') continue;
-        if (content.compare(value + 1, 5, "data:") != 0) {
-            const std::size_t end = content.find('"', value + 1);
-            return content.substr(value + 1, std::min<std::size_t>(end - value - 1, 64));
-        }
-    }
-    return {};
 }
 
 // Embree scenes for evaluation, built once per uploaded scene and kept for a few.
@@ -241,10 +219,13 @@ grpc::Status PlanJob(ServiceState& state, const v1::PlanRequest& request,
 }
 
 grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
-                       const std::string& content, v1::UploadSceneResponse* response) {
+                       const std::string& content, v1::UploadSceneResponse* response,
+                       const CancelCheck& cancelled) {
     response->set_instance(state.options.instance);
     response->set_bytes(content.size());
-    const std::string id = ContentId(header.format(), content);
+    std::string planes;
+    for (const v1::PlaneOfInterest& p : header.planes()) planes += p.SerializeAsString();
+    const std::string id = ContentId(header.format(), content, planes);
     response->set_scene_id(id);
     if (auto held = state.cache.Get(id); held != nullptr) {
         response->set_already_present(true);
@@ -260,46 +241,52 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
         if (!message.ParseFromString(content)) {
             return InvalidArgument(Error{"content", "is not a serialized lixel.v1.Scene"});
         }
+        std::uint64_t vertices = 0, triangles = 0;
+        for (const v1::Mesh& m : message.meshes()) {
+            vertices += static_cast<std::uint64_t>(m.positions_size()) / 3;
+            triangles += static_cast<std::uint64_t>(m.indices_size()) / 3;
+        }
+        if (vertices > state.options.max_upload_vertices) {
+            return Exhausted("content: " + std::to_string(vertices) + " vertices, over the "
+                             "limit max_upload_vertices = " +
+                             std::to_string(state.options.max_upload_vertices));
+        }
+        if (triangles > state.options.max_upload_triangles) {
+            return Exhausted("content: " + std::to_string(triangles) + " triangles, over the "
+                             "limit max_upload_triangles = " +
+                             std::to_string(state.options.max_upload_triangles));
+        }
+        if (cancelled && cancelled()) return CancelledStatus();
         record = DecodeScene(message, "scene");
     } else if (header.format() == v1::SCENE_FORMAT_OBJ ||
                header.format() == v1::SCENE_FORMAT_GLTF) {
-        // The loaders read files: write the bytes to a private temporary one.
-        const bool obj = header.format() == v1::SCENE_FORMAT_OBJ;
-        const bool binary = !obj && content.size() >= 4 && std::memcmp(content.data(), "glTF", 4) == 0;
-        if (!obj) {
-            if (const std::string uri = ExternalGltfUri(content); !uri.empty()) {
-                return InvalidArgument(Error{"content", "glTF buffers and images must be embedded "
-                                                        "(data: URIs or .glb); refusing uri \"" +
-                                                            uri + "\""});
-            }
-        }
-        const std::string suffix = obj ? ".obj" : binary ? ".glb" : ".gltf";
-        std::string name = "/tmp/lixel-upload-XXXXXX" + suffix;
-        const int fd = mkstemps(name.data(), static_cast<int>(suffix.size()));
-        if (fd < 0) return grpc::Status(grpc::StatusCode::INTERNAL, "upload: no temporary file");
-        close(fd);
-        const std::string file = name;
-        {
-            std::ofstream out(file, std::ios::binary);
-            out.write(content.data(), static_cast<std::streamsize>(content.size()));
-        }
-        auto meshes = scene::LoadMeshes(file);
-        std::remove(file.c_str());
-        if (!meshes) return InvalidArgument(Error{"content", meshes.error().reason});
-        scene::Scene scene;
-        scene.meshes = std::move(*meshes);
+        // Decoded in memory: no byte of the upload can name a file (scene/mesh_parsing.h).
+        std::vector<PlaneOfInterest> plane_list;
         for (int i = 0; i < header.planes_size(); ++i) {
             auto p = DecodePlane(header.planes(i), i, "header.planes[" + std::to_string(i) + "]");
             if (!p) return InvalidArgument(p.error());
-            scene.planes.push_back(*p);
+            plane_list.push_back(*p);
         }
-        const Aabb b = scene.Bounds();
-        scene.camera.target = b.Center();
-        scene.camera.eye = b.Center() + Vec3(0.0, 0.5, 1.5) * b.Diagonal();
-        scene.camera.near = 0.01 * b.Diagonal();
-        scene.camera.far = 10.0 * b.Diagonal();
-        scene.light = Point(b.Center() + Vec3(0.3, 1.0, 0.4) * b.Diagonal());
-        record = MakeSceneRecord(std::move(scene));
+        scene::DecodeLimits limits;
+        limits.max_vertices = state.options.max_upload_vertices;
+        limits.max_triangles = state.options.max_upload_triangles;
+        limits.max_json_values = state.options.max_upload_json_values;
+        scene::DecodeBudget budget(limits, cancelled);
+        const auto format = header.format() == v1::SCENE_FORMAT_OBJ ? scene::MeshFormat::kObj
+                                                                     : scene::MeshFormat::kGltf;
+        auto decoded = scene::DecodeUploadedMeshes(format, content, std::move(plane_list), budget);
+        if (!decoded) {
+            switch (budget.outcome()) {
+                case scene::DecodeOutcome::kCancelled: return CancelledStatus();
+                case scene::DecodeOutcome::kOverLimit:
+                    // The decoder's limit "max_vertices" is the option max_upload_vertices.
+                    return Exhausted("content: max_upload_" + budget.error().field.substr(4) +
+                                     ": " + budget.error().reason);
+                case scene::DecodeOutcome::kInvalid: break;
+            }
+            return InvalidArgument(decoded.error());
+        }
+        record = MakeSceneRecord(std::move(*decoded));
     } else {
         return InvalidArgument(Error{"header.format", "unknown scene format " +
                                                           std::to_string(header.format())});

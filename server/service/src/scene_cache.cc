@@ -59,13 +59,17 @@ std::uint64_t SceneCache::evictions() const {
     return evictions_;
 }
 
-std::string ContentId(int format, const std::string& content) {
+std::string ContentId(int format, const std::string& content, const std::string& planes) {
     unsigned char digest[EVP_MAX_MD_SIZE];
     unsigned int length = 0;
     EVP_MD_CTX* ctx = EVP_MD_CTX_new();
     const unsigned char tag = static_cast<unsigned char>(format);
     EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr);
     EVP_DigestUpdate(ctx, &tag, 1);
+    // The planes' length first, so that no split of planes and content gives another's id.
+    const std::uint64_t planes_size = planes.size();
+    EVP_DigestUpdate(ctx, &planes_size, sizeof planes_size);
+    EVP_DigestUpdate(ctx, planes.data(), planes.size());
     EVP_DigestUpdate(ctx, content.data(), content.size());
     EVP_DigestFinal_ex(ctx, digest, &length);
     EVP_MD_CTX_free(ctx);

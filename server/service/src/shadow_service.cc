@@ -94,10 +94,12 @@ public:
             Done(status);
             return;
         }
-        StartRead(&chunk_);
+        NextRead();
     }
 
     void OnReadDone(bool ok) override {
+        // The watchdog ended this stream while the read was pending: Finish has been called.
+        if (!service_.idle_uploads().Arrived(this)) return;
         if (!ok) {  // the client finished sending
             Complete();
             return;
@@ -107,23 +109,36 @@ public:
             Done(added);
             return;
         }
-        // The whole upload counts against the caller's bytes in flight from its header on.
+        // The whole upload counts from its header on: against the caller's bytes in flight and
+        // against the bytes all uploads may hold at once.
         if (header) {
-            if (grpc::Status held = lease_.Grow(upload_.header().total_bytes(), "upload");
-                !held.ok()) {
+            const std::uint64_t announced = upload_.header().total_bytes();
+            if (grpc::Status held = lease_.Grow(announced, "upload"); !held.ok()) {
                 Done(held);
                 return;
             }
+            SharedBytes& shared = service_.state().uploads_in_flight;
+            if (!shared.Take(announced, &shared_)) {
+                Done(grpc::Status(
+                    grpc::StatusCode::RESOURCE_EXHAUSTED,
+                    "header.total_bytes: " + std::to_string(announced) +
+                        " bytes do not fit max_upload_bytes_in_flight = " +
+                        std::to_string(shared.capacity()) + " beside the " +
+                        std::to_string(shared.held()) +
+                        " bytes other uploads hold now; retry later"));
+                return;
+            }
         }
-        StartRead(&chunk_);
+        NextRead();
     }
 
     // Logged and counted here, once the call is over: a stream gRPC broke off (a client that
     // cancelled or went away, a deadline, a message over the receive limit) ends in OnReadDone
     // like a client that stopped sending early, but the client never saw the status Done chose.
     void OnDone() override {
+        service_.idle_uploads().Forget(this);
         grpc::Status delivered = status_;
-        if (context_->IsCancelled()) {
+        if (context_->IsCancelled() && !expired_) {
             delivered = grpc::Status(
                 grpc::StatusCode::CANCELLED,
                 "stream: broken off before the answer (a cancel, a deadline, a lost client, or a "
@@ -136,18 +151,38 @@ public:
     }
 
 private:
+    void NextRead() {
+        service_.idle_uploads().Waiting(this, [this] { Expire(); });
+        StartRead(&chunk_);
+    }
+
+    // Runs on the watchdog's thread while the read is pending.
+    void Expire() {
+        expired_ = true;
+        const double seconds = service_.idle_uploads().idle_seconds();
+        char limit[32];
+        std::snprintf(limit, sizeof limit, "%g", seconds);
+        Done(grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                          std::string("stream: no message for ") + limit +
+                              " s, over the limit upload_idle_seconds = " + limit + "; after " +
+                              std::to_string(upload_.content().size()) + " bytes"));
+    }
+
     void Complete() {
         if (grpc::Status complete = upload_.Finish(); !complete.ok()) {
             Done(complete);
             return;
         }
         const bool queued = service_.pool().TrySubmit([this](int) {
-            Done(UploadJob(service_.state(), upload_.header(), upload_.content(), response_));
+            Done(UploadJob(service_.state(), upload_.header(), upload_.content(), response_,
+                           [this] { return context_->IsCancelled(); }));
         });
         if (!queued) Done(QueueFull(service_.state().options.queue_capacity));
     }
 
+    // Finishes once: the watchdog and the stream's own path may both get here.
     void Done(const grpc::Status& status) {
+        if (finished_.exchange(true)) return;
         status_ = status;
         Finish(status);
     }
@@ -159,7 +194,10 @@ private:
     v1::SceneChunk chunk_;
     UploadAssembler upload_;
     grpc::Status status_;
-    ClientLease lease_;  // released with the reactor, in OnDone
+    std::atomic<bool> finished_{false};
+    std::atomic<bool> expired_{false};
+    ClientLease lease_;         // released with the reactor, in OnDone
+    SharedBytesLease shared_;   // likewise
 };
 
 class RenderReactor final : public grpc::ServerWriteReactor<v1::RenderChunk> {
@@ -233,7 +271,9 @@ private:
 
 ShadowService::ShadowService(ServiceOptions options, const std::string& metrics_address,
                              std::function<void(bool, const std::string&)> on_gl_ready)
-    : state_(std::move(options), metrics_address), on_gl_ready_(std::move(on_gl_ready)) {
+    : state_(std::move(options), metrics_address),
+      on_gl_ready_(std::move(on_gl_ready)),
+      idle_uploads_(std::make_unique<IdleStreams>(state_.options.upload_idle_seconds)) {
     for (int i = 0; i < state_.options.workers; ++i) {
         auto worker = std::make_unique<GpuWorker>();
         worker->options = state_.options.gl;

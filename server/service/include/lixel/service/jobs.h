@@ -9,6 +9,7 @@
 #include <lixel/service/metrics.h>
 #include <lixel/service/scene_cache.h>
 #include <lixel/service/service_options.h>
+#include <lixel/service/upload_guards.h>
 #include <lixel/v1/lixel.pb.h>
 
 #include <memory>
@@ -23,12 +24,14 @@ struct ServiceState {
     SceneCache cache;
     Metrics metrics;
     ClientLimits limits;
+    SharedBytes uploads_in_flight;  // every upload stream's announced bytes, header to decode
 
     ServiceState(ServiceOptions o, const std::string& metrics_address)
         : options(std::move(o)),
           cache(options.scene_cache_bytes),
           metrics(metrics_address),
-          limits(options.max_calls_per_client, options.max_bytes_in_flight_per_client) {}
+          limits(options.max_calls_per_client, options.max_bytes_in_flight_per_client),
+          uploads_in_flight(options.max_upload_bytes_in_flight) {}
 };
 
 grpc::Status InvalidArgument(const Error& error);
@@ -40,9 +43,11 @@ grpc::Status SolveJob(const ServiceState& state, const v1::SolveRequest& request
 grpc::Status PlanJob(ServiceState& state, const v1::PlanRequest& request,
                      v1::PlanResponse* response);
 
-// Decodes an uploaded scene's content (after the header) into the cache.
+// Decodes an uploaded scene's content (after the header) into the cache, in memory, within the
+// options' upload limits (RESOURCE_EXHAUSTED naming the limit), polling `cancelled` as it goes.
 grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
-                       const std::string& content, v1::UploadSceneResponse* response);
+                       const std::string& content, v1::UploadSceneResponse* response,
+                       const CancelCheck& cancelled = {});
 
 // Plans, renders and reads back every map, and lays out the stream: the header first, then
 // chunks of about options.chunk_bytes.

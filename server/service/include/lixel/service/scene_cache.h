@@ -46,7 +46,8 @@ private:
     std::uint64_t evictions_ = 0;
 };
 
-// "sha256:<hex>" of a format tag and the content: equal uploads get equal ids anywhere.
-std::string ContentId(int format, const std::string& content);
+// "sha256:<hex>" of a format tag, the header's planes of interest (serialized) and the content:
+// equal uploads get equal ids anywhere, and the same meshes with other planes are another scene.
+std::string ContentId(int format, const std::string& content, const std::string& planes = {});
 
 }  // namespace lixel::service

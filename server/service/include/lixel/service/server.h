@@ -22,6 +22,8 @@ struct ServerOptions {
     std::string tls_private_key;
     std::string tls_client_ca;
     std::size_t max_receive_bytes = 64ull << 20;  // one request message
+    // Shutdown lets calls in flight end for this long, then cancels those still running.
+    double shutdown_grace_seconds = 10.0;
 };
 
 class Server {

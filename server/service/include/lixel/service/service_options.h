@@ -14,6 +14,15 @@ struct ServiceOptions {
     int workers = 2;                 // render workers, each with its own GL context, [1, 64]
     std::size_t queue_capacity = 64;  // tasks waiting beyond which RESOURCE_EXHAUSTED
     std::uint64_t max_upload_bytes = 256ull << 20;    // one scene upload
+    // What one upload may decode into (scene/decode_budget.h): vertices and triangles of all its
+    // meshes after triangulation and instancing, and the JSON values of a glTF document.
+    std::uint64_t max_upload_vertices = 1ull << 25;
+    std::uint64_t max_upload_triangles = 1ull << 25;
+    std::uint64_t max_upload_json_values = 1ull << 22;
+    // Bytes all upload streams together may hold at once, from each header on, until decoded.
+    std::uint64_t max_upload_bytes_in_flight = 1ull << 30;
+    // An upload stream that sends nothing for this long is ended (RESOURCE_EXHAUSTED).
+    double upload_idle_seconds = 10.0;
     std::uint64_t scene_cache_bytes = 1ull << 30;     // decoded scenes held (LRU)
     std::uint64_t memory_cap_bytes = 2ull << 30;      // maps of one request (w * h * 4 * passes)
     std::uint64_t max_response_bytes = 1ull << 30;    // bytes one Render or View may return

@@ -56,12 +56,14 @@ public:
     void Record(const char* rpc, const grpc::Status& status, double seconds,
                 const std::string& detail);
     GpuWorker& gpu(int worker) { return *gpus_[worker]; }
+    IdleStreams& idle_uploads() noexcept { return *idle_uploads_; }
 
 private:
     ServiceState state_;
     std::vector<std::unique_ptr<GpuWorker>> gpus_;
     std::atomic<bool> gl_reported_{false};
     std::function<void(bool, const std::string&)> on_gl_ready_;
+    std::unique_ptr<IdleStreams> idle_uploads_;
     std::unique_ptr<WorkPool> pool_;  // last: its threads use everything above
 };
 
