@@ -5,6 +5,7 @@
 // No crash; every loaded mesh's indices lie inside its positions.
 #include "fuzz_input.h"
 
+#include <lixel/scene/mesh_parsing.h>
 #include <lixel/scene/scene_io.h>
 
 #include <cstddef>
@@ -60,16 +61,24 @@ std::string WriteTemp(const std::string& suffix, const std::uint8_t* data, std::
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size == 0) return 0;
-    static const char* const kSuffix[] = {".obj", ".gltf", ".glb", ".scene"};
     const int format = data[0] % 4;
-    const std::string path = lixel::fuzz::WriteTemp(kSuffix[format], data + 1, size - 1);
     if (format < 3) {
-        const auto meshes = lixel::scene::LoadMeshes(path);
+        // The service's defaults scaled down so that no input can reach the RSS limit.
+        lixel::scene::DecodeLimits limits;
+        limits.max_vertices = 1u << 20;
+        limits.max_triangles = 1u << 20;
+        limits.max_json_values = 1u << 18;
+        lixel::scene::DecodeBudget budget(limits);
+        const std::string_view bytes(reinterpret_cast<const char*>(data + 1), size - 1);
+        const lixel::scene::MeshSource source{"content", "upload", true};
+        const auto meshes = format == 0 ? lixel::scene::ParseObj(bytes, source, budget)
+                                        : lixel::scene::ParseGltf(bytes, source, budget);
         if (meshes) lixel::fuzz::CheckMeshes(*meshes);
-    } else {
-        const auto scene = lixel::scene::LoadSceneFile(path);
-        if (scene) lixel::fuzz::CheckMeshes(scene->meshes);
+        return 0;
     }
+    const std::string path = lixel::fuzz::WriteTemp(".scene", data + 1, size - 1);
+    const auto scene = lixel::scene::LoadSceneFile(path);
+    if (scene) lixel::fuzz::CheckMeshes(scene->meshes);
     std::remove(path.c_str());
     return 0;
 }

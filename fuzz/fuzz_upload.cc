@@ -31,6 +31,10 @@ service::ServiceState& State() {
     static service::ServiceState state = [] {
         service::ServiceOptions options;
         options.scene_cache_bytes = 64ull << 20;
+        // Small enough that no 4 KiB input decodes past the fuzzer's RSS or time limits.
+        options.max_upload_vertices = 1u << 20;
+        options.max_upload_triangles = 1u << 20;
+        options.max_upload_json_values = 1u << 18;
         return service::ServiceState(options, "");
     }();
     return state;

@@ -3,6 +3,7 @@
 # sanitized test suite (scripts/lib/asan_build.sh; build-asan/ or $LIXEL_FUZZ_BUILD_DIR) and runs
 # each for LIXEL_FUZZ_SECONDS (default 20) over its seed corpus fuzz/corpus/<harness>/. Fails on
 # the first crash, leak, timeout or out-of-memory, leaving the input in <build>/artifacts/.
+# A harness with a dictionary fuzz/<harness>.dict runs with it.
 # Harnesses to run can be named: scripts/fuzz.sh fuzz_solver. New inputs the fuzzer finds go to
 # <build>/corpus/<harness>/, never into the committed seeds.
 set -euo pipefail
@@ -27,11 +28,15 @@ for h in "${harnesses[@]}"; do
     log="$build_dir/$h.log"
     echo "lixel fuzz: $h for ${seconds} s"
     status=0
+    # A dictionary (fuzz/<harness>.dict) lets libFuzzer splice in the tokens that reach the
+    # refusal paths (mtllib, uri, \u escapes, data: URIs) instead of guessing them byte by byte.
+    dict=()
+    if [[ -f "$root/fuzz/$h.dict" ]]; then dict=(-dict="$root/fuzz/$h.dict"); fi
     # UBSan aborts (halt_on_error) so libFuzzer records the input; leaks are failures too.
     ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
     UBSAN_OPTIONS=halt_on_error=1:abort_on_error=1:print_stacktrace=1 \
         "$build_dir/fuzz/$h" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
-        -max_len=4096 -print_final_stats=1 -artifact_prefix="$build_dir/artifacts/$h-" \
+        -max_len=4096 "${dict[@]}" -print_final_stats=1 -artifact_prefix="$build_dir/artifacts/$h-" \
         "$build_dir/corpus/$h" "$root/fuzz/corpus/$h" >"$log" 2>&1 || status=$?
     runs=$(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)
     secs=$(grep -m1 -o 'Done [0-9]* runs in [0-9]* second' "$log" | awk '{print $5}' || true)

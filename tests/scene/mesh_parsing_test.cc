@@ -197,6 +197,26 @@ TEST(ParseGltf, InstancingIsCountedBeforeItIsKept) {
     EXPECT_EQ(all->size(), 2000u);
 }
 
+// Twenty nodes each listing the next twice reach the last along 2^19 paths: a few hundred bytes
+// that would take minutes to flatten.
+TEST(ParseGltf, NodeVisitsAreBounded) {
+    std::string nodes;
+    for (int i = 0; i < 20; ++i) {
+        nodes += std::string(i ? "," : "") +
+                 (i < 19 ? R"({"children": [)" + std::to_string(i + 1) + "," +
+                               std::to_string(i + 1) + "]}"
+                         : std::string(R"({"mesh": 0})"));
+    }
+    std::string gltf = TriangleGltf("");
+    gltf.replace(gltf.find(R"("nodes": [{"mesh": 0}])"), 22, R"("nodes": [)" + nodes + "]");
+    DecodeLimits limits;
+    limits.max_node_visits = 10000;
+    DecodeBudget budget(limits);
+    auto refused = ParseGltf(gltf, kUpload, budget);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "content: max_node_visits");
+}
+
 TEST(ParseGltf, JsonValuesAndDepthAreBoundedBeforeParsing) {
     DecodeLimits limits;
     limits.max_json_values = 1000;

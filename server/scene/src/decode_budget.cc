@@ -28,6 +28,14 @@ bool DecodeBudget::AddTriangles(std::uint64_t n) {
     return true;
 }
 
+bool DecodeBudget::AddNodeVisit() {
+    if (node_visits_ >= limits_.max_node_visits) {
+        return Over("max_node_visits", limits_.max_node_visits, node_visits_ + 1);
+    }
+    ++node_visits_;
+    return true;
+}
+
 bool DecodeBudget::AcceptJson(std::uint64_t values, int depth) {
     if (values > limits_.max_json_values) {
         return Over("max_json_values", limits_.max_json_values, values);

@@ -249,6 +249,7 @@ Result<std::vector<Mesh>> Flatten(const tinygltf::Model& model, const std::strin
         if (node_index < 0 || node_index >= static_cast<int>(model.nodes.size())) {
             return Error{origin + ": nodes", "index " + std::to_string(node_index) + " out of range"};
         }
+        if (!budget.AddNodeVisit() || budget.Cancelled()) return Stopped(origin, budget);
         // A node reached again on the current path is a cycle, which glTF forbids.
         if (depth_guard[node_index]++) {
             return Error{origin + ": nodes[" + std::to_string(node_index) + "]",

@@ -23,6 +23,9 @@ struct DecodeLimits {
     std::uint64_t max_json_values = std::numeric_limits<std::uint64_t>::max();
     // Nesting of JSON arrays and objects; glTF itself needs 8.
     int max_json_depth = 64;
+    // glTF node visits while flattening: nodes that list a child several times reach it along
+    // exponentially many paths, each a visit, with or without a mesh.
+    std::uint64_t max_node_visits = std::uint64_t{1} << 20;
 };
 
 // Why a decode stopped: the input is wrong, a limit was reached, or the caller gave up.
@@ -39,6 +42,8 @@ public:
     bool AddTriangles(std::uint64_t n);
     // A glTF document's value count and depth (ScanJson), checked against the limits.
     bool AcceptJson(std::uint64_t values, int depth);
+    // One more glTF node visited.
+    bool AddNodeVisit();
     // Polled between small units of work; asks the caller's check every 4096 calls (each unit
     // is well under a microsecond, so the check runs every few milliseconds at most).
     bool Cancelled();
@@ -58,6 +63,7 @@ private:
     std::function<bool()> cancelled_;
     std::uint64_t vertices_ = 0;
     std::uint64_t triangles_ = 0;
+    std::uint64_t node_visits_ = 0;
     std::uint32_t polls_ = 0;
     DecodeOutcome outcome_ = DecodeOutcome::kInvalid;
     Error error_;
