@@ -36,6 +36,7 @@ find_package(Threads REQUIRED)                # ground truth traces tiles on std
 # --- proto, server/service, client: gRPC and protobuf, metrics ---------------------------
 find_package(Protobuf REQUIRED)                           # libprotobuf-dev, protobuf-compiler
 find_package(gRPC CONFIG REQUIRED)                        # libgrpc++-dev
+find_package(absl CONFIG REQUIRED)                        # libabsl-dev: flags (gRPC's own absl)
 find_package(prometheus-cpp CONFIG REQUIRED)              # prometheus-cpp-dev
 find_package(OpenSSL REQUIRED)                            # libssl-dev: scene ids (SHA-256)
 find_program(LIXEL_PROTOC protoc REQUIRED)                # protobuf-compiler

@@ -1,56 +1,199 @@
 // Flag parsing and scene loading for the lixel CLI.
 #include "cli_options.h"
 
+#include <absl/flags/flag.h>
+#include <absl/flags/parse.h>
+#include <absl/flags/reflection.h>
+#include <absl/flags/usage.h>
+#include <absl/flags/usage_config.h>
 #include <lixel/scene/builtin_scenes.h>
 #include <lixel/scene/scene_io.h>
 #include <lixel/service/proto_convert.h>
 
+#include <cctype>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 
+namespace {
+
+// Flag defaults are the client's own, so the two cannot drift apart.
+const lixel::client::ClientOptions& ClientDefaults() {
+    static const lixel::client::ClientOptions defaults;
+    return defaults;
+}
+
+constexpr double kMaxDeadlineSeconds = 86400.0;  // per call; a --full report makes many calls
+
+}  // namespace
+
+ABSL_FLAG(std::string, target, ClientDefaults().target,
+          "host:port of the server, or ipv4:a:p,b:q,... (several instances, round-robin), or "
+          "dns:///name:port");
+ABSL_FLAG(std::string, token, "", "sent as \"authorization: Bearer <token>\"");
+ABSL_FLAG(std::string, token_file, "", "as --token, the token read from this file");
+ABSL_FLAG(std::string, tls_ca, "", "PEM root certificate; set to use TLS");
+ABSL_FLAG(std::string, tls_cert, "", "PEM client certificate, for mutual TLS (with --tls_key)");
+ABSL_FLAG(std::string, tls_key, "", "PEM private key of --tls_cert");
+ABSL_FLAG(std::string, tls_server_name, "", "name checked in the server's certificate");
+ABSL_FLAG(double, deadline, ClientDefaults().deadline_seconds,
+          "seconds each call may take, (0, 86400]");
+ABSL_FLAG(std::string, scene, "floor_wall",
+          "built-in scene: floor_wall, table_floor, sphere_grid, thin_plates, sphere_torus, pins");
+ABSL_FLAG(std::string, scene_file, "", "scene file (docs/scenes.md), instead of --scene");
+ABSL_FLAG(std::uint64_t, budget, 512 * 512,
+          "lixels: the plan's total for plan, render and view (at least 1); solve's per-map "
+          "budget, none unless given");
+ABSL_FLAG(std::uint64_t, fallback_floor, 0,
+          "lixels the fallback map gets at least; 0: the server's default, 128^2");
+ABSL_FLAG(bool, second_depth, false, "plan a second-depth pass");
+ABSL_FLAG(bool, silhouette_map, false, "plan a silhouette-map pass");
+ABSL_FLAG(bool, volumes, false, "plan silhouette shadow volumes");
+ABSL_FLAG(bool, twist, false, "solve: the twist that minimises the map's area");
+ABSL_FLAG(std::string, out, "",
+          "output folder; default out/maps (render), out/view (view), out/report (report)");
+ABSL_FLAG(bool, pfm, false, "render: write maps as PFM instead of OpenEXR");
+ABSL_FLAG(std::string, method, "plane_optimal", "view: plane_optimal, uniform, psm or lispsm");
+ABSL_FLAG(std::string, filter, "depth",
+          "view: depth, pcf, second_depth, silhouette_map or volumes");
+ABSL_FLAG(bool, evaluate, false, "view: the error against exact visibility");
+ABSL_FLAG(bool, timings, false, "view: per-stage run times");
+ABSL_FLAG(bool, all, false, "report: every built-in scene");
+ABSL_FLAG(bool, full, false, "report: every built-in scene, method and budget");
+ABSL_FLAG(bool, depth_only, false, "report: the depth-test methods only");
+ABSL_FLAG(int, repeats, 3, "report: runs per row for the median times, [1, 100]");
+ABSL_FLAG(std::vector<std::string>, budgets, {},
+          "report: comma-separated lixel budgets, each at least 1; default 256^2, 512^2, 1024^2");
+
 namespace lixel::cli {
 
-Flags::Flags(int argc, char** argv, int first) {
-    for (int i = first; i < argc; ++i) {
-        std::string arg = argv[i];
-        if (arg.rfind("--", 0) == 0) arg = arg.substr(2);
-        const auto eq = arg.find('=');
-        if (eq == std::string::npos) {
-            values_[arg] = "true";
-        } else {
-            values_[arg.substr(0, eq)] = arg.substr(eq + 1);
+namespace {
+
+// This file's flags, as against absl's own and any a linked library defines.
+bool Ours(const absl::CommandLineFlag& flag) {
+    return std::string_view(__FILE__).ends_with(flag.Filename());
+}
+
+bool IsUsageFlag(std::string_view name) {
+    return name == "help" || name == "helpfull" || name == "helpshort" ||
+           name == "helppackage" || name == "helpon" || name == "helpmatch" || name == "version" ||
+           name == "only_check_args";
+}
+
+Error NotOurs(const std::string& name) {
+    return Error{"--" + name, "is not a flag of this command"};
+}
+
+}  // namespace
+
+// Each command refuses the flags that are not its own, so the CLI must know which flags the
+// command line gave. It reads argv itself, as absl::ParseCommandLine will, before absl does, and
+// records every name it meets. Asking absl afterwards whether a flag's CurrentValue() differs
+// from its DefaultValue() would miss a flag given at its default (`lixel upload --budget=262144`
+// would pass) and compares formatted strings (`--deadline=120.0` reads back as "120"); the names
+// in argv are exact. That is also why the CLI refuses absl's --flagfile and --fromenv: every
+// flag comes from argv. The scan refuses what absl would refuse by exiting 1 (an unknown flag, a
+// value that does not parse) as an Error, which the CLI reports with exit code 2.
+Result<Flags> Flags::Parse(int argc, char** argv, const char* usage_message) {
+    absl::SetProgramUsageMessage(usage_message);
+    absl::FlagsUsageConfig usage;
+    // --help lists this file's flags, named from the source root ("client/cli/cli_options.cc").
+    usage.contains_helpshort_flags = [](absl::string_view file) {
+        return std::string_view(__FILE__).ends_with(std::string_view(file.data(), file.size()));
+    };
+    usage.contains_help_flags = usage.contains_helpshort_flags;
+    usage.normalize_filename = [](absl::string_view file) {
+        constexpr std::string_view kSelf = "client/cli/cli_options.cc";
+        const std::string_view self = __FILE__;
+        std::string_view name(file.data(), file.size());
+        if (self.ends_with(kSelf) && name.starts_with(self.substr(0, self.size() - kSelf.size()))) {
+            name.remove_prefix(self.size() - kSelf.size());
         }
+        while (name.starts_with('/')) name.remove_prefix(1);
+        return std::string(name);
+    };
+    absl::SetFlagsUsageConfig(usage);
+
+    Flags flags;
+    std::vector<std::string> positional;
+    for (int i = 1; i < argc; ++i) {
+        std::string_view arg = argv[i];
+        if (arg == "--") {  // absl: everything after is positional
+            for (++i; i < argc; ++i) positional.emplace_back(argv[i]);
+            break;
+        }
+        if (arg.size() < 2 || arg[0] != '-') {
+            positional.emplace_back(arg);
+            continue;
+        }
+        arg.remove_prefix(arg.starts_with("--") ? 2 : 1);
+        const auto eq = arg.find('=');
+        const std::string name(arg.substr(0, eq));
+        if (IsUsageFlag(name)) continue;  // absl's --help and friends, handled by absl
+        absl::CommandLineFlag* flag = absl::FindCommandLineFlag(name);
+        bool negated = false;
+        if (flag == nullptr && name.starts_with("no")) {
+            flag = absl::FindCommandLineFlag(name.substr(2));
+            negated = flag != nullptr && flag->IsOfType<bool>();
+            if (!negated) flag = nullptr;
+        }
+        if (flag == nullptr || !Ours(*flag)) return NotOurs(name);
+        const std::string flag_name(flag->Name());
+        std::string value;
+        if (eq != std::string_view::npos) {
+            if (negated) return Error{"--" + name, "takes no value"};
+            value = arg.substr(eq + 1);
+        } else if (flag->IsOfType<bool>()) {
+            value = negated ? "false" : "true";
+        } else if (i + 1 < argc) {
+            value = argv[++i];  // "--flag value"
+        } else {
+            return Error{"--" + name, "needs a value (" + flag->Help() + ")"};
+        }
+        // A trial parse: the value ParseCommandLine then sets is the same.
+        std::string error;
+        if (!flag->ParseFrom(value, &error)) {
+            return Error{"--" + flag_name, error + " (" + flag->Help() + ")"};
+        }
+        flags.given_.insert(flag_name);
     }
-}
-
-std::string Flags::Get(const std::string& key, const std::string& fallback) const {
-    const auto it = values_.find(key);
-    return it == values_.end() ? fallback : it->second;
-}
-
-Result<double> Flags::Number(const std::string& key, double fallback) const {
-    const auto it = values_.find(key);
-    if (it == values_.end()) return fallback;
-    char* end = nullptr;
-    const double value = std::strtod(it->second.c_str(), &end);
-    if (it->second.empty() || *end != '\0') {
-        return Error{"--" + key, "needs a number, got '" + it->second + "'"};
+    if (positional.empty()) return Error{"lixel", "needs a command (lixel help lists them)"};
+    if (positional.size() > 1) {
+        return Error{positional[1],
+                     "unexpected argument after the command '" + positional[0] + "' (lixel help)"};
     }
-    return value;
-}
-
-bool Flags::Bool(const std::string& key) const {
-    const std::string v = Get(key, "false");
-    return v == "true" || v == "1" || v == "yes";
+    flags.command_ = positional.front();
+    absl::ParseCommandLine(argc, argv);  // --help and friends print and exit here
+    return flags;
 }
 
 Result<bool> Flags::Check(const std::set<std::string>& known) const {
-    for (const auto& [key, value] : values_) {
-        if (!known.contains(key) && !ConnectionFlags().contains(key)) {
-            return Error{"--" + key, "is not a flag of this command"};
-        }
+    for (const std::string& name : given_) {
+        if (!known.contains(name) && !ConnectionFlags().contains(name)) return NotOurs(name);
+    }
+    return true;
+}
+
+Result<bool> Flags::CheckValues() const {
+    const double deadline = absl::GetFlag(FLAGS_deadline);
+    if (!(deadline > 0.0 && deadline <= kMaxDeadlineSeconds)) {
+        return Error{"--deadline", "must be in (0, 86400] seconds"};
+    }
+    if (command_ != "solve" && absl::GetFlag(FLAGS_budget) < 1) {
+        return Error{"--budget", "must be at least 1 lixel"};
+    }
+    const int repeats = absl::GetFlag(FLAGS_repeats);
+    if (repeats < 1 || repeats > 100) return Error{"--repeats", "must be in [1, 100]"};
+    if (Given("out") && absl::GetFlag(FLAGS_out).empty()) {
+        return Error{"--out", "needs a folder"};
+    }
+    if (auto budgets = ReportBudgets(*this, {}); !budgets) return budgets.error();
+    if (command_ == "view") {
+        if (auto method = ViewMethod(); !method) return method.error();
+        if (auto filter = ViewFilter(); !filter) return filter.error();
     }
     return true;
 }
@@ -73,27 +216,30 @@ std::string ReadFileOrExit(const std::string& path) {
     return text.str();
 }
 
-Result<client::ClientOptions> ClientOptionsFrom(const Flags& flags) {
+// A file flag given with an empty path is read, and refused as unreadable, rather than taken
+// for "none": an unset variable in a script must not quietly drop a token or TLS.
+client::ClientOptions ClientOptionsFrom(const Flags& flags) {
     client::ClientOptions options;
-    options.target = flags.Get("target", options.target);
-    options.bearer_token = flags.Get("token");
-    if (flags.Has("token_file")) {
-        options.bearer_token = ReadFileOrExit(flags.Get("token_file"));
+    options.target = absl::GetFlag(FLAGS_target);
+    options.bearer_token = absl::GetFlag(FLAGS_token);
+    if (flags.Given("token_file")) {
+        options.bearer_token = ReadFileOrExit(absl::GetFlag(FLAGS_token_file));
         while (!options.bearer_token.empty() && std::isspace(static_cast<unsigned char>(
                                                     options.bearer_token.back()))) {
             options.bearer_token.pop_back();
         }
     }
-    if (flags.Has("tls_ca")) options.tls_root_certificate = ReadFileOrExit(flags.Get("tls_ca"));
-    if (flags.Has("tls_cert")) {
-        options.tls_client_certificate = ReadFileOrExit(flags.Get("tls_cert"));
+    if (flags.Given("tls_ca")) {
+        options.tls_root_certificate = ReadFileOrExit(absl::GetFlag(FLAGS_tls_ca));
     }
-    if (flags.Has("tls_key")) options.tls_client_key = ReadFileOrExit(flags.Get("tls_key"));
-    options.tls_server_name = flags.Get("tls_server_name");
-    auto deadline = flags.Number("deadline", options.deadline_seconds);
-    if (!deadline) return deadline.error();
-    if (!(*deadline > 0.0)) return Error{"--deadline", "must be positive (seconds)"};
-    options.deadline_seconds = *deadline;
+    if (flags.Given("tls_cert")) {
+        options.tls_client_certificate = ReadFileOrExit(absl::GetFlag(FLAGS_tls_cert));
+    }
+    if (flags.Given("tls_key")) {
+        options.tls_client_key = ReadFileOrExit(absl::GetFlag(FLAGS_tls_key));
+    }
+    options.tls_server_name = absl::GetFlag(FLAGS_tls_server_name);
+    options.deadline_seconds = absl::GetFlag(FLAGS_deadline);
     return options;
 }
 
@@ -107,24 +253,67 @@ Result<SceneSource> LoadNamedScene(const std::string& name, bool is_file) {
 }
 
 Result<SceneSource> LoadScene(const Flags& flags) {
-    if (flags.Has("scene_file")) return LoadNamedScene(flags.Get("scene_file"), true);
-    return LoadNamedScene(flags.Get("scene", "floor_wall"), false);
+    if (flags.Given("scene_file")) return LoadNamedScene(absl::GetFlag(FLAGS_scene_file), true);
+    return LoadNamedScene(absl::GetFlag(FLAGS_scene), false);
 }
 
-Result<v1::PlanRequest> PlanRequestFrom(const Flags& flags, const std::string& scene_id) {
+v1::PlanRequest PlanRequestFrom(const std::string& scene_id) {
     v1::PlanRequest request;
     request.set_scene_id(scene_id);
-    auto budget = flags.Number("budget", 512.0 * 512.0);
-    if (!budget) return budget.error();
-    if (!(*budget >= 1.0)) return Error{"--budget", "must be at least 1 lixel"};
-    request.set_lixel_budget(static_cast<std::uint64_t>(*budget));
-    auto floor = flags.Number("fallback_floor", 0.0);
-    if (!floor) return floor.error();
-    request.set_fallback_floor(static_cast<std::uint64_t>(*floor));
-    request.mutable_passes()->set_second_depth(flags.Bool("second_depth"));
-    request.mutable_passes()->set_silhouette_map(flags.Bool("silhouette_map"));
-    request.mutable_passes()->set_volumes(flags.Bool("volumes"));
+    request.set_lixel_budget(absl::GetFlag(FLAGS_budget));
+    request.set_fallback_floor(absl::GetFlag(FLAGS_fallback_floor));
+    request.mutable_passes()->set_second_depth(absl::GetFlag(FLAGS_second_depth));
+    request.mutable_passes()->set_silhouette_map(absl::GetFlag(FLAGS_silhouette_map));
+    request.mutable_passes()->set_volumes(absl::GetFlag(FLAGS_volumes));
     return request;
+}
+
+namespace {
+
+std::string Upper(const std::string& prefix, const std::string& name) {
+    std::string out = prefix;
+    for (char c : name) out += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return out;
+}
+
+}  // namespace
+
+Result<v1::Method> ViewMethod() {
+    v1::Method method;
+    if (!v1::Method_Parse(Upper("METHOD_", absl::GetFlag(FLAGS_method)), &method)) {
+        return Error{"--method", "must be plane_optimal, uniform, psm or lispsm"};
+    }
+    return method;
+}
+
+Result<v1::Filter> ViewFilter() {
+    v1::Filter filter;
+    if (!v1::Filter_Parse(Upper("FILTER_", absl::GetFlag(FLAGS_filter)), &filter)) {
+        return Error{"--filter", "must be depth, pcf, second_depth, silhouette_map or volumes"};
+    }
+    return filter;
+}
+
+std::string OutFolder(const Flags& flags, const std::string& fallback) {
+    return flags.Given("out") ? absl::GetFlag(FLAGS_out) : fallback;
+}
+
+Result<std::vector<std::int64_t>> ReportBudgets(const Flags& flags,
+                                                std::vector<std::int64_t> fallback) {
+    if (!flags.Given("budgets")) return fallback;
+    const std::vector<std::string> items = absl::GetFlag(FLAGS_budgets);
+    if (items.empty()) return Error{"--budgets", "needs a comma-separated list"};
+    std::vector<std::int64_t> budgets;
+    for (const std::string& item : items) {
+        std::int64_t b = 0;
+        const auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), b);
+        if (ec != std::errc() || end != item.data() + item.size() || b < 1) {
+            return Error{"--budgets",
+                         "each budget is a positive integer of lixels, got '" + item + "'"};
+        }
+        budgets.push_back(b);
+    }
+    return budgets;
 }
 
 }  // namespace lixel::cli

@@ -1,6 +1,7 @@
 // lixel upload, solve, plan, render and view.
 #include "commands.h"
 
+#include <absl/flags/flag.h>
 #include <lixel/eval/progress.h>
 #include <lixel/render/image_io.h>
 #include <lixel/service/proto_convert.h>
@@ -8,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <set>
 
 namespace lixel::cli {
@@ -66,20 +68,41 @@ int Fail(const Error& error) {
     return 1;
 }
 
-// The common start of plan, render and view: check the flags, upload the scene, build the plan.
-Result<v1::PlanRequest> ScenePlanRequest(client::Client& client, const Flags& flags,
-                                         std::set<std::string> known) {
-    known.insert({"scene", "scene_file", "budget", "fallback_floor"});
-    if (auto ok = flags.Check(known); !ok) return ok.error();
+int UsageError(const Error& error) {
+    std::fprintf(stderr, "lixel: %s\n", error.Message().c_str());
+    return 2;
+}
+
+const std::set<std::string>* CommandFlags(const std::string& command) {
+    static const std::map<std::string, std::set<std::string>> flags = {
+        {"upload", {"scene", "scene_file"}},
+        {"solve", {"scene", "scene_file", "budget", "twist"}},
+        {"plan",
+         {"scene", "scene_file", "budget", "fallback_floor", "second_depth", "silhouette_map",
+          "volumes"}},
+        {"render",
+         {"scene", "scene_file", "budget", "fallback_floor", "second_depth", "silhouette_map",
+          "volumes", "out", "pfm"}},
+        {"view",
+         {"scene", "scene_file", "budget", "fallback_floor", "method", "filter", "evaluate",
+          "timings", "out"}},
+        {"report",
+         {"scene", "scene_file", "all", "full", "repeats", "out", "budgets", "depth_only"}},
+    };
+    const auto it = flags.find(command);
+    return it == flags.end() ? nullptr : &it->second;
+}
+
+// The common start of plan, render and view: upload the scene, build the plan.
+Result<v1::PlanRequest> ScenePlanRequest(client::Client& client, const Flags& flags) {
     auto loaded = LoadScene(flags);
     if (!loaded) return loaded.error();
     auto uploaded = client.UploadScene(loaded->message);
     if (!uploaded) return uploaded.error();
-    return PlanRequestFrom(flags, uploaded->scene_id());
+    return PlanRequestFrom(uploaded->scene_id());
 }
 
 int UploadCommand(client::Client& client, const Flags& flags) {
-    if (auto ok = flags.Check({"scene", "scene_file"}); !ok) return Fail(ok.error());
     auto loaded = LoadScene(flags);
     if (!loaded) return Fail(loaded.error());
     auto uploaded = client.UploadScene(loaded->message);
@@ -94,9 +117,6 @@ int UploadCommand(client::Client& client, const Flags& flags) {
 }
 
 int SolveCommand(client::Client& client, const Flags& flags) {
-    if (auto ok = flags.Check({"scene", "scene_file", "budget", "twist"}); !ok) {
-        return Fail(ok.error());
-    }
     auto loaded = LoadScene(flags);
     if (!loaded) return Fail(loaded.error());
     v1::SolveRequest request;
@@ -106,10 +126,9 @@ int SolveCommand(client::Client& client, const Flags& flags) {
     const Aabb b = loaded->scene.Bounds();
     service::EncodeVec3(b.min, request.mutable_bounds()->mutable_min());
     service::EncodeVec3(b.max, request.mutable_bounds()->mutable_max());
-    auto budget = flags.Number("budget", 0.0);
-    if (!budget) return Fail(budget.error());
-    request.set_lixel_budget(static_cast<std::uint64_t>(*budget));
-    if (flags.Bool("twist")) request.set_twist(v1::TWIST_MINIMIZE_AREA);
+    // Per map; none unless given (plan's default total does not apply to one map).
+    request.set_lixel_budget(flags.Given("budget") ? absl::GetFlag(FLAGS_budget) : 0);
+    if (absl::GetFlag(FLAGS_twist)) request.set_twist(v1::TWIST_MINIMIZE_AREA);
     auto solved = client.Solve(request);
     if (!solved) return Fail(solved.error());
     for (const v1::SolveResult& r : solved->results()) {
@@ -130,7 +149,7 @@ int SolveCommand(client::Client& client, const Flags& flags) {
 }
 
 int PlanCommand(client::Client& client, const Flags& flags) {
-    auto request = ScenePlanRequest(client, flags, {"second_depth", "silhouette_map", "volumes"});
+    auto request = ScenePlanRequest(client, flags);
     if (!request) return Fail(request.error());
     auto plan = client.Plan(*request);
     if (!plan) return Fail(plan.error());
@@ -152,8 +171,7 @@ int PlanCommand(client::Client& client, const Flags& flags) {
 }
 
 int RenderCommand(client::Client& client, const Flags& flags) {
-    auto plan = ScenePlanRequest(client, flags,
-                                 {"second_depth", "silhouette_map", "volumes", "out", "pfm"});
+    auto plan = ScenePlanRequest(client, flags);
     if (!plan) return Fail(plan.error());
     v1::RenderRequest request;
     *request.mutable_plan() = *plan;
@@ -166,7 +184,8 @@ int RenderCommand(client::Client& client, const Flags& flags) {
     });
     bar.Finish();
     if (!maps) return Fail(maps.error());
-    const std::string out = flags.Get("out", "out/maps");
+    const std::string out = OutFolder(flags, "out/maps");
+    const bool pfm = absl::GetFlag(FLAGS_pfm);
     std::filesystem::create_directories(out);
     for (int i = 0; i < maps->header.images_size(); ++i) {
         const v1::MapImage& meta = maps->header.images(i);
@@ -181,7 +200,7 @@ int RenderCommand(client::Client& client, const Flags& flags) {
             if (c == ' ') c = '_';
         }
         const std::string path = out + "/" + base;
-        auto written = flags.Bool("pfm") ? render::WritePfm(path + ".pfm", image)
+        auto written = pfm ? render::WritePfm(path + ".pfm", image)
                                          : render::WriteExr(path + ".exr", image);
         if (!written) return Fail(written.error());
         if (image.channels == 1) {
@@ -190,45 +209,28 @@ int RenderCommand(client::Client& client, const Flags& flags) {
             }
         }
         std::printf("%s: %d x %d (%s)\n", path.c_str(), image.width, image.height,
-                    flags.Bool("pfm") ? "pfm" : "exr");
+                    pfm ? "pfm" : "exr");
     }
     return 0;
 }
 
 int ViewCommand(client::Client& client, const Flags& flags) {
-    auto plan =
-        ScenePlanRequest(client, flags, {"method", "filter", "evaluate", "timings", "out"});
+    auto plan = ScenePlanRequest(client, flags);
     if (!plan) return Fail(plan.error());
     v1::ViewRequest request;
     *request.mutable_plan() = *plan;
-    v1::Method method;
-    std::string method_name = "METHOD_";
-    for (char c : flags.Get("method", "plane_optimal")) {
-        method_name += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    }
-    if (!v1::Method_Parse(method_name, &method)) {
-        return Fail(Error{"--method", "must be plane_optimal, uniform, psm or lispsm"});
-    }
-    request.set_method(method);
-    v1::Filter filter;
-    std::string upper = "FILTER_";
-    for (char c : flags.Get("filter", "depth")) {
-        upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    }
-    if (!v1::Filter_Parse(upper, &filter)) {
-        return Fail(Error{"--filter", "must be depth, pcf, second_depth, silhouette_map or "
-                                      "volumes"});
-    }
-    request.set_filter(filter);
-    request.set_evaluate(flags.Bool("evaluate"));
-    request.set_timings(flags.Bool("timings"));
+    // Both checked before the call (Flags::CheckValues).
+    request.set_method(*ViewMethod());
+    request.set_filter(*ViewFilter());
+    request.set_evaluate(absl::GetFlag(FLAGS_evaluate));
+    request.set_timings(absl::GetFlag(FLAGS_timings));
     auto view = client.View(request);
     if (!view) return Fail(view.error());
     render::FloatImage mask{static_cast<int>(view->width()), static_cast<int>(view->height()), 1,
                             {}};
     mask.pixels.resize(view->mask().size() / sizeof(float));
     std::memcpy(mask.pixels.data(), view->mask().data(), view->mask().size());
-    const std::string out = flags.Get("out", "out/view");
+    const std::string out = OutFolder(flags, "out/view");
     std::filesystem::create_directories(out);
     if (auto w = render::WritePfm(out + "/mask.pfm", mask); !w) return Fail(w.error());
     if (auto w = render::WritePng(out + "/mask.png", render::MaskPreview(mask)); !w) {

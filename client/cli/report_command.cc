@@ -2,6 +2,7 @@
 // scene, method (fitting x shadow test) and budget it asks View for the mask with evaluation
 // against exact visibility and per-stage timings, repeats for medians, and writes report.csv,
 // report.md, error_vs_time.png and a mask grid per scene with lixel::eval's writers.
+#include <absl/flags/flag.h>
 #include <lixel/eval/evaluate.h>
 #include <lixel/eval/methods.h>
 #include <lixel/eval/progress.h>
@@ -84,27 +85,21 @@ struct SceneRun {
 }  // namespace
 
 int ReportCommand(client::Client& client, const Flags& flags) {
-    if (auto ok = flags.Check({"scene", "scene_file", "all", "full", "repeats", "out", "budgets",
-                               "depth_only"});
-        !ok) {
-        return Fail(ok.error());
-    }
-    auto repeats = flags.Number("repeats", 3.0);
-    if (!repeats) return Fail(repeats.error());
-    if (*repeats < 1.0 || *repeats > 100.0) return Fail(Error{"--repeats", "must be in [1, 100]"});
-    const std::string out = flags.Get("out", "out/report");
+    const int runs = absl::GetFlag(FLAGS_repeats);  // [1, 100], Flags::CheckValues
+    const std::string out = OutFolder(flags, "out/report");
     std::filesystem::create_directories(out);
 
     // Scenes: the one named (default floor_wall), or with --all / --full every built-in one.
     std::vector<std::string> names;
-    if (flags.Bool("all") || flags.Bool("full")) {
+    if (absl::GetFlag(FLAGS_all) || absl::GetFlag(FLAGS_full)) {
         names = {"floor_wall", "table_floor", "sphere_grid", "thin_plates", "sphere_torus", "pins"};
     } else {
-        names = {flags.Has("scene_file") ? flags.Get("scene_file") : flags.Get("scene", "floor_wall")};
+        names = {flags.Given("scene_file") ? absl::GetFlag(FLAGS_scene_file)
+                                           : absl::GetFlag(FLAGS_scene)};
     }
     std::vector<SceneRun> scenes;
     for (const std::string& name : names) {
-        auto source = LoadNamedScene(name, flags.Has("scene_file"));
+        auto source = LoadNamedScene(name, flags.Given("scene_file"));
         if (!source) return Fail(source.error());
         auto uploaded = client.UploadScene(source->message);
         if (!uploaded) return Fail(uploaded.error());
@@ -120,20 +115,20 @@ int ReportCommand(client::Client& client, const Flags& flags) {
     };
     std::vector<Run> methods;
     for (const eval::Method& m :
-         flags.Bool("depth_only") ? eval::DepthMethods() : eval::AllMethods()) {
+         absl::GetFlag(FLAGS_depth_only) ? eval::DepthMethods() : eval::AllMethods()) {
         methods.push_back({m.Name(), ProtoMethod(m.fitting), ProtoFilter(m.test)});
     }
     methods.push_back({"silhouette volumes", v1::METHOD_PLANE_OPTIMAL, v1::FILTER_VOLUMES});
-    std::vector<std::int64_t> budgets = eval::DefaultBudgets();
-    const int runs = static_cast<int>(*repeats);
-    eval::ProgressBar bar(static_cast<std::int64_t>(scenes.size() * methods.size() * budgets.size()),
-                          "report");
+    auto budgets = ReportBudgets(flags, eval::DefaultBudgets());
+    if (!budgets) return UsageError(budgets.error());
+    eval::ProgressBar bar(
+        static_cast<std::int64_t>(scenes.size() * methods.size() * budgets->size()), "report");
     std::vector<eval::ReportRow> rows;
     std::vector<std::string> notes;
     for (const SceneRun& scene : scenes) {
         std::vector<eval::Mask> grid_masks;
         eval::GroundTruth grid_truth;
-        for (std::int64_t budget : budgets) {
+        for (std::int64_t budget : *budgets) {
             for (const Run& method : methods) {
                 v1::ViewRequest request;
                 request.mutable_plan()->set_scene_id(scene.id);
@@ -211,7 +206,7 @@ int ReportCommand(client::Client& client, const Flags& flags) {
     }
     bar.Finish();
     if (rows.empty()) return Fail(Error{"report", "no method produced a row"});
-    notes.push_back("Served by " + flags.Get("target", "127.0.0.1:50051") +
+    notes.push_back("Served by " + absl::GetFlag(FLAGS_target) +
                     "; stage times are medians of " + std::to_string(runs) +
                     " runs; transfer is the round trip less the server's stages.");
     notes.push_back("Mask grids (<scene>_masks.png) show the 512^2 budget: per fitting a row "

@@ -6,6 +6,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -124,8 +125,12 @@ TEST_F(HostileUpload, NamesOfFilesAreRefusedFastWithoutReadingThem) {
         EXPECT_EQ(reason.find("/tmp"), std::string::npos) << reason;
         EXPECT_EQ(reason.find("lixel-upload"), std::string::npos) << reason;
         EXPECT_EQ(reason.find("size mismatch"), std::string::npos) << reason;
+        const double grown = ResidentMiB() - before;
         EXPECT_LT(seconds, 1.0);
-        EXPECT_LT(ResidentMiB() - before, 64.0);
+        EXPECT_LT(grown, 64.0);
+        // The figures of docs/reliability.md's attack table.
+        std::printf("| %s | %s | %.1f ms | %+.1f MiB |\n", input.name,
+                    refused.error().field.c_str(), seconds * 1e3, grown);
         ExpectStillServing();
     }
 }
@@ -263,6 +268,41 @@ TEST(HostileUploadLimits, AStreamThatStopsSendingIsEnded) {
     writer->WritesDone();
     const grpc::Status slow = writer->Finish();
     EXPECT_TRUE(slow.ok()) << slow.error_message();
+}
+
+}  // namespace
+}  // namespace lixel
+
+namespace lixel {
+namespace {
+
+// A client that holds a stream open cannot hold the server's shutdown: after the grace period
+// gRPC cancels it (without the deadline Shutdown waited for the client's own 30 s deadline).
+TEST(HostileUploadLimits, ShutdownCancelsStreamsPastItsGracePeriod) {
+    service::ServerOptions options = testing::SmallServerOptions("shutdown");
+    options.shutdown_grace_seconds = 0.5;
+    auto server = testing::StartServer(options);
+    auto stub = testing::RawStub(testing::Target(*server));
+    struct Held {
+        grpc::ClientContext context;
+        v1::UploadSceneResponse response;
+        std::unique_ptr<grpc::ClientWriter<v1::SceneChunk>> writer;
+    } held;
+    testing::WithDeadline(held.context, 30.0);
+    held.writer = stub->UploadScene(&held.context, &held.response);
+    v1::SceneChunk chunk;
+    chunk.mutable_header()->set_format(v1::SCENE_FORMAT_OBJ);
+    chunk.mutable_header()->set_total_bytes(100);
+    ASSERT_TRUE(held.writer->Write(chunk));
+    ASSERT_TRUE(testing::Eventually(
+        [&] { return server->service().state().uploads_in_flight.held() == 100; }));
+    const auto start = std::chrono::steady_clock::now();
+    server->Shutdown();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_GE(seconds, 0.4);
+    EXPECT_LT(seconds, 5.0);
+    EXPECT_FALSE(held.writer->Finish().ok());
 }
 
 }  // namespace

@@ -69,6 +69,17 @@ std::uint64_t PlanBytes(const Plan& plan) {
     return bytes;
 }
 
+// An error the solver found in a decoded plan request, named from the request's root: the
+// solver's "viewer" and "viewport" are the request's plan.camera, its "planes[i]" and "light"
+// sit under plan.
+Error InPlan(const Error& error) {
+    std::string field = error.field;
+    if (field.rfind("viewer", 0) == 0 || field.rfind("viewport", 0) == 0) {
+        field = "camera." + field;
+    }
+    return Error{"plan." + field, error.reason};
+}
+
 grpc::Status GpuUnavailable(GpuWorker& worker) {
     if (worker.fault.exchange(false)) {
         worker.scenes.clear();
@@ -125,7 +136,7 @@ grpc::Status InvalidArgument(const Error& error) {
 }
 
 grpc::Status SolveJob(const ServiceState& state, const v1::SolveRequest& request,
-                      v1::SolveResponse* response) {
+                      v1::SolveResponse* response, const CancelCheck& cancelled) {
     response->set_instance(state.options.instance);
     const std::size_t views = request.views_size();
     const std::size_t planes = request.planes_size();
@@ -145,6 +156,15 @@ grpc::Status SolveJob(const ServiceState& state, const v1::SolveRequest& request
     if (!bounds) return InvalidArgument(bounds.error());
     if (!(request.scale() >= 0.0 && request.scale() <= 1.0)) {
         return InvalidArgument(Error{"scale", "must be in (0, 1] (0 means 1)"});
+    }
+    if (request.lixel_budget() > kMaxLixelBudget) {
+        return InvalidArgument(Error{"lixel_budget", "is " + std::to_string(request.lixel_budget()) +
+                                                         ", over the maximum of " +
+                                                         std::to_string(kMaxLixelBudget) +
+                                                         " lixels per map (0: no budget)"});
+    }
+    if (!v1::Twist_IsValid(request.twist())) {
+        return InvalidArgument(Error{"twist", "unknown value " + std::to_string(request.twist())});
     }
     std::vector<DecodedCamera> cameras;
     for (std::size_t i = 0; i < views; ++i) {
@@ -168,6 +188,8 @@ grpc::Status SolveJob(const ServiceState& state, const v1::SolveRequest& request
         light_list.push_back(*l);
     }
     for (std::size_t v = 0; v < views; ++v) {
+        // A view's solves take microseconds each (kMaxBatchAxis^2 at most): look between views.
+        if (cancelled && cancelled()) return CancelledStatus();
         for (std::size_t p = 0; p < planes; ++p) {
             for (std::size_t l = 0; l < lights; ++l) {
                 PlaneMapRequest pr;
@@ -180,8 +202,7 @@ grpc::Status SolveJob(const ServiceState& state, const v1::SolveRequest& request
                 pr.crop.twist = request.twist() == v1::TWIST_MINIMIZE_AREA ? Twist::kMinimizeArea
                                                                            : Twist::kNone;
                 pr.crop.scale = request.scale() == 0.0 ? 1.0 : request.scale();
-                pr.crop.lixel_budget = static_cast<std::int64_t>(
-                    std::min<std::uint64_t>(request.lixel_budget(), kMaxLixelBudget));
+                pr.crop.lixel_budget = static_cast<std::int64_t>(request.lixel_budget());
                 v1::SolveResult* result = response->add_results();
                 result->set_view_index(static_cast<std::uint32_t>(v));
                 result->set_plane_index(static_cast<std::uint32_t>(p));
@@ -206,13 +227,14 @@ grpc::Status SolveJob(const ServiceState& state, const v1::SolveRequest& request
 }
 
 grpc::Status PlanJob(ServiceState& state, const v1::PlanRequest& request,
-                     v1::PlanResponse* response) {
+                     v1::PlanResponse* response, const CancelCheck& cancelled) {
     std::shared_ptr<const SceneRecord> scene;
     if (auto s = FindScene(state, request, false, "plan", &scene); !s.ok()) return s;
     auto decoded = DecodePlanRequest(request, scene.get(), "plan");
     if (!decoded) return InvalidArgument(decoded.error());
+    if (cancelled && cancelled()) return CancelledStatus();
     auto plan = PlanShadowMaps(*decoded);
-    if (!plan) return InvalidArgument(plan.error());
+    if (!plan) return InvalidArgument(InPlan(plan.error()));
     EncodePlan(*plan, response);
     response->set_instance(state.options.instance);
     return grpc::Status::OK;
@@ -311,7 +333,7 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     auto decoded = DecodePlanRequest(request.plan(), scene.get(), "plan");
     if (!decoded) return InvalidArgument(decoded.error());
     auto plan = PlanShadowMaps(*decoded);
-    if (!plan) return InvalidArgument(plan.error());
+    if (!plan) return InvalidArgument(InPlan(plan.error()));
     const std::uint64_t bytes = PlanBytes(*plan);
     if (bytes > state.options.memory_cap_bytes) {
         return Exhausted("plan: its maps need " + std::to_string(bytes) + " bytes, over the " +
@@ -378,7 +400,12 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         case v1::FILTER_SECOND_DEPTH: method = render::ShadowMethod::kSecondDepth; break;
         case v1::FILTER_SILHOUETTE_MAP: method = render::ShadowMethod::kSilhouette; break;
         case v1::FILTER_VOLUMES: break;  // no maps: exact volumes over the view
-        default: return InvalidArgument(Error{"filter", "unknown filter"});
+        default:
+            return InvalidArgument(
+                Error{"filter", "unknown value " + std::to_string(request.filter())});
+    }
+    if (!v1::Method_IsValid(request.method())) {
+        return InvalidArgument(Error{"method", "unknown value " + std::to_string(request.method())});
     }
     const bool volumes = request.filter() == v1::FILTER_VOLUMES;
     auto decoded = DecodePlanRequest(plan_message, scene.get(), "plan");
@@ -393,7 +420,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     std::vector<std::pair<std::string, double>> times;
     auto start = Clock::now();
     auto plan = PlanShadowMaps(*decoded);
-    if (!plan) return InvalidArgument(plan.error());
+    if (!plan) return InvalidArgument(InPlan(plan.error()));
     MaskJob job;
     job.viewer = decoded->viewer;
     job.viewport = decoded->viewport;
@@ -528,7 +555,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
 }
 
 grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& request,
-                            v1::SilhouettesResponse* response) {
+                            v1::SilhouettesResponse* response, const CancelCheck& cancelled) {
     response->set_instance(state.options.instance);
     if (request.scene_id().empty()) {
         return InvalidArgument(Error{"scene_id", "is required: upload a scene first"});
@@ -551,8 +578,11 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
     for (std::size_t i = 0; i < scene->scene.meshes.size(); ++i) {
         const Mesh& mesh = scene->scene.meshes[i];
         const std::string field = "scene.meshes[" + std::to_string(i) + "]";
+        // Between meshes and between a mesh's steps (adjacency, extraction).
+        if (cancelled && cancelled()) return CancelledStatus();
         auto adjacency = volumes::BuildEdgeAdjacency(mesh);
         if (!adjacency) return InvalidArgument(Error{field, adjacency.error().Message()});
+        if (cancelled && cancelled()) return CancelledStatus();
         if (!request.smooth()) {
             for (const volumes::SilhouetteEdge& e : volumes::ExtractSilhouette(*adjacency, light)) {
                 v1::SilhouetteEdge* out = response->add_edges();

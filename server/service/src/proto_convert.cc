@@ -2,6 +2,7 @@
 #include <lixel/service/proto_convert.h>
 
 #include <cmath>
+#include <numbers>
 
 namespace lixel::service {
 
@@ -77,6 +78,35 @@ Result<Vec4> DecodeLight(const v1::Light& light, bool present, const std::string
     return *position;
 }
 
+Result<bool> CheckConvexCounterClockwise(const std::vector<Vec3>& polygon, const Vec3& normal,
+                                         const std::string& field) {
+    const std::size_t n = polygon.size();
+    if (n == 0) return true;
+    // Every turn to the left of the plane's normal, and the turns adding up to one full turn
+    // (a pentagram turns left at every corner but winds twice).
+    double winding = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+        const Vec3 a = polygon[(k + 1) % n] - polygon[k];
+        const Vec3 b = polygon[(k + 2) % n] - polygon[(k + 1) % n];
+        const double turn = a.cross(b).dot(normal);
+        const double scale = a.norm() * b.norm() * normal.norm();
+        if (!(turn > 1e-12 * scale)) {
+            return Error{Index(field, static_cast<int>((k + 1) % n)),
+                         turn < -1e-12 * scale
+                             ? "turns clockwise about the plane's normal: the polygon must be "
+                               "convex and counter-clockwise seen from the normal's side"
+                             : "is collinear with its neighbours or repeats one: the polygon must "
+                               "be strictly convex"};
+        }
+        winding += std::atan2(turn / normal.norm(), a.dot(b));
+    }
+    if (std::abs(winding - 2.0 * std::numbers::pi) > 1e-6) {
+        return Error{field, "winds " + std::to_string(winding / (2.0 * std::numbers::pi)) +
+                                " times around its centre: a convex polygon winds once"};
+    }
+    return true;
+}
+
 Result<PlaneOfInterest> DecodePlane(const v1::PlaneOfInterest& plane, std::size_t index,
                                     const std::string& field) {
     PlaneOfInterest out;
@@ -99,6 +129,11 @@ Result<PlaneOfInterest> DecodePlane(const v1::PlaneOfInterest& plane, std::size_
         auto v = DecodeVec3(plane.polygon(k), Index(field + ".polygon", k));
         if (!v) return v.error();
         out.polygon.push_back(*v);
+    }
+    if (auto convex = CheckConvexCounterClockwise(out.polygon, out.plane.head<3>(),
+                                                  field + ".polygon");
+        !convex) {
+        return convex.error();
     }
     return out;
 }
@@ -225,6 +260,11 @@ Result<SceneRecord> DecodeScene(const v1::Scene& message, const std::string& fie
                 const Eigen::Vector3f n(m.normals(3 * v), m.normals(3 * v + 1),
                                         m.normals(3 * v + 2));
                 if (!n.allFinite()) return Error{Index(path + ".normals", 3 * v), "is not finite"};
+                if (!(std::abs(n.norm() - 1.0f) <= 1e-3f)) {
+                    return Error{Index(path + ".normals", 3 * v),
+                                 "has length " + std::to_string(n.norm()) +
+                                     ": normals must be of unit length (within 1e-3) or absent"};
+                }
                 mesh.normals.push_back(n);
             }
         }

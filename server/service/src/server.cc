@@ -3,6 +3,8 @@
 #include <grpcpp/health_check_service_interface.h>
 #include <lixel/service/server.h>
 
+#include <chrono>
+
 #include <climits>
 
 namespace lixel::service {
@@ -19,7 +21,11 @@ Result<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
     grpc::EnableDefaultHealthCheckService(true);
     grpc::reflection::InitProtoReflectionServerBuilderPlugin();
 
+    if (!(options.shutdown_grace_seconds >= 0.0 && options.shutdown_grace_seconds <= 3600.0)) {
+        return Error{"shutdown_grace_seconds", "must be in [0, 3600]"};
+    }
     std::unique_ptr<Server> server(new Server());
+    server->shutdown_grace_seconds_ = options.shutdown_grace_seconds;
     Server* raw = server.get();
     server->service_ = std::make_unique<ShadowService>(
         options.service, options.metrics_address, [raw](bool ok, const std::string&) {
@@ -88,7 +94,11 @@ void Server::Shutdown() {
             server = server_.get();
         }
         if (server != nullptr) {
-            server->Shutdown();
+            // After the grace period gRPC cancels the calls still running; jobs see the
+            // cancellation at their next check and end (jobs.h).
+            server->Shutdown(std::chrono::system_clock::now() +
+                             std::chrono::milliseconds(
+                                 static_cast<long>(shutdown_grace_seconds_ * 1000.0)));
             server->Wait();
         }
         service_.reset();

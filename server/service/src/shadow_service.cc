@@ -321,16 +321,18 @@ void ShadowService::BreakWorkerContext(int worker) { gpus_.at(worker)->fault = t
 grpc::ServerUnaryReactor* ShadowService::Solve(grpc::CallbackServerContext* context,
                                                const v1::SolveRequest* request,
                                                v1::SolveResponse* response) {
-    return RunUnary(*this, context, "Solve", *request, response, [this, request, response](int) {
-        return SolveJob(state_, *request, response);
+    return RunUnary(*this, context, "Solve", *request, response,
+                    [this, context, request, response](int) {
+        return SolveJob(state_, *request, response, [context] { return context->IsCancelled(); });
     });
 }
 
 grpc::ServerUnaryReactor* ShadowService::Plan(grpc::CallbackServerContext* context,
                                               const v1::PlanRequest* request,
                                               v1::PlanResponse* response) {
-    return RunUnary(*this, context, "Plan", *request, response, [this, request, response](int) {
-        return PlanJob(state_, *request, response);
+    return RunUnary(*this, context, "Plan", *request, response,
+                    [this, context, request, response](int) {
+        return PlanJob(state_, *request, response, [context] { return context->IsCancelled(); });
     });
 }
 
@@ -358,8 +360,9 @@ grpc::ServerUnaryReactor* ShadowService::Silhouettes(grpc::CallbackServerContext
                                                      const v1::SilhouettesRequest* request,
                                                      v1::SilhouettesResponse* response) {
     return RunUnary(*this, context, "Silhouettes", *request, response,
-                    [this, request, response](int) {
-        return SilhouettesJob(state_, *request, response);
+                    [this, context, request, response](int) {
+        return SilhouettesJob(state_, *request, response,
+                              [context] { return context->IsCancelled(); });
     });
 }
 

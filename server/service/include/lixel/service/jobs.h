@@ -36,12 +36,14 @@ struct ServiceState {
 
 grpc::Status InvalidArgument(const Error& error);
 
+// Every job polls `cancelled` (the call's cancellation or deadline) between units of work of a
+// few milliseconds at most and answers CANCELLED once it holds.
 grpc::Status SolveJob(const ServiceState& state, const v1::SolveRequest& request,
-                      v1::SolveResponse* response);
+                      v1::SolveResponse* response, const CancelCheck& cancelled = {});
 
 // Looks up the plan's scene (NOT_FOUND when unknown) and plans.
 grpc::Status PlanJob(ServiceState& state, const v1::PlanRequest& request,
-                     v1::PlanResponse* response);
+                     v1::PlanResponse* response, const CancelCheck& cancelled = {});
 
 // Decodes an uploaded scene's content (after the header) into the cache, in memory, within the
 // options' upload limits (RESOURCE_EXHAUSTED naming the limit), polling `cancelled` as it goes.
@@ -58,6 +60,6 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
                      const CancelCheck& cancelled, v1::ViewResponse* response);
 
 grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& request,
-                            v1::SilhouettesResponse* response);
+                            v1::SilhouettesResponse* response, const CancelCheck& cancelled = {});
 
 }  // namespace lixel::service

@@ -35,6 +35,11 @@ struct DecodedCamera {
 Result<DecodedCamera> DecodeCamera(const v1::Camera& camera, bool present,
                                    const std::string& field);
 Result<Vec4> DecodeLight(const v1::Light& light, bool present, const std::string& field);
+// A bounded plane's polygon: strictly convex and counter-clockwise seen from the side `normal`
+// points to; else the first vertex that breaks it (field[k]) or the polygon's winding.
+Result<bool> CheckConvexCounterClockwise(const std::vector<Vec3>& polygon, const Vec3& normal,
+                                         const std::string& field);
+
 Result<PlaneOfInterest> DecodePlane(const v1::PlaneOfInterest& plane, std::size_t index,
                                     const std::string& field);
 

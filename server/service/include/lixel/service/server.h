@@ -35,7 +35,8 @@ public:
     ShadowService& service() noexcept { return *service_; }
     // Blocks until Shutdown.
     void Wait();
-    // Stops taking calls, lets those in flight end, then stops the workers. Safe from any thread
+    // Stops taking calls, lets those in flight end for shutdown_grace_seconds and cancels the
+    // rest, then stops the workers. Safe from any thread
     // and more than once (later calls wait for the first); the gRPC server object itself lives
     // until ~Server, so a thread still returning from Wait() never meets a freed one.
     void Shutdown();
@@ -50,6 +51,7 @@ private:
     std::unique_ptr<ShadowService> service_;
     std::unique_ptr<grpc::Server> server_;  // set once in Start, before any Wait or Shutdown
     int port_ = 0;
+    double shutdown_grace_seconds_ = 10.0;
 };
 
 }  // namespace lixel::service
