@@ -9,9 +9,13 @@
 #include <lixel/service/access.h>
 #include <lixel/service/server.h>
 
+#include <pthread.h>
+
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <csignal>
+#include <future>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -88,11 +92,41 @@ ABSL_FLAG(std::string, tls_client_ca, "",
 
 namespace {
 
-lixel::service::Server* running = nullptr;
+// SIGINT and SIGTERM are blocked in every thread and taken by one thread with sigwait, so the
+// shutdown runs in ordinary code, never in a signal handler. The first signal shuts down (calls
+// in flight get --shutdown_grace_seconds, then are cancelled); if the process is still alive
+// 5 s after that, or a second signal comes, it exits at once: SIGTERM always ends the process.
+void BlockStopSignals(sigset_t* set) {
+    sigemptyset(set);
+    sigaddset(set, SIGINT);
+    sigaddset(set, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, set, nullptr);
+}
 
-void Stop(int) {
-    // Shutdown from a fresh thread: it blocks until calls drain.
-    if (running != nullptr) std::thread([] { running->Shutdown(); }).detach();
+[[noreturn]] void ExitNow(const char* why) {
+    std::fprintf(stderr, "lixel_server: %s; exiting now\n", why);
+    std::fflush(stderr);
+    std::_Exit(1);
+}
+
+void TakeStopSignals(sigset_t set, lixel::service::Server* server, double grace_seconds,
+                     std::promise<void>* stopped) {
+    std::thread([set, server, grace_seconds, stopped] {
+        int signal = 0;
+        sigwait(&set, &signal);
+        std::fprintf(stderr, "lixel_server: %s: shutting down\n",
+                     signal == SIGTERM ? "SIGTERM" : "SIGINT");
+        std::thread([server, stopped] {
+            server->Shutdown();
+            stopped->set_value();
+        }).detach();
+        std::thread([grace_seconds] {
+            std::this_thread::sleep_for(std::chrono::duration<double>(grace_seconds + 5.0));
+            ExitNow("shutdown did not finish in time");
+        }).detach();
+        sigwait(&set, &signal);
+        ExitNow("a second stop signal");
+    }).detach();
 }
 
 [[noreturn]] void Refuse(const std::string& message) {
@@ -318,14 +352,15 @@ int main(int argc, char** argv) {
     options.service.gl.backend = *backend;
     if (options.service.instance.empty()) options.service.instance = "lixel@" + options.address;
 
+    sigset_t stop_signals;
+    BlockStopSignals(&stop_signals);  // before any thread starts, so that all inherit the mask
     auto server = lixel::service::Server::Start(options);
     if (!server) {
         std::fprintf(stderr, "lixel_server: %s\n", server.error().Message().c_str());
         return 1;
     }
-    running = server->get();
-    std::signal(SIGINT, Stop);
-    std::signal(SIGTERM, Stop);
+    std::promise<void> stopped;
+    TakeStopSignals(stop_signals, server->get(), options.shutdown_grace_seconds, &stopped);
     std::fprintf(stderr, "lixel_server: %s listening on port %d%s%s\n",
                  options.service.instance.c_str(), (*server)->port(),
                  options.metrics_address.empty() ? "" : ", metrics on ",
@@ -333,5 +368,6 @@ int main(int argc, char** argv) {
     std::printf("%d\n", (*server)->port());  // the chosen port, for scripts that pass port 0
     std::fflush(stdout);
     (*server)->Wait();
+    stopped.get_future().wait();  // the workers are stopped too
     return 0;
 }
