@@ -6,6 +6,7 @@
 #include <lixel/render/image_io.h>
 #include <lixel/service/proto_convert.h>
 
+#include <cctype>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -189,15 +190,22 @@ int RenderCommand(client::Client& client, const Flags& flags) {
     std::filesystem::create_directories(out);
     for (int i = 0; i < maps->header.images_size(); ++i) {
         const v1::MapImage& meta = maps->header.images(i);
+        if (meta.map_index() >= static_cast<std::uint32_t>(maps->header.plan().maps_size())) {
+            return Fail(Error{"images[" + std::to_string(i) + "].map_index",
+                              "names no map of the plan (the server's answer is malformed)"});
+        }
         const v1::PlannedMap& planned = maps->header.plan().maps(static_cast<int>(meta.map_index()));
         render::FloatImage image;
         image.width = static_cast<int>(meta.width());
         image.height = static_cast<int>(meta.height());
         image.channels = meta.pass() == v1::PASS_SILHOUETTE_MAP ? 2 : 1;
         image.pixels = maps->images[static_cast<std::size_t>(i)];
-        std::string base = planned.name() + "_" + PassName(meta.pass());
+        // The name comes from the server: only letters, digits, '-' and '_' reach the file
+        // name, so no name ("../x", "/etc/y", "a\0b") can leave --out.
+        std::string base = planned.name().substr(0, 64) + "_" + PassName(meta.pass());
         for (char& c : base) {
-            if (c == ' ') c = '_';
+            const bool plain = std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_';
+            if (!plain) c = '_';
         }
         const std::string path = out + "/" + base;
         auto written = pfm ? render::WritePfm(path + ".pfm", image)
