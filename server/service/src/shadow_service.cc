@@ -49,6 +49,21 @@ public:
     ClientLease lease;
 };
 
+// The scene a request names: its scene_id, or its plan's (Plan, View, Silhouettes, Render).
+std::string SceneIdOf(const google::protobuf::Message& request) {
+    const google::protobuf::Descriptor* d = request.GetDescriptor();
+    const google::protobuf::Reflection* r = request.GetReflection();
+    if (const auto* f = d->FindFieldByName("scene_id");
+        f != nullptr && f->type() == google::protobuf::FieldDescriptor::TYPE_STRING) {
+        return r->GetString(request, f);
+    }
+    if (const auto* f = d->FindFieldByName("plan");
+        f != nullptr && f->type() == google::protobuf::FieldDescriptor::TYPE_MESSAGE) {
+        return SceneIdOf(r->GetMessage(request, f));
+    }
+    return {};
+}
+
 template <class Job>
 grpc::ServerUnaryReactor* RunUnary(ShadowService& service, grpc::CallbackServerContext* context,
                                    const char* rpc, const google::protobuf::Message& request,
@@ -57,24 +72,26 @@ grpc::ServerUnaryReactor* RunUnary(ShadowService& service, grpc::CallbackServerC
     const auto start = Clock::now();
     grpc::Status status;
     if (!service.Admit(context, request.ByteSizeLong(), &reactor->lease, &status)) {
-        service.Record(rpc, status, Since(start), "");
+        service.Record(rpc, status, Since(start), "", context, SceneIdOf(request));
         reactor->Finish(status);
         return reactor;
     }
+    const std::string scene_id = SceneIdOf(request);
     const bool queued = service.pool().TrySubmit([&service, reactor, context, rpc, start, response,
+                                                  scene_id,
                                                   job = std::move(job)](int worker) mutable {
         grpc::Status s = context->IsCancelled() ? grpc::Status(grpc::StatusCode::CANCELLED,
                                                                 "request: cancelled before work")
                                                  : job(worker);
         // The answer counts against the caller's bytes in flight until it has been sent.
         if (s.ok()) s = reactor->lease.Grow(response->ByteSizeLong());
-        service.Record(rpc, s, Since(start), "");
+        service.Record(rpc, s, Since(start), "", context, scene_id);
         reactor->Finish(s);
     });
     service.state().metrics.QueueDepth(static_cast<double>(service.pool().queued()));
     if (!queued) {
         status = QueueFull(service.state().options.queue_capacity);
-        service.Record(rpc, status, Since(start), "");
+        service.Record(rpc, status, Since(start), "", context, scene_id);
         reactor->Finish(status);
     }
     return reactor;
@@ -146,6 +163,7 @@ public:
                     std::to_string(upload_.content().size()) + " bytes");
         }
         service_.Record("UploadScene", delivered, Since(start_),
+                        std::to_string(upload_.content().size()) + " bytes", context_,
                         delivered.ok() ? response_->scene_id() : std::string());
         delete this;
     }
@@ -253,7 +271,8 @@ private:
 
     void Done(const grpc::Status& status) {
         service_.Record("Render", status, Since(start_),
-                        std::to_string(stream_.size()) + " messages");
+                        std::to_string(stream_.size()) + " messages", context_,
+                        request_.plan().scene_id());
         Finish(status);
     }
 
@@ -308,11 +327,20 @@ bool ShadowService::Admit(grpc::CallbackServerContext* context, std::uint64_t re
 }
 
 void ShadowService::Record(const char* rpc, const grpc::Status& status, double seconds,
-                           const std::string& detail) {
+                           const std::string& detail, grpc::CallbackServerContext* context,
+                           const std::string& scene_id) {
     state_.metrics.Request(rpc, CodeName(status.error_code()), seconds);
     state_.metrics.QueueDepth(static_cast<double>(pool_ ? pool_->queued() : 0));
-    std::fprintf(stderr, "lixel[%s] %s %s %.2f ms%s%s%s%s\n", state_.options.instance.c_str(),
-                 rpc, CodeName(status.error_code()), seconds * 1e3, detail.empty() ? "" : " ",
+    std::string peer = "-", identity = "-";
+    if (context != nullptr) {
+        peer = context->peer();
+        if (!IdentifyCaller(*context, state_.options, &identity).ok()) identity = "(refused)";
+    }
+    const std::uint64_t id = ++requests_;
+    std::fprintf(stderr, "lixel[%s] #%llu %s peer=%s client=%s scene=%s %s %.2f ms%s%s%s%s\n",
+                 state_.options.instance.c_str(), static_cast<unsigned long long>(id), rpc,
+                 peer.c_str(), identity.c_str(), scene_id.empty() ? "-" : scene_id.c_str(),
+                 CodeName(status.error_code()), seconds * 1e3, detail.empty() ? "" : " ",
                  detail.c_str(), status.ok() ? "" : ": ", status.error_message().c_str());
 }
 

@@ -53,8 +53,12 @@ public:
     // of `request_bytes`.
     bool Admit(grpc::CallbackServerContext* context, std::uint64_t request_bytes,
                ClientLease* lease, grpc::Status* status);
+    // Counts the call and logs one line an operator can trace: a request id, the RPC, the peer,
+    // the client identity (token name, certificate subject or peer host), the scene id, the
+    // status and the time.
     void Record(const char* rpc, const grpc::Status& status, double seconds,
-                const std::string& detail);
+                const std::string& detail, grpc::CallbackServerContext* context = nullptr,
+                const std::string& scene_id = "");
     GpuWorker& gpu(int worker) { return *gpus_[worker]; }
     IdleStreams& idle_uploads() noexcept { return *idle_uploads_; }
 
@@ -62,6 +66,7 @@ private:
     ServiceState state_;
     std::vector<std::unique_ptr<GpuWorker>> gpus_;
     std::atomic<bool> gl_reported_{false};
+    std::atomic<std::uint64_t> requests_{0};
     std::function<void(bool, const std::string&)> on_gl_ready_;
     std::unique_ptr<IdleStreams> idle_uploads_;
     std::unique_ptr<WorkPool> pool_;  // last: its threads use everything above
