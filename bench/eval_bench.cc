@@ -92,8 +92,8 @@ BENCHMARK(BM_GroundTruthSingle)->Apply(Sizes);
 }  // namespace lixel::eval
 
 int main(int argc, char** argv) {
-    return lixel::bench::RunWithRatios(
-        argc, argv,
-        {"BM_PrimaryOnly/triangles:100000/side:512/real_time",
-         "BM_GroundTruthSingle/triangles:100000/side:512/real_time"});
+    // Ground truth against the primary rays alone, same mesh and size.
+    return lixel::bench::RunWithBaselines(argc, argv,
+                                          {{"BM_GroundTruthStream", "BM_PrimaryOnly"},
+                                           {"BM_GroundTruthSingle", "BM_PrimaryOnly"}});
 }

@@ -1,28 +1,51 @@
-// A console reporter that also prints every benchmark's time as a ratio to one baseline
-// measured in the same run, so figures read the same on any machine.
+// A console reporter that pairs every benchmark with its own baseline, measured in the same run
+// (the same mesh, the same size, the same bytes), and prints one ratio per line:
+//   DepthPass/tris:100000/side:1024 ÷ BareDepthDraw/tris:100000/side:1024 = 0.9912
+// so a figure reads the same on any machine. With --benchmark_repetitions each side is the
+// median of its repetitions.
 #pragma once
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 namespace lixel::bench {
 
+// Benchmarks of `family` (e.g. "BM_DepthPass") are compared with `baseline`: a family name
+// ("BM_BareDepthDraw") takes each benchmark's own arguments; a full run name
+// ("BM_EchoStream/1024") is used as it is.
+struct Pairing {
+    std::string family;
+    std::string baseline;
+};
+
+// "BM_DepthPass/tris:10/real_time" -> "DepthPass/tris:10": the name a reader compares.
+inline std::string DisplayName(std::string_view run_name) {
+    std::string name(run_name);
+    if (name.starts_with("BM_")) name.erase(0, 3);
+    for (std::string_view suffix : {"/real_time", "/manual_time"}) {
+        if (name.ends_with(suffix)) name.erase(name.size() - suffix.size());
+    }
+    return name;
+}
+
 class RatioReporter : public benchmark::ConsoleReporter {
-public:
-    explicit RatioReporter(std::vector<std::string> baselines) : baselines_(std::move(baselines)) {}
+  public:
+    explicit RatioReporter(std::vector<Pairing> pairs) : pairs_(std::move(pairs)) {}
 
     void ReportRuns(const std::vector<Run>& runs) override {
         for (const Run& run : runs) {
-            if (run.run_type == Run::RT_Iteration && run.iterations > 0) {
+            if (run.run_type == Run::RT_Iteration && run.iterations > 0 && !run.error_occurred) {
                 // Seconds, so benchmarks reported in different units compare.
-                times_.emplace_back(run.benchmark_name(),
-                                    run.GetAdjustedRealTime() /
-                                        benchmark::GetTimeUnitMultiplier(run.time_unit));
+                times_[DisplayName(run.benchmark_name())].push_back(
+                    run.GetAdjustedRealTime() / benchmark::GetTimeUnitMultiplier(run.time_unit));
+                order_.push_back(DisplayName(run.benchmark_name()));
             }
         }
         ConsoleReporter::ReportRuns(runs);
@@ -30,32 +53,55 @@ public:
 
     void Finalize() override {
         ConsoleReporter::Finalize();
-        for (const std::string& baseline : baselines_) {
-            double base = 0.0;
-            for (const auto& [name, t] : times_) {
-                if (name == baseline) base = t;
-            }
+        std::printf("\nratios, each benchmark to its own baseline in this run (< 1 is faster):\n");
+        std::vector<std::string> printed;
+        for (const std::string& name : order_) {
+            if (std::find(printed.begin(), printed.end(), name) != printed.end()) continue;
+            printed.push_back(name);
+            const std::string baseline = BaselineOf(name);
+            if (baseline.empty()) continue;
+            const double base = Median(baseline);
             if (base <= 0.0) {
-                std::printf("\nbaseline %s was not run: no ratios to it\n", baseline.c_str());
+                std::printf("  %s ÷ %s: baseline not run\n", name.c_str(), baseline.c_str());
                 continue;
             }
-            std::printf("\nratios to %s (same run; < 1 is faster):\n", baseline.c_str());
-            for (const auto& [name, t] : times_) {
-                std::printf("  %-48s %10.4f\n", name.c_str(), t / base);
-            }
+            std::printf("  %s ÷ %s = %.4f\n", name.c_str(), baseline.c_str(), Median(name) / base);
         }
     }
 
-private:
-    std::vector<std::string> baselines_;
-    std::vector<std::pair<std::string, double>> times_;
+  private:
+    // The display name of `name`'s baseline, or "" when no pairing names its family.
+    std::string BaselineOf(const std::string& name) const {
+        const std::size_t slash = name.find('/');
+        const std::string family = "BM_" + name.substr(0, slash);
+        const std::string args = slash == std::string::npos ? "" : name.substr(slash);
+        for (const Pairing& p : pairs_) {
+            if (p.family != family) continue;
+            if (p.baseline.find('/') != std::string::npos) return DisplayName(p.baseline);
+            return DisplayName(p.baseline + args);
+        }
+        return "";
+    }
+
+    double Median(const std::string& name) const {
+        const auto it = times_.find(name);
+        if (it == times_.end() || it->second.empty()) return 0.0;
+        std::vector<double> t = it->second;
+        std::sort(t.begin(), t.end());
+        const std::size_t n = t.size();
+        return n % 2 == 1 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+    }
+
+    std::vector<Pairing> pairs_;
+    std::map<std::string, std::vector<double>> times_;
+    std::vector<std::string> order_;
 };
 
-// Runs the registered benchmarks with a RatioReporter against each of `baselines`.
-inline int RunWithRatios(int argc, char** argv, std::vector<std::string> baselines) {
+// Runs the registered benchmarks with a RatioReporter over `pairs`.
+inline int RunWithBaselines(int argc, char** argv, std::vector<Pairing> pairs) {
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-    RatioReporter reporter(std::move(baselines));
+    RatioReporter reporter(std::move(pairs));
     benchmark::RunSpecifiedBenchmarks(&reporter);
     benchmark::Shutdown();
     return 0;

@@ -262,12 +262,9 @@ BENCHMARK(BM_SilhouettePass)->Apply(Sizes);
 }  // namespace lixel::render
 
 int main(int argc, char** argv) {
-    std::vector<std::string> baselines;
-    for (const char* tris : {"10000", "100000", "1000000"}) {
-        for (const char* side : {"512", "1024", "2048"}) {
-            baselines.push_back(std::string("BM_BareDepthDraw/tris:") + tris + "/side:" + side +
-                                "/real_time");
-        }
-    }
-    return lixel::bench::RunWithRatios(argc, argv, std::move(baselines));
+    // Each pass against the bare depth draw of the same mesh at the same map size.
+    return lixel::bench::RunWithBaselines(argc, argv,
+                                          {{"BM_DepthPass", "BM_BareDepthDraw"},
+                                           {"BM_SecondDepthPass", "BM_BareDepthDraw"},
+                                           {"BM_SilhouettePass", "BM_BareDepthDraw"}});
 }

@@ -295,7 +295,11 @@ BENCHMARK(BM_InstancesThroughput)->Arg(1)->Arg(2)->Arg(3)->UseManualTime()->Unit
 }  // namespace lixel
 
 int main(int argc, char** argv) {
-    return lixel::bench::RunWithRatios(
-        argc, argv, {"BM_EchoUnary/1/manual_time", "BM_EchoUnary/64/manual_time",
-                     "BM_EchoStream/1024", "BM_EchoStream/4096"});
+    // Each RPC against the bare echo of the same bytes: Solve's request size with the same
+    // callers, Render's map bytes in the same chunks.
+    return lixel::bench::RunWithBaselines(argc, argv,
+                                          {{"BM_SolveRpc", "BM_EchoUnary"},
+                                           {"BM_RenderStream", "BM_EchoStream"},
+                                           {"BM_InstancesThroughput",
+                                            "BM_InstancesThroughput/1/manual_time"}});
 }

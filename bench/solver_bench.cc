@@ -218,6 +218,11 @@ BENCHMARK(BM_Plan)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMicrosecon
 }  // namespace lixel
 
 int main(int argc, char** argv) {
-    return lixel::bench::RunWithRatios(argc, argv,
-                                       {"BM_DenseSolve11x11", "BM_SolvePlaneMapWithDiagnostics"});
+    // Each solve against the dense 11 x 11 solve of the same constraints.
+    return lixel::bench::RunWithBaselines(argc, argv,
+                                          {{"BM_ClosedFormWithCrop", "BM_DenseSolve11x11"},
+                                           {"BM_ClosedForm", "BM_DenseSolve11x11"},
+                                           {"BM_ClosedFormRows", "BM_DenseSolve11x11"},
+                                           {"BM_FivePointSvd", "BM_DenseSolve11x11"},
+                                           {"BM_SolvePlaneMapWithDiagnostics", "BM_DenseSolve11x11"}});
 }

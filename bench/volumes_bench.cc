@@ -354,7 +354,12 @@ BENCHMARK(BM_SmoothVolumeView)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMill
 }  // namespace lixel
 
 int main(int argc, char** argv) {
-    return lixel::bench::RunWithRatios(
-        argc, argv,
-        {"BM_EdgeAdjacency/100000", "BM_DiscreteVolumeCpu/100000", "BM_VolumeView/100000"});
+    // CPU work against building the adjacency of the same mesh; smooth against discrete (paper
+    // 002 Table 1); the CPU-extruded and smooth views against the tessellation-shader view.
+    return lixel::bench::RunWithBaselines(argc, argv,
+                                          {{"BM_SilhouetteExtraction", "BM_EdgeAdjacency"},
+                                           {"BM_DiscreteVolumeCpu", "BM_EdgeAdjacency"},
+                                           {"BM_SmoothVolumeCpu", "BM_DiscreteVolumeCpu"},
+                                           {"BM_CpuExtrudedVolumeView", "BM_VolumeView"},
+                                           {"BM_SmoothVolumeView", "BM_VolumeView"}});
 }
