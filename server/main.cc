@@ -64,6 +64,11 @@ ABSL_FLAG(std::uint64_t, max_upload_inflight_mb, Mib(Defaults().service.max_uplo
           "[1, 1048576]");
 ABSL_FLAG(double, upload_idle_seconds, Defaults().service.upload_idle_seconds,
           "seconds an upload stream may send nothing before it is ended, (0, 3600]");
+ABSL_FLAG(double, stream_idle_seconds, Defaults().service.stream_idle_seconds,
+          "seconds a Render stream's client may take nothing before the stream is ended, "
+          "(0, 3600]");
+ABSL_FLAG(bool, log_requests, Defaults().service.log_requests,
+          "one line per call on stderr: request id, RPC, peer, client, scene, status, time");
 ABSL_FLAG(std::uint64_t, cache_mb, Mib(Defaults().service.scene_cache_bytes),
           "MiB of decoded scenes kept, least recently used evicted first, [1, 1048576]");
 ABSL_FLAG(std::uint64_t, memory_cap_mb, Mib(Defaults().service.memory_cap_bytes),
@@ -162,6 +167,7 @@ constexpr Bounds kBounds[] = {
     {"max_upload_json_values", 1, kMaxCount, false},
     {"max_upload_inflight_mb", 1, kMaxMib, false},
     {"upload_idle_seconds", 0, 3600, true},
+    {"stream_idle_seconds", 0, 3600, true},
     {"cache_mb", 1, kMaxMib, false},
     {"memory_cap_mb", 1, kMaxMib, false},
     {"max_response_mb", 1, kMaxMib, false},
@@ -321,6 +327,8 @@ int main(int argc, char** argv) {
     options.service.max_upload_json_values = absl::GetFlag(FLAGS_max_upload_json_values);
     options.service.max_upload_bytes_in_flight = absl::GetFlag(FLAGS_max_upload_inflight_mb) << 20;
     options.service.upload_idle_seconds = absl::GetFlag(FLAGS_upload_idle_seconds);
+    options.service.stream_idle_seconds = absl::GetFlag(FLAGS_stream_idle_seconds);
+    options.service.log_requests = absl::GetFlag(FLAGS_log_requests);
     options.service.scene_cache_bytes = absl::GetFlag(FLAGS_cache_mb) << 20;
     options.service.memory_cap_bytes = absl::GetFlag(FLAGS_memory_cap_mb) << 20;
     options.service.max_response_bytes = absl::GetFlag(FLAGS_max_response_mb) << 20;

@@ -86,8 +86,8 @@ vec2 silhouette_point(int map, ivec2 texel) {
 
 float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 
-// Paper 000 §3.2, Fig. 5. u_tex_a holds depth at texel corners (the depth map offset by half a
-// texel: corner (i, j) is its texel (i, j)); u_tex_b the silhouette points. When the four corner
+// Paper 000 §3.2, Fig. 5. fetch_a reads depth at texel corners (the depth map offset by half a
+// texel: corner (i, j) is its texel (i, j)); fetch_b the silhouette points. When the four corner
 // tests agree, they decide. Otherwise the segments from this texel's point to its four
 // neighbours' points cut the texel into four skewed quadrants, each shaded like its corner; the
 // quadrant is found among eight pie slices (the four corner rays, each triangle split by the

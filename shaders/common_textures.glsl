@@ -1,36 +1,25 @@
-// Per-map textures of the view pass. GLSL 4.50 indexes sampler arrays only with dynamically
-// uniform expressions and the map differs per fragment, so each fetch switches on the index.
-//   u_tex_a: depth (depth, PCF), second depth (second depth) or corner depth (silhouette map)
-//   u_tex_b: silhouette points (silhouette map), RG32F
-// LIXEL_MAX_MAPS must be 8 (the switches below list every map).
+// Per-map textures of the view pass, packed into two atlases (map_atlas.h): one texelFetch per
+// tap from one sampler whatever map the fragment picked, since GLSL 4.50 indexes sampler arrays
+// only with dynamically uniform expressions.
+//   u_atlas_a: depth (depth, PCF), second depth (second depth) or corner depth (silhouette map)
+//   u_atlas_b: silhouette points (silhouette map), RG32F
+// Map m's texel t lives at u_map_origin_*[m] + t; fetches clamp t to the map's own extent (its
+// edge texels, as GL_CLAMP_TO_EDGE would), never reaching a neighbour in the atlas.
+// Needs common_maps.glsl (u_map_size: the extent of the silhouette points).
 
-uniform sampler2D u_tex_a[8];
-uniform sampler2D u_tex_b[8];
+uniform sampler2D u_atlas_a;
+uniform sampler2D u_atlas_b;
+uniform ivec2 u_map_origin_a[LIXEL_MAX_MAPS];
+uniform ivec2 u_map_extent_a[LIXEL_MAX_MAPS];  // corner depth: the map's size plus one
+uniform ivec2 u_map_origin_b[LIXEL_MAX_MAPS];
 
 ivec2 clamp_texel(ivec2 texel, ivec2 size) { return clamp(texel, ivec2(0), size - 1); }
 
 vec4 fetch_a(int map, ivec2 texel) {
-    switch (map) {
-        case 0: return texelFetch(u_tex_a[0], clamp_texel(texel, textureSize(u_tex_a[0], 0)), 0);
-        case 1: return texelFetch(u_tex_a[1], clamp_texel(texel, textureSize(u_tex_a[1], 0)), 0);
-        case 2: return texelFetch(u_tex_a[2], clamp_texel(texel, textureSize(u_tex_a[2], 0)), 0);
-        case 3: return texelFetch(u_tex_a[3], clamp_texel(texel, textureSize(u_tex_a[3], 0)), 0);
-        case 4: return texelFetch(u_tex_a[4], clamp_texel(texel, textureSize(u_tex_a[4], 0)), 0);
-        case 5: return texelFetch(u_tex_a[5], clamp_texel(texel, textureSize(u_tex_a[5], 0)), 0);
-        case 6: return texelFetch(u_tex_a[6], clamp_texel(texel, textureSize(u_tex_a[6], 0)), 0);
-        default: return texelFetch(u_tex_a[7], clamp_texel(texel, textureSize(u_tex_a[7], 0)), 0);
-    }
+    return texelFetch(u_atlas_a, u_map_origin_a[map] + clamp_texel(texel, u_map_extent_a[map]),
+                      0);
 }
 
 vec4 fetch_b(int map, ivec2 texel) {
-    switch (map) {
-        case 0: return texelFetch(u_tex_b[0], clamp_texel(texel, textureSize(u_tex_b[0], 0)), 0);
-        case 1: return texelFetch(u_tex_b[1], clamp_texel(texel, textureSize(u_tex_b[1], 0)), 0);
-        case 2: return texelFetch(u_tex_b[2], clamp_texel(texel, textureSize(u_tex_b[2], 0)), 0);
-        case 3: return texelFetch(u_tex_b[3], clamp_texel(texel, textureSize(u_tex_b[3], 0)), 0);
-        case 4: return texelFetch(u_tex_b[4], clamp_texel(texel, textureSize(u_tex_b[4], 0)), 0);
-        case 5: return texelFetch(u_tex_b[5], clamp_texel(texel, textureSize(u_tex_b[5], 0)), 0);
-        case 6: return texelFetch(u_tex_b[6], clamp_texel(texel, textureSize(u_tex_b[6], 0)), 0);
-        default: return texelFetch(u_tex_b[7], clamp_texel(texel, textureSize(u_tex_b[7], 0)), 0);
-    }
+    return texelFetch(u_atlas_b, u_map_origin_b[map] + clamp_texel(texel, u_map_size[map]), 0);
 }

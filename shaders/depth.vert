@@ -7,6 +7,10 @@ layout(location = 0) in vec3 a_position;
 
 uniform mat4 u_clip;
 
+// The view pass's depth pre-pass runs this shader too; its shading pass (view.vert) tests
+// GL_EQUAL against these depths.
+invariant gl_Position;
+
 void main() {
     gl_Position = u_clip * vec4(a_position, 1.0);
 }

@@ -53,6 +53,11 @@ void main() {
     vec3 to_light = normalize(u_light.xyz - u_light.w * p);
     float n_dot_l = dot(n, to_light);
 
+#ifdef LIXEL_BARE_VIEW
+    // The benchmark's baseline (ViewVariant::kBare): no lookup, no shadow test.
+    int map = -1;
+    float lit = n_dot_l > 0.0 ? 1.0 : 0.0;
+#else
     vec3 s;
     int map = select_map(p, s);
     float lit;
@@ -79,6 +84,7 @@ void main() {
             lit = silhouette_test(map, s, biased(slope_len, kReachCorners));
         }
     }
+#endif
     o_mask = lit;
     o_map = map;
     vec3 albedo = vec3(0.8) * (u_tint_maps != 0 ? map_tint(map) : vec3(1.0));

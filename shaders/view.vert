@@ -7,6 +7,9 @@ layout(location = 0) in vec3 a_position;
 uniform mat4 u_viewer;
 
 out vec3 v_position;
+// The depth pre-pass (depth.vert, u_clip = u_viewer) must write the same depths, bit for bit,
+// for the shading pass's GL_EQUAL test.
+invariant gl_Position;
 
 void main() {
     v_position = a_position;

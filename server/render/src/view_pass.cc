@@ -1,9 +1,11 @@
 // The view pass: uniforms for the plan's maps, the method's textures, one draw of the scene.
+#include <lixel/render/map_atlas.h>
 #include <lixel/render/map_transform.h>
 #include <lixel/render/view_pass.h>
 #include <lixel/solver/camera.h>
 
 #include <string>
+#include <vector>
 
 namespace lixel::render {
 namespace {
@@ -72,6 +74,44 @@ Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size) {
     return true;
 }
 
+constexpr GLuint kAtlasUnitA = 0;
+constexpr GLuint kAtlasUnitB = 1;
+
+// The texture the method reads as "a" (depth, second depth or corner depth) and as "b"
+// (silhouette points, or none) for map m; ValidateRequest has checked they exist.
+const DepthMap& TextureA(const ViewMap& m, ShadowMethod method) {
+    switch (method) {
+        case ShadowMethod::kSecondDepth:
+            return *m.second_depth;
+        case ShadowMethod::kSilhouette:
+            return m.silhouette->corners;
+        case ShadowMethod::kDepth:
+        case ShadowMethod::kPcf:
+            break;
+    }
+    return *m.depth;
+}
+
+// Copies `sources` (each its own size) into `atlas` at the packed origins; reallocates the atlas
+// when the layout's size differs from `atlas_size`.
+Result<std::vector<Eigen::Vector2i>> CopyIntoAtlas(const GlApi& gl, int max_side, GLenum format,
+                                                   const std::vector<GLuint>& sources,
+                                                   const std::vector<Viewport>& sizes,
+                                                   GlTexture& atlas, Viewport& atlas_size) {
+    auto layout = PackAtlas(sizes, max_side);
+    if (!layout) return layout.error();
+    if (!atlas || atlas_size.width != layout->width || atlas_size.height != layout->height) {
+        atlas = CreateTexture2D(gl, format, layout->width, layout->height);
+        atlas_size = {layout->width, layout->height};
+    }
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+        const Eigen::Vector2i& o = layout->origins[i];
+        gl.CopyImageSubData(sources[i], GL_TEXTURE_2D, 0, 0, 0, 0, atlas.id(), GL_TEXTURE_2D, 0,
+                            o.x(), o.y(), 0, sizes[i].width, sizes[i].height, 1);
+    }
+    return std::move(layout->origins);
+}
+
 void EnsureTexture(const GlApi& gl, GlTexture& texture, GLenum format, const Viewport& size,
                    const Viewport& old) {
     if (!texture || size.width != old.width || size.height != old.height) {
@@ -95,27 +135,24 @@ const char* ShadowMethodName(ShadowMethod method) noexcept {
     return "?";
 }
 
-Result<ViewPass> ViewPass::Create(GlContext& context) {
-    auto program =
-        BuildProgram(context, {"view.vert", "view.frag"},
-                     {"#define LIXEL_MAX_MAPS " + std::to_string(kMaxViewMaps),
-                      "#define LIXEL_MAX_HALF_PLANES " + std::to_string(kMaxHalfPlanes)});
+Result<ViewPass> ViewPass::Create(GlContext& context, ViewVariant variant) {
+    std::vector<std::string> defines = {
+        "#define LIXEL_MAX_MAPS " + std::to_string(kMaxViewMaps),
+        "#define LIXEL_MAX_HALF_PLANES " + std::to_string(kMaxHalfPlanes)};
+    if (variant == ViewVariant::kBare) defines.push_back("#define LIXEL_BARE_VIEW 1");
+    auto program = BuildProgram(context, {"view.vert", "view.frag"}, defines);
     if (!program) return program.error();
+    auto prepass = BuildProgram(context, {"depth.vert"});
+    if (!prepass) return prepass.error();
     GLuint fbo = 0;
     context.gl().CreateFramebuffers(1, &fbo);
     const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     context.gl().NamedFramebufferDrawBuffers(fbo, 3, buffers);
-    ViewPass pass(context, std::move(program.value()), GlFramebuffer(context.gl(), fbo));
-    // Texture units: u_tex_a[i] on unit i, u_tex_b[i] on unit kMaxViewMaps + i.
-    GLint units_a[kMaxViewMaps];
-    GLint units_b[kMaxViewMaps];
-    for (int i = 0; i < kMaxViewMaps; ++i) {
-        units_a[i] = i;
-        units_b[i] = kMaxViewMaps + i;
-    }
+    ViewPass pass(context, std::move(program.value()), std::move(prepass.value()),
+                  GlFramebuffer(context.gl(), fbo));
     const GLuint id = pass.program_.id();
-    context.gl().ProgramUniform1iv(id, pass.program_.Uniform("u_tex_a"), kMaxViewMaps, units_a);
-    context.gl().ProgramUniform1iv(id, pass.program_.Uniform("u_tex_b"), kMaxViewMaps, units_b);
+    context.gl().ProgramUniform1i(id, pass.program_.Uniform("u_atlas_a"), kAtlasUnitA);
+    context.gl().ProgramUniform1i(id, pass.program_.Uniform("u_atlas_b"), kAtlasUnitB);
     if (auto ok = context.Check("view pass setup"); !ok) return ok.error();
     return pass;
 }
@@ -162,29 +199,8 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
                 half_planes[3 * (i * kMaxHalfPlanes + k) + c] = static_cast<float>(h[c]);
             }
         }
-        const DepthMap* a = nullptr;
-        const SilhouetteMap* b = nullptr;
-        switch (request.method) {
-            case ShadowMethod::kDepth:
-            case ShadowMethod::kPcf:
-                a = m.depth;
-                break;
-            case ShadowMethod::kSecondDepth:
-                a = m.second_depth;
-                break;
-            case ShadowMethod::kSilhouette:
-                a = &m.silhouette->corners;
-                b = m.silhouette;
-                break;
-        }
-        gl.BindTextureUnit(static_cast<GLuint>(i), a->texture.id());
-        gl.BindTextureUnit(static_cast<GLuint>(kMaxViewMaps + i), b ? b->points.id() : 0);
     }
-    // Slots past the plan's maps: nothing bound; view.frag never fetches them.
-    for (int i = count; i < kMaxViewMaps; ++i) {
-        gl.BindTextureUnit(static_cast<GLuint>(i), 0);
-        gl.BindTextureUnit(static_cast<GLuint>(kMaxViewMaps + i), 0);
-    }
+    if (auto ok = FillAtlases(request); !ok) return ok;
     gl.ProgramUniform1i(program, program_.Uniform("u_map_count"), count);
     gl.ProgramUniformMatrix4fv(program, program_.Uniform("u_map_lixel"), kMaxViewMaps, GL_FALSE,
                                lixel.data());
@@ -230,15 +246,86 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     gl.ClearNamedFramebufferfv(fbo, GL_COLOR, 1, background);
     gl.ClearNamedFramebufferiv(fbo, GL_COLOR, 2, no_map);
     gl.ClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &far);
-    gl.UseProgram(program);
     gl.BindVertexArray(scene.triangles());
-    for (const GpuMeshRange& range : scene.ranges()) {
-        gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count), GL_UNSIGNED_INT,
-                        reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
-    }
+    const auto draw_scene = [&] {
+        for (const GpuMeshRange& range : scene.ranges()) {
+            gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count),
+                            GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
+        }
+    };
+    // Depth first, then shade only the nearest surface (GL_EQUAL; both vertex stages declare
+    // gl_Position invariant): the shadow test runs once per pixel instead of once per fragment
+    // of every overlapping triangle.
+    const GLuint prepass = depth_prepass_.id();
+    gl.ProgramUniformMatrix4fv(prepass, depth_prepass_.Uniform("u_clip"), 1, GL_FALSE,
+                               viewer.data());
+    gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gl.UseProgram(prepass);
+    draw_scene();
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    gl.DepthFunc(GL_EQUAL);
+    gl.DepthMask(GL_FALSE);
+    gl.UseProgram(program);
+    draw_scene();
+    gl.DepthMask(GL_TRUE);
+    gl.DepthFunc(GL_LESS);
     gl.BindVertexArray(0);
+    gl.BindTextureUnit(kAtlasUnitA, 0);
+    gl.BindTextureUnit(kAtlasUnitB, 0);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
     return context_->Check(std::string("view pass (") + ShadowMethodName(request.method) + ")");
+}
+
+Result<bool> ViewPass::FillAtlases(const ViewRequest& request) {
+    const GlApi& gl = context_->gl();
+    const int max_side = context_->info().max_texture_size;
+    std::vector<GLuint> a_textures;
+    std::vector<Viewport> a_sizes;
+    std::vector<GLuint> b_textures;
+    std::vector<Viewport> b_sizes;
+    for (const ViewMap& m : request.maps) {
+        const DepthMap& a = TextureA(m, request.method);
+        a_textures.push_back(a.texture.id());
+        a_sizes.push_back({a.map.width, a.map.height});
+        if (request.method == ShadowMethod::kSilhouette) {
+            b_textures.push_back(m.silhouette->points.id());
+            b_sizes.push_back({m.map.width, m.map.height});
+        }
+    }
+    std::vector<GLint> origin_a(2 * kMaxViewMaps, 0);
+    std::vector<GLint> extent_a(2 * kMaxViewMaps, 1);
+    std::vector<GLint> origin_b(2 * kMaxViewMaps, 0);
+    auto placed_a = CopyIntoAtlas(gl, max_side, GL_DEPTH_COMPONENT32F, a_textures, a_sizes,
+                                  atlas_a_, atlas_a_size_);
+    if (!placed_a) return placed_a.error();
+    for (std::size_t i = 0; i < a_sizes.size(); ++i) {
+        origin_a[2 * i] = (*placed_a)[i].x();
+        origin_a[2 * i + 1] = (*placed_a)[i].y();
+        extent_a[2 * i] = a_sizes[i].width;
+        extent_a[2 * i + 1] = a_sizes[i].height;
+    }
+    gl.BindTextureUnit(kAtlasUnitA, atlas_a_.id());
+    if (!b_textures.empty()) {
+        auto placed_b = CopyIntoAtlas(gl, max_side, GL_RG32F, b_textures, b_sizes, atlas_b_,
+                                      atlas_b_size_);
+        if (!placed_b) return placed_b.error();
+        for (std::size_t i = 0; i < b_sizes.size(); ++i) {
+            origin_b[2 * i] = (*placed_b)[i].x();
+            origin_b[2 * i + 1] = (*placed_b)[i].y();
+        }
+        gl.BindTextureUnit(kAtlasUnitB, atlas_b_.id());
+    } else {
+        gl.BindTextureUnit(kAtlasUnitB, 0);  // view.frag reads "b" only for the silhouette map
+    }
+    const GLuint program = program_.id();
+    gl.ProgramUniform2iv(program, program_.Uniform("u_map_origin_a"), kMaxViewMaps,
+                         origin_a.data());
+    gl.ProgramUniform2iv(program, program_.Uniform("u_map_extent_a"), kMaxViewMaps,
+                         extent_a.data());
+    gl.ProgramUniform2iv(program, program_.Uniform("u_map_origin_b"), kMaxViewMaps,
+                         origin_b.data());
+    return true;
 }
 
 }  // namespace lixel::render

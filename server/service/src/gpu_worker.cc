@@ -2,6 +2,7 @@
 #include <lixel/render/readback.h>
 #include <lixel/service/gpu_worker.h>
 
+#include <algorithm>
 #include <chrono>
 
 namespace lixel::service {
@@ -69,35 +70,60 @@ Result<std::shared_ptr<render::GpuScene>> SceneOnGpu(GpuWorker& worker, const st
     return worker.scenes.front().second;
 }
 
-Result<std::vector<RenderedImage>> RenderPlanImages(GpuWorker& worker,
-                                                    const render::GpuScene& scene,
-                                                    const Plan& plan, const CancelCheck& cancelled) {
-    std::vector<RenderedImage> images;
+std::vector<ImageShape> PlannedImages(const Plan& plan) {
+    std::vector<ImageShape> shapes;
+    for (std::size_t i = 0; i < plan.maps.size(); ++i) {
+        const PlannedMap& m = plan.maps[i];
+        const auto asked = [&](Pass pass) {
+            return std::find(m.passes.begin(), m.passes.end(), pass) != m.passes.end();
+        };
+        const int index = static_cast<int>(i);
+        shapes.push_back({index, Pass::kDepth, m.map.width, m.map.height, 1});
+        if (asked(Pass::kSecondDepth)) {
+            shapes.push_back({index, Pass::kSecondDepth, m.map.width, m.map.height, 1});
+        }
+        if (asked(Pass::kSilhouetteMap)) {
+            shapes.push_back({index, Pass::kSilhouetteMap, m.map.width, m.map.height, 2});
+        }
+    }
+    return shapes;
+}
+
+Result<bool> RenderPlanImages(GpuWorker& worker, const render::GpuScene& scene, const Plan& plan,
+                              const CancelCheck& cancelled, const std::function<bool()>& room,
+                              const std::function<bool(RenderedImage)>& take) {
     for (std::size_t i = 0; i < plan.maps.size(); ++i) {
         if (cancelled()) return Cancelled();
         auto rendered = worker.renderer->RenderMaps(
             scene, std::span<const PlannedMap>(&plan.maps[i], 1), plan.hull.light);
         if (!rendered) return rendered.error();
         render::RenderedMap& m = rendered->front();
-        auto read = [&](const render::DepthMap& depth, Pass pass) -> Result<bool> {
-            auto image = render::ReadDepth(*worker.context, depth);
+        auto hand_over = [&](Pass pass, auto read) -> Result<bool> {
+            if (!room()) return Cancelled();
+            auto image = read();
             if (!image) return image.error();
-            images.push_back({static_cast<int>(i), pass, std::move(*image)});
+            if (!take({static_cast<int>(i), pass, std::move(*image)})) return Cancelled();
             return true;
         };
         if (m.depth) {
-            if (auto ok = read(*m.depth, Pass::kDepth); !ok) return ok.error();
+            auto ok = hand_over(Pass::kDepth,
+                                [&] { return render::ReadDepth(*worker.context, *m.depth); });
+            if (!ok) return ok;
         }
         if (m.second_depth) {
-            if (auto ok = read(*m.second_depth, Pass::kSecondDepth); !ok) return ok.error();
+            auto ok = hand_over(Pass::kSecondDepth, [&] {
+                return render::ReadDepth(*worker.context, *m.second_depth);
+            });
+            if (!ok) return ok;
         }
         if (m.silhouette) {
-            auto points = render::ReadSilhouettePoints(*worker.context, *m.silhouette);
-            if (!points) return points.error();
-            images.push_back({static_cast<int>(i), Pass::kSilhouetteMap, std::move(*points)});
+            auto ok = hand_over(Pass::kSilhouetteMap, [&] {
+                return render::ReadSilhouettePoints(*worker.context, *m.silhouette);
+            });
+            if (!ok) return ok;
         }
     }
-    return images;
+    return true;
 }
 
 Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene& scene,

@@ -327,7 +327,9 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
 }
 
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
-                       const CancelCheck& cancelled, std::vector<v1::RenderChunk>* stream) {
+                       const CancelCheck& cancelled,
+                       const std::function<grpc::Status(std::uint64_t)>& reserve,
+                       RenderFeed& feed) {
     std::shared_ptr<const SceneRecord> scene;
     if (auto s = FindScene(state, request.plan(), true, "plan", &scene); !s.ok()) return s;
     auto decoded = DecodePlanRequest(request.plan(), scene.get(), "plan");
@@ -344,47 +346,92 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
                          std::to_string(state.options.max_response_bytes) +
                          "-byte response limit");
     }
-    if (auto s = GpuUnavailable(worker); !s.ok()) return s;
-    if (cancelled()) return CancelledStatus();
-    auto gpu_scene = SceneOnGpu(worker, request.plan().scene_id(), *scene);
-    if (!gpu_scene) return InvalidArgument(gpu_scene.error());
-    auto images = RenderPlanImages(worker, **gpu_scene, *plan, cancelled);
-    if (!images) {
-        if (cancelled()) return CancelledStatus();
-        return grpc::Status(grpc::StatusCode::INTERNAL, images.error().Message());
-    }
-
+    const std::vector<ImageShape> shapes = PlannedImages(*plan);
     v1::RenderChunk header;
     v1::RenderHeader* h = header.mutable_header();
     EncodePlan(*plan, h->mutable_plan());
     h->mutable_plan()->set_instance(state.options.instance);
+    std::uint64_t largest = 0;
     double total = 0.0;
-    for (const RenderedImage& image : *images) {
+    for (const ImageShape& shape : shapes) {
         v1::MapImage* m = h->add_images();
-        m->set_map_index(static_cast<std::uint32_t>(image.map_index));
-        m->set_pass(PassKindOf(image.pass));
-        m->set_width(static_cast<std::uint32_t>(image.image.width));
-        m->set_height(static_cast<std::uint32_t>(image.image.height));
-        m->set_bytes(image.image.pixels.size() * sizeof(float));
-        total += static_cast<double>(m->bytes());
+        m->set_map_index(static_cast<std::uint32_t>(shape.map_index));
+        m->set_pass(PassKindOf(shape.pass));
+        m->set_width(static_cast<std::uint32_t>(shape.width));
+        m->set_height(static_cast<std::uint32_t>(shape.height));
+        m->set_bytes(shape.bytes());
+        largest = std::max(largest, shape.bytes());
+        total += static_cast<double>(shape.bytes());
     }
-    stream->push_back(std::move(header));
-    const std::size_t chunk = std::max<std::uint64_t>(1, state.options.chunk_bytes);
-    for (std::size_t i = 0; i < images->size(); ++i) {
-        const auto& pixels = (*images)[i].image.pixels;
-        const char* data = reinterpret_cast<const char*>(pixels.data());
-        const std::size_t size = pixels.size() * sizeof(float);
-        for (std::size_t offset = 0; offset < size; offset += chunk) {
-            v1::RenderChunk c;
-            v1::MapChunk* mc = c.mutable_chunk();
-            mc->set_image_index(static_cast<std::uint32_t>(i));
-            mc->set_offset(offset);
-            mc->set_data(data + offset, std::min(chunk, size - offset));
-            stream->push_back(std::move(c));
-        }
+    const std::uint64_t chunk = std::max<std::uint64_t>(1, state.options.chunk_bytes);
+    if (grpc::Status held = reserve(header.ByteSizeLong() + largest + std::min(chunk, largest));
+        !held.ok()) {
+        return held;
     }
-    state.metrics.MapsRendered(static_cast<double>(images->size()), total);
+    if (auto s = GpuUnavailable(worker); !s.ok()) return s;
+    if (cancelled()) return CancelledStatus();
+    auto gpu_scene = SceneOnGpu(worker, request.plan().scene_id(), *scene);
+    if (!gpu_scene) return InvalidArgument(gpu_scene.error());
+    if (!feed.PutHeader(std::move(header))) return CancelledStatus();
+
+    std::size_t next = 0;
+    bool mismatch = false;
+    bool stalled = false;
+    const double idle_seconds = state.options.stream_idle_seconds;
+    const auto room = [&] {
+        const RenderFeed::Room r = feed.WaitForRoom(cancelled, idle_seconds);
+        stalled = r == RenderFeed::Room::kStalled;
+        return r == RenderFeed::Room::kRoom;
+    };
+    auto rendered = RenderPlanImages(
+        worker, **gpu_scene, *plan, cancelled, room,
+        [&](RenderedImage image) {
+            const ImageShape& shape = shapes.at(next);
+            if (image.map_index != shape.map_index || image.pass != shape.pass ||
+                image.image.width != shape.width || image.image.height != shape.height ||
+                image.image.channels != shape.channels) {
+                mismatch = true;
+                return false;
+            }
+            return feed.PutImage(static_cast<std::uint32_t>(next++), std::move(image.image));
+        });
+    if (stalled) {
+        char limit[32];
+        std::snprintf(limit, sizeof limit, "%g", idle_seconds);
+        return Exhausted(std::string("stream: the client took nothing for over ") + limit +
+                         " s, the limit stream_idle_seconds = " + limit);
+    }
+    if (mismatch) {
+        return grpc::Status(grpc::StatusCode::INTERNAL,
+                            "render: image " + std::to_string(next) + " is not the header's");
+    }
+    if (!rendered) {
+        if (cancelled()) return CancelledStatus();
+        return grpc::Status(grpc::StatusCode::INTERNAL, rendered.error().Message());
+    }
+    if (next != shapes.size()) {
+        return grpc::Status(grpc::StatusCode::INTERNAL,
+                            "render: " + std::to_string(next) + " of the header's " +
+                                std::to_string(shapes.size()) + " images");
+    }
+    state.metrics.MapsRendered(static_cast<double>(shapes.size()), total);
     return grpc::Status::OK;
+}
+
+grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
+                       const CancelCheck& cancelled, std::vector<v1::RenderChunk>* stream) {
+    // The writer is this thread: each wake drains what the producer just put.
+    RenderFeed* self = nullptr;
+    RenderFeed feed(state.options.chunk_bytes, [&] {
+        v1::RenderChunk message;
+        grpc::Status ignored;
+        while (self->Next(&message, &ignored) == RenderFeed::Step::kWrite) {
+            stream->push_back(std::move(message));
+        }
+    });
+    self = &feed;
+    return RenderJob(state, worker, request, cancelled,
+                     [](std::uint64_t) { return grpc::Status::OK; }, feed);
 }
 
 grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,

@@ -222,68 +222,87 @@ class RenderReactor final : public grpc::ServerWriteReactor<v1::RenderChunk> {
 public:
     RenderReactor(ShadowService& service, grpc::CallbackServerContext* context,
                   const v1::RenderRequest* request)
-        : service_(service), context_(context), request_(*request), start_(Clock::now()) {
+        : service_(service),
+          context_(context),
+          request_(*request),
+          start_(Clock::now()),
+          feed_(service.state().options.chunk_bytes, [this] { WriteNext(); }) {
         grpc::Status status;
         if (!service_.Admit(context_, request->ByteSizeLong(), &lease_, &status)) {
             Done(status);
             return;
         }
+        // The job streams while it renders, so it holds the reactor too: the last of gRPC's
+        // OnDone and the job's end deletes it.
+        owners_.fetch_add(1);
         const bool queued = service_.pool().TrySubmit([this](int worker) {
-            const grpc::Status s =
-                RenderJob(service_.state(), service_.gpu(worker), request_,
-                          [this] { return cancelled_.load() || context_->IsCancelled(); },
-                          &stream_);
-            if (!s.ok()) {
-                Done(s);
-                return;
-            }
-            std::uint64_t bytes = 0;
-            for (const v1::RenderChunk& chunk : stream_) bytes += chunk.ByteSizeLong();
-            if (grpc::Status held = lease_.Grow(bytes); !held.ok()) {
-                stream_.clear();
-                Done(held);
-                return;
-            }
-            NextWrite();
+            const grpc::Status s = RenderJob(
+                service_.state(), service_.gpu(worker), request_,
+                [this] { return cancelled_.load() || context_->IsCancelled(); },
+                [this](std::uint64_t bytes) { return lease_.Grow(bytes); }, feed_);
+            feed_.Finish(s);
+            Release();
         });
-        if (!queued) Done(QueueFull(service_.state().options.queue_capacity));
+        if (!queued) {
+            owners_.fetch_sub(1);
+            Done(QueueFull(service_.state().options.queue_capacity));
+        }
     }
 
     void OnWriteDone(bool ok) override {
         if (!ok) {  // the client went away mid-stream
+            feed_.Close();
             Done(grpc::Status(grpc::StatusCode::CANCELLED, "stream: the client stopped reading"));
             return;
         }
-        NextWrite();
+        WriteNext();
     }
 
-    void OnCancel() override { cancelled_ = true; }
-    void OnDone() override { delete this; }
+    void OnCancel() override {
+        cancelled_ = true;
+        feed_.Close();
+    }
+    void OnDone() override { Release(); }
 
 private:
-    void NextWrite() {
-        if (next_ == stream_.size()) {
-            Done(grpc::Status::OK);
-            return;
+    // Called when no write is outstanding: by OnWriteDone, or by the job's thread when the feed
+    // had nothing and now has.
+    void WriteNext() {
+        grpc::Status status;
+        switch (feed_.Next(&message_, &status)) {
+            case RenderFeed::Step::kWrite:
+                StartWrite(&message_);
+                return;
+            case RenderFeed::Step::kIdle:
+                return;
+            case RenderFeed::Step::kFinish:
+                Done(status);
+                return;
         }
-        StartWrite(&stream_[next_++]);
     }
 
     void Done(const grpc::Status& status) {
+        if (finished_.exchange(true)) return;
         service_.Record("Render", status, Since(start_),
-                        std::to_string(stream_.size()) + " messages", context_,
+                        std::to_string(feed_.messages()) + " messages", context_,
                         request_.plan().scene_id());
         Finish(status);
+    }
+
+    void Release() {
+        if (owners_.fetch_sub(1) == 1) delete this;
     }
 
     ShadowService& service_;
     grpc::CallbackServerContext* context_;
     v1::RenderRequest request_;
     Clock::time_point start_;
-    std::vector<v1::RenderChunk> stream_;
-    std::size_t next_ = 0;
+    RenderFeed feed_;
+    v1::RenderChunk message_;  // the write in flight
     std::atomic<bool> cancelled_{false};
-    ClientLease lease_;  // released with the reactor, in OnDone
+    std::atomic<bool> finished_{false};
+    std::atomic<int> owners_{1};  // gRPC until OnDone, and the job while it runs
+    ClientLease lease_;           // released with the reactor
 };
 
 }  // namespace
@@ -331,12 +350,13 @@ void ShadowService::Record(const char* rpc, const grpc::Status& status, double s
                            const std::string& scene_id) {
     state_.metrics.Request(rpc, CodeName(status.error_code()), seconds);
     state_.metrics.QueueDepth(static_cast<double>(pool_ ? pool_->queued() : 0));
+    const std::uint64_t id = ++requests_;
+    if (!state_.options.log_requests) return;
     std::string peer = "-", identity = "-";
     if (context != nullptr) {
         peer = context->peer();
         if (!IdentifyCaller(*context, state_.options, &identity).ok()) identity = "(refused)";
     }
-    const std::uint64_t id = ++requests_;
     std::fprintf(stderr, "lixel[%s] #%llu %s peer=%s client=%s scene=%s %s %.2f ms%s%s%s%s\n",
                  state_.options.instance.c_str(), static_cast<unsigned long long>(id), rpc,
                  peer.c_str(), identity.c_str(), scene_id.empty() ? "-" : scene_id.c_str(),

@@ -75,6 +75,7 @@ namespace lixel::render {
     X(DeleteTextures, DELETETEXTURES)                           \
     X(BindTextureUnit, BINDTEXTUREUNIT)                         \
     X(GetTextureImage, GETTEXTUREIMAGE)                         \
+    X(CopyImageSubData, COPYIMAGESUBDATA)                       \
     X(CreateFramebuffers, CREATEFRAMEBUFFERS)                   \
     X(DeleteFramebuffers, DELETEFRAMEBUFFERS)                   \
     X(BindFramebuffer, BINDFRAMEBUFFER)                         \

@@ -85,21 +85,40 @@ struct ViewImages {
     Viewport viewport;
 };
 
+// kBare is the same pass with no map lookup and no shadow test (every pixel facing the light is
+// lit): what any view pass pays, the baseline bench/view_bench.cc measures the tests against.
+enum class ViewVariant { kShadowed, kBare };
+
 class ViewPass {
   public:
-    static Result<ViewPass> Create(GlContext& context);
+    static Result<ViewPass> Create(GlContext& context,
+                                   ViewVariant variant = ViewVariant::kShadowed);
 
     // Errors name the field: "viewer", "viewport.width", "light", "maps", "maps[1].second_depth",
     // "maps[0].lookup.half_planes", "options.pcf_radius".
     Result<bool> Render(const GpuScene& scene, const ViewRequest& request, ViewImages& target);
 
   private:
-    ViewPass(GlContext& context, Program program, GlFramebuffer framebuffer)
-        : context_(&context), program_(std::move(program)), framebuffer_(std::move(framebuffer)) {}
+    ViewPass(GlContext& context, Program program, Program depth_prepass,
+             GlFramebuffer framebuffer)
+        : context_(&context),
+          program_(std::move(program)),
+          depth_prepass_(std::move(depth_prepass)),
+          framebuffer_(std::move(framebuffer)) {}
+
+    // Copies each map's textures into atlas_a_ / atlas_b_ (map_atlas.h) and sets the origins.
+    Result<bool> FillAtlases(const ViewRequest& request);
 
     GlContext* context_;
     Program program_;
+    // Depth only (depth.vert): the shading pass then runs once per pixel, whatever the overdraw.
+    Program depth_prepass_;
     GlFramebuffer framebuffer_;
+    // Kept between views and reallocated only when a plan needs another size.
+    GlTexture atlas_a_;  // GL_DEPTH_COMPONENT32F
+    GlTexture atlas_b_;  // GL_RG32F
+    Viewport atlas_a_size_;
+    Viewport atlas_b_size_;
 };
 
 }  // namespace lixel::render

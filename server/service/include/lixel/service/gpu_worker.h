@@ -64,10 +64,29 @@ struct RenderedImage {
     render::FloatImage image;  // float32 z/w (two channels for silhouette points)
 };
 
-// Every pass of every planned map, read back once each, checking `cancelled` between passes.
-Result<std::vector<RenderedImage>> RenderPlanImages(GpuWorker& worker,
-                                                    const render::GpuScene& scene,
-                                                    const Plan& plan, const CancelCheck& cancelled);
+// What RenderPlanImages will produce, in its order, before anything is rendered: per map its
+// depth (always rendered), then second depth and silhouette points when the plan asks for them.
+struct ImageShape {
+    int map_index = 0;
+    Pass pass = Pass::kDepth;
+    int width = 0;
+    int height = 0;
+    int channels = 1;  // 2 for silhouette points
+
+    std::uint64_t bytes() const noexcept {
+        return static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height) *
+               static_cast<std::uint64_t>(channels) * sizeof(float);
+    }
+};
+std::vector<ImageShape> PlannedImages(const Plan& plan);
+
+// Every pass of every planned map in PlannedImages order, checking `cancelled` between passes.
+// Each image is read back only once `room()` returns true (so the caller decides how many sit
+// on the host at once; a map's GPU passes run meanwhile) and is then handed to `take`. A false
+// from `room` or `take` stops the job: the call ended.
+Result<bool> RenderPlanImages(GpuWorker& worker, const render::GpuScene& scene, const Plan& plan,
+                              const CancelCheck& cancelled, const std::function<bool()>& room,
+                              const std::function<bool(RenderedImage)>& take);
 
 // The view pass's lit-fraction mask over the given maps (rendered here, in lookup order).
 struct MaskJob {

@@ -7,11 +7,14 @@
 #include <lixel/service/client_limits.h>
 #include <lixel/service/gpu_worker.h>
 #include <lixel/service/metrics.h>
+#include <lixel/service/render_feed.h>
 #include <lixel/service/scene_cache.h>
 #include <lixel/service/service_options.h>
 #include <lixel/service/upload_guards.h>
 #include <lixel/v1/lixel.pb.h>
 
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -51,8 +54,15 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
                        const std::string& content, v1::UploadSceneResponse* response,
                        const CancelCheck& cancelled = {});
 
-// Plans, renders and reads back every map, and lays out the stream: the header first, then
-// chunks of about options.chunk_bytes.
+// Plans, then streams into `feed` (render_feed.h): the header as soon as the plan exists, each
+// image's chunks of options.chunk_bytes as soon as it is read back, one image on the host at a
+// time. `reserve(bytes)` is asked for the call's peak (the header plus its largest image and one
+// chunk) before anything is rendered; a refusal is the job's status. Does not Finish the feed.
+grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
+                       const CancelCheck& cancelled,
+                       const std::function<grpc::Status(std::uint64_t)>& reserve,
+                       RenderFeed& feed);
+// The same stream collected into `stream` (tests, and callers that want it whole).
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
                        const CancelCheck& cancelled, std::vector<v1::RenderChunk>* stream);
 

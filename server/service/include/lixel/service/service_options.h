@@ -23,6 +23,9 @@ struct ServiceOptions {
     std::uint64_t max_upload_bytes_in_flight = 1ull << 30;
     // An upload stream that sends nothing for this long is ended (RESOURCE_EXHAUSTED).
     double upload_idle_seconds = 10.0;
+    // A Render stream whose client takes nothing for this long is ended (RESOURCE_EXHAUSTED),
+    // so a reader that stalls never holds a GPU worker longer.
+    double stream_idle_seconds = 10.0;
     std::uint64_t scene_cache_bytes = 1ull << 30;     // decoded scenes held (LRU)
     std::uint64_t memory_cap_bytes = 2ull << 30;      // maps of one request (w * h * 4 * passes)
     std::uint64_t max_response_bytes = 1ull << 30;    // bytes one Render or View may return
@@ -39,6 +42,7 @@ struct ServiceOptions {
     std::uint64_t max_bytes_in_flight_per_client = 0;
     render::ContextOptions gl;  // backend for the workers' contexts
     std::uint64_t chunk_bytes = 1ull << 20;  // Render's map chunks
+    bool log_requests = true;  // one stderr line per call (ShadowService::Record)
 };
 
 }  // namespace lixel::service

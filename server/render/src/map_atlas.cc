@@ -1,0 +1,71 @@
+// Shelf packing of the view's maps into one atlas.
+#include <lixel/render/map_atlas.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+namespace lixel::render {
+namespace {
+
+// Packs into shelves of at most `width` texels; the height reached, or -1 if one rectangle is
+// wider than `width`.
+int PackShelves(std::span<const Viewport> sizes, const std::vector<std::size_t>& order,
+                int width, std::vector<Eigen::Vector2i>& origins) {
+    int x = 0;
+    int shelf_y = 0;
+    int shelf_height = 0;
+    for (std::size_t i : order) {
+        const Viewport& s = sizes[i];
+        if (s.width > width) return -1;
+        if (x + s.width > width) {
+            shelf_y += shelf_height;
+            x = 0;
+            shelf_height = 0;
+        }
+        origins[i] = Eigen::Vector2i(x, shelf_y);
+        x += s.width;
+        shelf_height = std::max(shelf_height, s.height);
+    }
+    return shelf_y + shelf_height;
+}
+
+}  // namespace
+
+Result<AtlasLayout> PackAtlas(std::span<const Viewport> sizes, int max_side) {
+    double area = 0.0;
+    int widest = 0;
+    for (std::size_t i = 0; i < sizes.size(); ++i) {
+        if (sizes[i].width <= 0 || sizes[i].height <= 0) {
+            return Error{"maps[" + std::to_string(i) + "]", "has no texels to pack"};
+        }
+        area += static_cast<double>(sizes[i].width) * sizes[i].height;
+        widest = std::max(widest, sizes[i].width);
+    }
+    std::vector<std::size_t> order(sizes.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return sizes[a].height > sizes[b].height;
+    });
+    AtlasLayout layout;
+    layout.origins.resize(sizes.size(), Eigen::Vector2i::Zero());
+    // About square first (the least texture for shelves of similar heights), then as wide as
+    // the GL allows.
+    const int square = static_cast<int>(std::ceil(std::sqrt(area)));
+    for (int width : {std::clamp(std::max(widest, square), 1, std::max(1, max_side)), max_side}) {
+        const int height = PackShelves(sizes, order, width, layout.origins);
+        if (height >= 0 && height <= max_side && width <= max_side) {
+            layout.width = 0;
+            for (std::size_t i = 0; i < sizes.size(); ++i) {
+                layout.width = std::max(layout.width, layout.origins[i].x() + sizes[i].width);
+            }
+            layout.height = height;
+            return layout;
+        }
+    }
+    return Error{"maps", "their " + std::to_string(static_cast<long long>(area)) +
+                             " texels do not fit one " + std::to_string(max_side) + "^2 texture"};
+}
+
+}  // namespace lixel::render
