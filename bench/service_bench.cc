@@ -301,7 +301,7 @@ void BM_RenderStream(benchmark::State& state) {
     state.counters["transfer_ms"] = 1e3 * sum.transfer / n;
     state.counters["transfer_vs_echo"] = sum.transfer > 0.0 ? echo_seconds / sum.transfer : 0.0;
 }
-BENCHMARK(BM_RenderStream)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RenderStream)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The echo streaming the same bytes in the same 1 MiB chunks.
 void BM_EchoStream(benchmark::State& state) {
@@ -327,7 +327,7 @@ void BM_EchoStream(benchmark::State& state) {
     }
     state.SetBytesProcessed(static_cast<std::int64_t>(bytes) * state.iterations());
 }
-BENCHMARK(BM_EchoStream)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EchoStream)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Solve throughput with 8 callers over one round_robin channel to 1, 2 and 3 instances.
 void BM_InstancesThroughput(benchmark::State& state) {

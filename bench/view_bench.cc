@@ -4,6 +4,8 @@
 // ViewVariant::kBare), on the context's renderer (llvmpipe without a GPU). The scene is the
 // built-in sphere_grid (a 10 x 10 grid of spheres on a floor) with its default viewer, light and
 // plan; its maps are rendered once, outside the timed region. Every iteration ends in glFinish.
+// The ratio lines compare separate runs; each shadowed benchmark's "paired" counter times the
+// bare pass beside it in every iteration.
 #include <benchmark/benchmark.h>
 #include <lixel/render/context.h>
 #include <lixel/render/gpu_scene.h>
@@ -12,6 +14,7 @@
 #include <lixel/scene/builtin_scenes.h>
 #include <lixel/solver/scheduler.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -95,22 +98,43 @@ ViewRequest RequestFor(const ViewCase& c, ShadowMethod method) {
     return r;
 }
 
+// Times `pass`; for a shadowed pass also the bare pass right before it in each iteration
+// (outside the timed region), so the "paired" counter is a ratio taken under the same machine
+// load, iteration by iteration: the figure to trust on a shared machine.
 void TimeView(benchmark::State& state, ViewPass& pass, ShadowMethod method) {
+    using Clock = std::chrono::steady_clock;
     Fixture& f = Get();
     ViewCase& c = CaseFor(state.range(0), static_cast<int>(state.range(1)));
     const ViewRequest request = RequestFor(c, method);
+    const bool paired = &pass != f.bare.get();
     ViewImages images;
+    ViewImages bare_images;
+    const auto render = [&](ViewPass& p, ViewImages& into) {
+        auto ok = p.Render(c.scene, request, into);
+        f.context->gl().Finish();
+        return ok;
+    };
     // llvmpipe compiles shader variants and allocates tiles on first use.
-    if (auto ok = pass.Render(c.scene, request, images); !ok) {
+    if (auto ok = render(pass, images); !ok) {
         state.SkipWithError(ok.error().Message().c_str());
         return;
     }
-    f.context->gl().Finish();
+    if (paired) render(*f.bare, bare_images);
+    double bare_s = 0.0;
+    double pass_s = 0.0;
     for (auto _ : state) {
-        auto ok = pass.Render(c.scene, request, images);
-        f.context->gl().Finish();
-        benchmark::DoNotOptimize(ok);
+        if (paired) {
+            state.PauseTiming();
+            const auto t0 = Clock::now();
+            benchmark::DoNotOptimize(render(*f.bare, bare_images));
+            bare_s += std::chrono::duration<double>(Clock::now() - t0).count();
+            state.ResumeTiming();
+        }
+        const auto t1 = Clock::now();
+        benchmark::DoNotOptimize(render(pass, images));
+        pass_s += std::chrono::duration<double>(Clock::now() - t1).count();
     }
+    if (paired) state.counters["paired"] = bare_s > 0.0 ? pass_s / bare_s : 0.0;
     state.counters["maps"] = static_cast<double>(c.maps.size());
     state.counters["triangles"] = static_cast<double>(c.scene.triangle_count());
     state.SetItemsProcessed(state.iterations() * state.range(1) * state.range(1));

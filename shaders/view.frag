@@ -13,7 +13,9 @@ const int kMethodPcf = 1;
 const int kMethodSecondDepth = 2;
 const int kMethodSilhouette = 3;
 
-uniform int u_method;
+// One program per method (view_pass.cc): constant branches fold away, so a fragment runs its
+// own test's code only (SIMD rasterisers such as llvmpipe run both sides of a uniform branch).
+const int kMethod = LIXEL_METHOD;
 uniform vec4 u_light;  // relative to the origin: (l_xyz - l_w origin, l_w)
 uniform vec4 u_eye;    // the viewer's centre of projection, same convention
 uniform float u_depth_bias;   // clip-depth units
@@ -72,12 +74,12 @@ void main() {
         // never shadows itself; the boundary moves by at most slope_bias * reach lixels.
         vec2 slope = abs(plane.z) > 0.0 ? -plane.xy / plane.z : vec2(1e30);
         float slope_len = length(slope);
-        if (u_method == kMethodDepth) {
+        if (kMethod == kMethodDepth) {
             lit = hard_shadow(map, s, biased(slope_len, kReachNearest));
-        } else if (u_method == kMethodPcf) {
+        } else if (kMethod == kMethodPcf) {
             lit = pcf(map, s, biased(slope_len, kReachPerRadius * float(u_pcf_radius)),
                       u_pcf_radius);
-        } else if (u_method == kMethodSecondDepth) {
+        } else if (kMethod == kMethodSecondDepth) {
             lit = second_depth_test(map, s, plane, u_second_depth_bias, u_pcf_radius,
                                     u_virtual_samples != 0);
         } else {

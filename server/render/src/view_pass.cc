@@ -136,23 +136,31 @@ const char* ShadowMethodName(ShadowMethod method) noexcept {
 }
 
 Result<ViewPass> ViewPass::Create(GlContext& context, ViewVariant variant) {
-    std::vector<std::string> defines = {
-        "#define LIXEL_MAX_MAPS " + std::to_string(kMaxViewMaps),
-        "#define LIXEL_MAX_HALF_PLANES " + std::to_string(kMaxHalfPlanes)};
-    if (variant == ViewVariant::kBare) defines.push_back("#define LIXEL_BARE_VIEW 1");
-    auto program = BuildProgram(context, {"view.vert", "view.frag"}, defines);
-    if (!program) return program.error();
+    // One program per method, its test chosen at compile time (view.frag's kMethod); the bare
+    // variant has no test, so one program serves every method.
+    const int programs = variant == ViewVariant::kBare ? 1 : kShadowMethodCount;
+    std::vector<Program> built;
+    for (int method = 0; method < programs; ++method) {
+        std::vector<std::string> defines = {
+            "#define LIXEL_MAX_MAPS " + std::to_string(kMaxViewMaps),
+            "#define LIXEL_MAX_HALF_PLANES " + std::to_string(kMaxHalfPlanes),
+            "#define LIXEL_METHOD " + std::to_string(method)};
+        if (variant == ViewVariant::kBare) defines.push_back("#define LIXEL_BARE_VIEW 1");
+        auto program = BuildProgram(context, {"view.vert", "view.frag"}, defines);
+        if (!program) return program.error();
+        const GLuint id = program->id();
+        context.gl().ProgramUniform1i(id, program->Uniform("u_atlas_a"), kAtlasUnitA);
+        context.gl().ProgramUniform1i(id, program->Uniform("u_atlas_b"), kAtlasUnitB);
+        built.push_back(std::move(program).value());
+    }
     auto prepass = BuildProgram(context, {"depth.vert"});
     if (!prepass) return prepass.error();
     GLuint fbo = 0;
     context.gl().CreateFramebuffers(1, &fbo);
     const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     context.gl().NamedFramebufferDrawBuffers(fbo, 3, buffers);
-    ViewPass pass(context, std::move(program.value()), std::move(prepass.value()),
+    ViewPass pass(context, std::move(built), std::move(prepass.value()),
                   GlFramebuffer(context.gl(), fbo));
-    const GLuint id = pass.program_.id();
-    context.gl().ProgramUniform1i(id, pass.program_.Uniform("u_atlas_a"), kAtlasUnitA);
-    context.gl().ProgramUniform1i(id, pass.program_.Uniform("u_atlas_b"), kAtlasUnitB);
     if (auto ok = context.Check("view pass setup"); !ok) return ok.error();
     return pass;
 }
@@ -178,7 +186,8 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
         return Error{"view pass", "framebuffer incomplete (status " + std::to_string(status) + ")"};
     }
 
-    const GLuint program = program_.id();
+    const Program& shader = ProgramFor(request.method);
+    const GLuint program = shader.id();
     const auto count = static_cast<GLsizei>(request.maps.size());
     std::vector<float> lixel(16 * kMaxViewMaps, 0.0f);
     std::vector<float> plane(16 * kMaxViewMaps, 0.0f);
@@ -201,34 +210,33 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
         }
     }
     if (auto ok = FillAtlases(request); !ok) return ok;
-    gl.ProgramUniform1i(program, program_.Uniform("u_map_count"), count);
-    gl.ProgramUniformMatrix4fv(program, program_.Uniform("u_map_lixel"), kMaxViewMaps, GL_FALSE,
+    gl.ProgramUniform1i(program, shader.Uniform("u_map_count"), count);
+    gl.ProgramUniformMatrix4fv(program, shader.Uniform("u_map_lixel"), kMaxViewMaps, GL_FALSE,
                                lixel.data());
-    gl.ProgramUniformMatrix4fv(program, program_.Uniform("u_map_plane"), kMaxViewMaps, GL_FALSE,
+    gl.ProgramUniformMatrix4fv(program, shader.Uniform("u_map_plane"), kMaxViewMaps, GL_FALSE,
                                plane.data());
-    gl.ProgramUniform2iv(program, program_.Uniform("u_map_size"), kMaxViewMaps, size.data());
-    gl.ProgramUniform1iv(program, program_.Uniform("u_map_half_plane_count"), kMaxViewMaps,
+    gl.ProgramUniform2iv(program, shader.Uniform("u_map_size"), kMaxViewMaps, size.data());
+    gl.ProgramUniform1iv(program, shader.Uniform("u_map_half_plane_count"), kMaxViewMaps,
                          half_plane_count.data());
-    gl.ProgramUniform3fv(program, program_.Uniform("u_map_half_planes"),
+    gl.ProgramUniform3fv(program, shader.Uniform("u_map_half_planes"),
                          kMaxViewMaps * kMaxHalfPlanes, half_planes.data());
 
     const Mat4f viewer = RelativeMatrix(request.viewer, origin);
-    gl.ProgramUniformMatrix4fv(program, program_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
+    gl.ProgramUniformMatrix4fv(program, shader.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
     const Eigen::Vector4f light = RelativePoint(request.light, origin).cast<float>();
-    gl.ProgramUniform4fv(program, program_.Uniform("u_light"), 1, light.data());
+    gl.ProgramUniform4fv(program, shader.Uniform("u_light"), 1, light.data());
     auto eye = EyePoint(request.viewer);
     if (!eye) return eye.error();
     const Eigen::Vector4f eye_relative = RelativePoint(*eye, origin).cast<float>();
-    gl.ProgramUniform4fv(program, program_.Uniform("u_eye"), 1, eye_relative.data());
+    gl.ProgramUniform4fv(program, shader.Uniform("u_eye"), 1, eye_relative.data());
     const ShadowOptions& o = request.options;
-    gl.ProgramUniform1i(program, program_.Uniform("u_method"), static_cast<int>(request.method));
-    gl.ProgramUniform1f(program, program_.Uniform("u_depth_bias"), o.depth_bias);
-    gl.ProgramUniform1f(program, program_.Uniform("u_slope_bias"), o.slope_bias);
-    gl.ProgramUniform1f(program, program_.Uniform("u_max_bias"), o.max_bias);
-    gl.ProgramUniform1f(program, program_.Uniform("u_second_depth_bias"), o.second_depth_bias);
-    gl.ProgramUniform1i(program, program_.Uniform("u_pcf_radius"), o.pcf_radius);
-    gl.ProgramUniform1i(program, program_.Uniform("u_virtual_samples"), o.virtual_samples ? 1 : 0);
-    gl.ProgramUniform1i(program, program_.Uniform("u_tint_maps"), o.tint_maps ? 1 : 0);
+    gl.ProgramUniform1f(program, shader.Uniform("u_depth_bias"), o.depth_bias);
+    gl.ProgramUniform1f(program, shader.Uniform("u_slope_bias"), o.slope_bias);
+    gl.ProgramUniform1f(program, shader.Uniform("u_max_bias"), o.max_bias);
+    gl.ProgramUniform1f(program, shader.Uniform("u_second_depth_bias"), o.second_depth_bias);
+    gl.ProgramUniform1i(program, shader.Uniform("u_pcf_radius"), o.pcf_radius);
+    gl.ProgramUniform1i(program, shader.Uniform("u_virtual_samples"), o.virtual_samples ? 1 : 0);
+    gl.ProgramUniform1i(program, shader.Uniform("u_tint_maps"), o.tint_maps ? 1 : 0);
 
     gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
     gl.Viewport(0, 0, request.viewport.width, request.viewport.height);
@@ -318,12 +326,13 @@ Result<bool> ViewPass::FillAtlases(const ViewRequest& request) {
     } else {
         gl.BindTextureUnit(kAtlasUnitB, 0);  // view.frag reads "b" only for the silhouette map
     }
-    const GLuint program = program_.id();
-    gl.ProgramUniform2iv(program, program_.Uniform("u_map_origin_a"), kMaxViewMaps,
+    const Program& shader = ProgramFor(request.method);
+    const GLuint program = shader.id();
+    gl.ProgramUniform2iv(program, shader.Uniform("u_map_origin_a"), kMaxViewMaps,
                          origin_a.data());
-    gl.ProgramUniform2iv(program, program_.Uniform("u_map_extent_a"), kMaxViewMaps,
+    gl.ProgramUniform2iv(program, shader.Uniform("u_map_extent_a"), kMaxViewMaps,
                          extent_a.data());
-    gl.ProgramUniform2iv(program, program_.Uniform("u_map_origin_b"), kMaxViewMaps,
+    gl.ProgramUniform2iv(program, shader.Uniform("u_map_origin_b"), kMaxViewMaps,
                          origin_b.data());
     return true;
 }

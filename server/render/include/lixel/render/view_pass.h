@@ -24,6 +24,8 @@ enum class ShadowMethod {
     kSilhouette = 3,   // paper 000: corner depths + silhouette points, skewed quadrants
 };
 
+inline constexpr int kShadowMethodCount = 4;
+
 const char* ShadowMethodName(ShadowMethod method) noexcept;
 
 // At most this many maps per view, and half-planes per map's lookup rule.
@@ -99,18 +101,23 @@ class ViewPass {
     Result<bool> Render(const GpuScene& scene, const ViewRequest& request, ViewImages& target);
 
   private:
-    ViewPass(GlContext& context, Program program, Program depth_prepass,
+    ViewPass(GlContext& context, std::vector<Program> programs, Program depth_prepass,
              GlFramebuffer framebuffer)
         : context_(&context),
-          program_(std::move(program)),
+          programs_(std::move(programs)),
           depth_prepass_(std::move(depth_prepass)),
           framebuffer_(std::move(framebuffer)) {}
 
     // Copies each map's textures into atlas_a_ / atlas_b_ (map_atlas.h) and sets the origins.
     Result<bool> FillAtlases(const ViewRequest& request);
 
+    const Program& ProgramFor(ShadowMethod method) const {
+        return programs_.size() == 1 ? programs_.front()
+                                     : programs_.at(static_cast<std::size_t>(method));
+    }
+
     GlContext* context_;
-    Program program_;
+    std::vector<Program> programs_;  // by ShadowMethod, or the bare variant's one
     // Depth only (depth.vert): the shading pass then runs once per pixel, whatever the overdraw.
     Program depth_prepass_;
     GlFramebuffer framebuffer_;
