@@ -231,19 +231,55 @@ void BM_SecondDepthPass(benchmark::State& state) {
     DepthPassBenchmark(state, FaceSelection::kSecondDepth);
 }
 
-// Corner depth map plus silhouette edges (the silhouette map needs both).
-void BM_SilhouettePass(benchmark::State& state) {
+// Corner depth map plus silhouette edges (the silhouette map needs both). The pass picks its
+// candidate triangles on the CPU in every render (nothing is cached per light), so each
+// iteration pays for the selection and its upload; "drawn" is the share of triangles that went
+// through the geometry shader.
+void SilhouetteBenchmark(benchmark::State& state, bool cull, bool moving_light) {
     Fixture& f = Get();
     const GpuScene& scene = SceneFor(state.range(0));
     const int side = static_cast<int>(state.range(1));
     const LightMap map = GridMap(side);
+    SilhouetteOptions options;
+    options.cull_to_candidates = cull;
     SilhouetteMap target;
+    int frame = 0;
     TimePaired(state, scene, side, [&] {
-        auto ok =
-            f.renderer->silhouette().Render(scene, map, kLight, {}, f.renderer->depth(), target);
+        // A light turning about the vertical by a degree a frame: no two renders share one.
+        const double a = moving_light ? 0.0175 * frame++ : 0.0;
+        const Vec4 light(kLight.x() * std::cos(a), kLight.y(), kLight.x() * std::sin(a), 0.0);
+        auto ok = f.renderer->silhouette().Render(scene, map, light, options, f.renderer->depth(),
+                                                  target);
         f.context->gl().Finish();
         benchmark::DoNotOptimize(ok);
     });
+    state.counters["drawn"] = static_cast<double>(f.renderer->silhouette().drawn_triangles()) /
+                              static_cast<double>(scene.triangle_count());
+}
+
+void BM_SilhouettePass(benchmark::State& state) { SilhouetteBenchmark(state, true, false); }
+
+// Every triangle through the geometry shader: the pass before candidate culling.
+void BM_SilhouettePassUnculled(benchmark::State& state) {
+    SilhouetteBenchmark(state, false, false);
+}
+
+void BM_SilhouettePassMovingLight(benchmark::State& state) {
+    SilhouetteBenchmark(state, true, true);
+}
+
+// The CPU side of the culled pass alone: picking the candidates for one light.
+void BM_SilhouetteCandidateSelect(benchmark::State& state) {
+    const GpuScene& scene = SceneFor(state.range(0));
+    const Eigen::Vector4f light = kLight.cast<float>();
+    std::vector<std::uint32_t> selected;
+    for (auto _ : state) {
+        scene.silhouette_candidates().Select(light, selected);
+        benchmark::DoNotOptimize(selected.data());
+    }
+    state.counters["drawn"] =
+        static_cast<double>(selected.size() / 6) / static_cast<double>(scene.triangle_count());
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(scene.triangle_count()));
 }
 
 void Sizes(benchmark::internal::Benchmark* b) {
@@ -257,6 +293,14 @@ BENCHMARK(BM_BareDepthDraw)->Apply(Sizes);
 BENCHMARK(BM_DepthPass)->Apply(Sizes);
 BENCHMARK(BM_SecondDepthPass)->Apply(Sizes);
 BENCHMARK(BM_SilhouettePass)->Apply(Sizes);
+BENCHMARK(BM_SilhouettePassUnculled)->Apply(Sizes);
+BENCHMARK(BM_SilhouettePassMovingLight)->Apply(Sizes);
+BENCHMARK(BM_SilhouetteCandidateSelect)
+    ->ArgName("tris")
+    ->Arg(10'000)
+    ->Arg(100'000)
+    ->Arg(1'000'000)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace lixel::render
@@ -266,5 +310,7 @@ int main(int argc, char** argv) {
     return lixel::bench::RunWithBaselines(argc, argv,
                                           {{"BM_DepthPass", "BM_BareDepthDraw"},
                                            {"BM_SecondDepthPass", "BM_BareDepthDraw"},
-                                           {"BM_SilhouettePass", "BM_BareDepthDraw"}});
+                                           {"BM_SilhouettePass", "BM_BareDepthDraw"},
+                                           {"BM_SilhouettePassUnculled", "BM_BareDepthDraw"},
+                                           {"BM_SilhouettePassMovingLight", "BM_BareDepthDraw"}});
 }

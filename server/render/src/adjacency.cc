@@ -69,6 +69,7 @@ TriangleAdjacency BuildTriangleAdjacency(std::span<const Eigen::Vector3f> positi
     }
     TriangleAdjacency out;
     out.indices.resize(6 * triangles);
+    out.neighbours.assign(3 * triangles, kNoNeighbour);
     for (std::size_t t = 0; t < triangles; ++t) {
         for (std::uint32_t k = 0; k < 3; ++k) {
             const std::uint32_t a = indices[3 * t + k];
@@ -81,6 +82,7 @@ TriangleAdjacency BuildTriangleAdjacency(std::span<const Eigen::Vector3f> positi
                 const std::uint32_t other = u.first == self ? u.second : u.first;
                 const std::uint32_t other_triangle = other / 3;
                 across = indices[3 * other_triangle + (other % 3 + 2) % 3];
+                out.neighbours[3 * t + k] = other;
             }
             out.indices[6 * t + 2 * k] = a;
             out.indices[6 * t + 2 * k + 1] = across;

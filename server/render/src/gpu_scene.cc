@@ -35,6 +35,7 @@ Result<GpuScene> UploadScene(GlContext& context, std::span<const Mesh> meshes, c
     std::vector<float> positions;
     std::vector<std::uint32_t> indices;
     std::vector<std::uint32_t> adjacency;
+    std::vector<std::uint32_t> neighbours;  // scene-wide 3 t' + k' (adjacency.h)
     GpuScene scene;
     scene.origin_ = origin;
     for (std::size_t m = 0; m < meshes.size(); ++m) {
@@ -77,10 +78,16 @@ Result<GpuScene> UploadScene(GlContext& context, std::span<const Mesh> meshes, c
             indices.push_back(static_cast<std::uint32_t>(base + i));
         for (std::uint32_t i : adj.indices)
             adjacency.push_back(static_cast<std::uint32_t>(base + i));
+        const std::size_t first_user = 3 * scene.triangles_;  // edge slots before this mesh
+        for (std::uint32_t n : adj.neighbours) {
+            neighbours.push_back(n == kNoNeighbour ? kNoNeighbour
+                                                   : static_cast<std::uint32_t>(first_user + n));
+        }
         scene.boundary_edges_ += adj.boundary_edges;
         scene.triangles_ += mesh.TriangleCount();
         scene.ranges_.push_back(std::move(range));
     }
+    scene.candidates_ = SilhouetteCandidates::Build(positions, adjacency, neighbours);
     const GlApi& gl = context.gl();
     scene.positions_ = MakeBuffer(gl, positions.data(), positions.size() * sizeof(float));
     scene.indices_ = MakeBuffer(gl, indices.data(), indices.size() * sizeof(std::uint32_t));

@@ -10,9 +10,20 @@ Result<SilhouettePass> SilhouettePass::Create(GlContext& context) {
     auto program = BuildProgram(
         context, {"silhouette_map.vert", "silhouette_map.geom", "silhouette_map.frag"});
     if (!program) return program.error();
+    const GlApi& gl = context.gl();
     GLuint fbo = 0;
-    context.gl().CreateFramebuffers(1, &fbo);
-    return SilhouettePass(context, std::move(program.value()), GlFramebuffer(context.gl(), fbo));
+    gl.CreateFramebuffers(1, &fbo);
+    GLuint buffer = 0;
+    gl.CreateBuffers(1, &buffer);
+    GLuint vao = 0;
+    gl.CreateVertexArrays(1, &vao);
+    gl.EnableVertexArrayAttrib(vao, 0);
+    gl.VertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    gl.VertexArrayAttribBinding(vao, 0, 0);
+    gl.VertexArrayElementBuffer(vao, buffer);
+    if (auto ok = context.Check("silhouette pass setup"); !ok) return ok.error();
+    return SilhouettePass(context, std::move(program.value()), GlFramebuffer(gl, fbo),
+                          GlBuffer(gl, buffer), GlVertexArray(gl, vao));
 }
 
 Result<bool> SilhouettePass::Render(const GpuScene& scene, const LightMap& map, const Vec4& light,
@@ -64,16 +75,40 @@ Result<bool> SilhouettePass::Render(const GpuScene& scene, const LightMap& map, 
     gl.ClearNamedFramebufferfv(framebuffer_.id(), GL_COLOR, 0, empty);
     gl.UseProgram(program);
     gl.BindTextureUnit(0, target.corners.texture.id());
-    gl.BindVertexArray(scene.adjacency());
-    for (const GpuMeshRange& range : scene.ranges()) {
-        gl.DrawElements(GL_TRIANGLES_ADJACENCY, static_cast<GLsizei>(range.adjacency_count),
-                        GL_UNSIGNED_INT,
-                        reinterpret_cast<const void*>(range.first_adjacency * sizeof(GLuint)));
+    std::size_t drawn = 0;
+    if (options.cull_to_candidates) {
+        // One draw of the candidates in scene order: the primitive sequence of the per-mesh
+        // draws below with the triangles that emit nothing taken out, so every texel is written
+        // by the same last edge.
+        scene.silhouette_candidates().Select(relative_light, selected_);
+        drawn = selected_.size() / 6;
+        if (drawn > 0) {
+            gl.NamedBufferData(candidates_.id(),
+                               static_cast<GLsizeiptr>(selected_.size() * sizeof(GLuint)),
+                               selected_.data(), GL_STREAM_DRAW);
+            gl.VertexArrayVertexBuffer(candidate_vao_.id(), 0, scene.positions(), 0,
+                                       3 * sizeof(float));
+            gl.BindVertexArray(candidate_vao_.id());
+            gl.DrawElements(GL_TRIANGLES_ADJACENCY, static_cast<GLsizei>(selected_.size()),
+                            GL_UNSIGNED_INT, nullptr);
+            // Holds no scene's buffer past the render: a deleted scene's positions are freed.
+            gl.VertexArrayVertexBuffer(candidate_vao_.id(), 0, 0, 0, 3 * sizeof(float));
+        }
+    } else {
+        gl.BindVertexArray(scene.adjacency());
+        for (const GpuMeshRange& range : scene.ranges()) {
+            gl.DrawElements(GL_TRIANGLES_ADJACENCY, static_cast<GLsizei>(range.adjacency_count),
+                            GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(range.first_adjacency * sizeof(GLuint)));
+            drawn += range.adjacency_count / 6;
+        }
     }
     gl.BindVertexArray(0);
     gl.BindTextureUnit(0, 0);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-    return context_->Check("silhouette pass");
+    if (auto ok = context_->Check("silhouette pass"); !ok) return ok;
+    drawn_triangles_ = drawn;
+    return true;
 }
 
 }  // namespace lixel::render

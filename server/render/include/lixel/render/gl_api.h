@@ -59,6 +59,7 @@ namespace lixel::render {
     X(ProgramUniformMatrix4fv, PROGRAMUNIFORMMATRIX4FV)         \
     X(CreateBuffers, CREATEBUFFERS)                             \
     X(NamedBufferStorage, NAMEDBUFFERSTORAGE)                   \
+    X(NamedBufferData, NAMEDBUFFERDATA)                         \
     X(DeleteBuffers, DELETEBUFFERS)                             \
     X(CreateVertexArrays, CREATEVERTEXARRAYS)                   \
     X(DeleteVertexArrays, DELETEVERTEXARRAYS)                   \

@@ -5,6 +5,7 @@
 
 #include <lixel/render/context.h>
 #include <lixel/render/gl_objects.h>
+#include <lixel/render/silhouette_candidates.h>
 #include <lixel/solver/mesh.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/types.h>
@@ -37,6 +38,10 @@ class GpuScene {
     // Vertex arrays with position at location 0 and the triangle or adjacency index buffer.
     GLuint triangles() const noexcept { return triangle_vao_.id(); }
     GLuint adjacency() const noexcept { return adjacency_vao_.id(); }
+    // The position buffer (3 floats per vertex, relative to origin()) for passes that draw
+    // their own index lists, and the CPU copy of the adjacency that picks them per light.
+    GLuint positions() const noexcept { return positions_.id(); }
+    const SilhouetteCandidates& silhouette_candidates() const noexcept { return candidates_; }
 
   private:
     friend Result<GpuScene> UploadScene(GlContext&, std::span<const Mesh>, const Vec3&);
@@ -44,6 +49,7 @@ class GpuScene {
     std::vector<GpuMeshRange> ranges_;
     std::size_t triangles_ = 0;
     int boundary_edges_ = 0;
+    SilhouetteCandidates candidates_;
     GlBuffer positions_;
     GlBuffer indices_;
     GlBuffer adjacency_indices_;

@@ -10,6 +10,10 @@
 #include <lixel/solver/light_map.h>
 #include <lixel/solver/result.h>
 
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
 namespace lixel::render {
 
 // Value of an empty silhouette texel (both components); the view pass reads it as the centre.
@@ -28,6 +32,11 @@ struct SilhouetteOptions {
     // Clip-depth slack of the visibility test: an edge point is hidden when it is farther than
     // all four corner depths by more than this. [0, 1), default 1e-3 of the map's depth range.
     float visibility_bias = 1e-3f;
+    // Draw only the triangles that may emit an edge for this light (silhouette_candidates.h),
+    // picked on the CPU per render. The map is the same texel for texel either way; false sends
+    // every triangle through the geometry shader, the reference the culled draw is tested
+    // against. Default true.
+    bool cull_to_candidates = true;
 };
 
 class SilhouettePass {
@@ -39,13 +48,28 @@ class SilhouettePass {
     Result<bool> Render(const GpuScene& scene, const LightMap& map, const Vec4& light,
                         const SilhouetteOptions& options, DepthPass& depth, SilhouetteMap& target);
 
+    // Triangles the last successful Render sent through the geometry shader: the candidates
+    // when culling, every triangle otherwise. 0 before the first.
+    std::size_t drawn_triangles() const noexcept { return drawn_triangles_; }
+
   private:
-    SilhouettePass(GlContext& context, Program program, GlFramebuffer framebuffer)
-        : context_(&context), program_(std::move(program)), framebuffer_(std::move(framebuffer)) {}
+    SilhouettePass(GlContext& context, Program program, GlFramebuffer framebuffer,
+                   GlBuffer candidates, GlVertexArray candidate_vao)
+        : context_(&context),
+          program_(std::move(program)),
+          framebuffer_(std::move(framebuffer)),
+          candidates_(std::move(candidates)),
+          candidate_vao_(std::move(candidate_vao)) {}
 
     GlContext* context_;
     Program program_;
     GlFramebuffer framebuffer_;
+    // Adjacency indices of this render's candidates, re-specified every render (the orphaning
+    // idiom), drawn through a vertex array over the scene's positions.
+    GlBuffer candidates_;
+    GlVertexArray candidate_vao_;
+    std::vector<std::uint32_t> selected_;  // CPU side of candidates_, kept for its capacity
+    std::size_t drawn_triangles_ = 0;
 };
 
 }  // namespace lixel::render
