@@ -4,7 +4,9 @@
 #include <lixel/render/view_pass.h>
 #include <lixel/solver/camera.h>
 
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lixel::render {
@@ -282,6 +284,16 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     gl.BindTextureUnit(kAtlasUnitA, 0);
     gl.BindTextureUnit(kAtlasUnitB, 0);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    // Atlases are kept for the next view unless large: a worker holds no more than this between
+    // calls.
+    constexpr std::int64_t kKeptAtlasTexels = std::int64_t{1} << 24;
+    for (auto [atlas, size] : {std::pair{&atlas_a_, &atlas_a_size_},
+                               std::pair{&atlas_b_, &atlas_b_size_}}) {
+        if (static_cast<std::int64_t>(size->width) * size->height > kKeptAtlasTexels) {
+            atlas->Reset();
+            *size = Viewport{};
+        }
+    }
     return context_->Check(std::string("view pass (") + ShadowMethodName(request.method) + ")");
 }
 

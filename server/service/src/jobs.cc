@@ -506,7 +506,16 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     times.emplace_back("plan", Since(start));
     Plan for_bytes;
     for_bytes.maps = job.maps;
-    const std::uint64_t bytes = PlanBytes(for_bytes) + pixels * 4;
+    // The view pass copies the maps its filter reads into one atlas (map_atlas.h): the depth
+    // (corner depth, one texel larger each way) and, for the silhouette map, the RG32F points.
+    std::uint64_t atlas = 0;
+    for (const PlannedMap& m : job.maps) {
+        const auto w = static_cast<std::uint64_t>(m.map.width);
+        const auto h = static_cast<std::uint64_t>(m.map.height);
+        atlas += method == render::ShadowMethod::kSilhouette ? (w + 1) * (h + 1) * 4 + w * h * 8
+                                                             : w * h * 4;
+    }
+    const std::uint64_t bytes = PlanBytes(for_bytes) + atlas + pixels * 4;
     if (bytes > state.options.memory_cap_bytes) {
         return Exhausted("plan: its maps and mask need " + std::to_string(bytes) +
                          " bytes, over the memory cap");
