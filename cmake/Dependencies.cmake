@@ -31,7 +31,9 @@ find_package(embree 3 REQUIRED)               # libembree-dev: ground-truth ray 
 find_package(tinyobjloader REQUIRED)          # libtinyobjloader-dev: OBJ scenes
 find_package(TinyGLTF REQUIRED)               # libtinygltf-dev: glTF 2.0 scenes
 find_program(LIXEL_GNUPLOT gnuplot)           # gnuplot-nox: error_vs_time.png
-find_package(Threads REQUIRED)                # ground truth traces tiles on std::thread
+find_package(TBB REQUIRED CONFIG)             # libtbb-dev: ground truth and metrics run on
+                                              # the work-stealing pool Embree builds with
+find_package(Threads REQUIRED)                # std::thread: the service's work pool, tests
 
 # --- proto, server/service, client: gRPC and protobuf, metrics ---------------------------
 find_package(Protobuf REQUIRED)                           # libprotobuf-dev, protobuf-compiler

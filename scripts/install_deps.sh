@@ -9,7 +9,7 @@ packages=(
     libgtest-dev libgmock-dev
     libbenchmark-dev
     libegl-dev libgl-dev libosmesa6-dev libgl1-mesa-dri libegl-mesa0
-    libembree-dev libglm-dev libpng-dev libopenexr-dev
+    libembree-dev libtbb-dev libglm-dev libpng-dev libopenexr-dev
     libtinyobjloader-dev libtinygltf-dev
     gnuplot-nox
     libgrpc++-dev protobuf-compiler-grpc protobuf-compiler libprotobuf-dev

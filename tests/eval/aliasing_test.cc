@@ -9,9 +9,14 @@
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/polygon.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace lixel::eval {
 using namespace lixel::scene;  // NOLINT: the scenes the metrics run on
@@ -203,6 +208,77 @@ TEST(Aliasing, PlanLookupGivesOneOnPlanesAtFullBudget) {
     EXPECT_EQ(use.allocated, plan->total_lixels);
     EXPECT_GT(use.Share(), 0.1);
     EXPECT_LE(use.Share(), 1.0);
+}
+
+// Aliasing's per-pixel m (its own closed form, without divisions in the derivatives) against
+// AliasingM of the reference Jacobian, on every pixel: with the plan's maps, with the floor map
+// on everything, and with a map that images only half the scene. The reference loses
+// ~sqrt(eps) where the two singular values are close; result.m is a float: 1e-6 relative
+// covers both.
+TEST(Aliasing, PerPixelMatchesTheReferenceJacobian) {
+    const FloorWall& f = Fixture();
+    const Mat4 pixel = f.scene.camera.PixelMatrix();
+    auto plan = PlanShadowMaps(f.scene.MakePlanRequest(4 * 256 * 256));
+    ASSERT_TRUE(plan.ok()) << plan.error().Message();
+    const std::vector<LightMap> floor_only = {SolveFor(f.scene, 0, CropOptions{}).crop.map};
+    const std::vector<LightMap> plan_maps = PlanLightMaps(*plan);
+    // A map whose w is world x: the half of the scene at x <= 0 is not imaged (m infinite).
+    LightMap half;
+    half.matrix << 0, 0, 1, 0,  //
+        0, 1, 0, 0,             //
+        0, 0, 0, 0,             //
+        1, 0, 0, 0;
+    half.width = half.height = 256;
+    const std::vector<LightMap> half_only = {half};
+    const MapSelector plan_select = PlanSelector(*plan);
+    const MapSelector first = [](const Vec4&) { return 0; };
+    for (const auto& [maps, select] :
+         {std::pair{&plan_maps, &plan_select}, std::pair{&floor_only, &first},
+          std::pair{&half_only, &first}}) {
+        const AliasingResult r = Aliasing(f.truth, pixel, *maps, *select);
+        int finite = 0, infinite = 0;
+        for (std::size_t i = 0; i < f.truth.state.size(); ++i) {
+            if (!f.truth.Visible(i)) {
+                EXPECT_TRUE(std::isnan(r.m[i])) << "pixel " << i;
+                continue;
+            }
+            const int k = (*select)(Point(f.truth.position[i]));
+            if (k < 0) continue;
+            auto j = PixelToLixelJacobian(pixel, (*maps)[k].matrix, f.truth.position[i],
+                                          f.truth.normal[i].cast<double>());
+            const double expected = j ? AliasingM(*j) : std::numeric_limits<double>::infinity();
+            if (std::isinf(expected)) {
+                ASSERT_TRUE(std::isinf(r.m[i])) << "pixel " << i;
+                ++infinite;
+                continue;
+            }
+            ASSERT_NEAR(r.m[i], expected, 1e-6 * expected) << "pixel " << i;
+            ++finite;
+        }
+        EXPECT_GT(finite, 10000);
+        if (maps == &half_only) {
+            EXPECT_GT(infinite, 10000);
+        }
+    }
+}
+
+// The statistics do not depend on the order of the values (Aliasing gathers them in fixed
+// chunks; the mean is a compensated sum, p95 a selection).
+TEST(SummarizeAliasing, OrderDoesNotMatter) {
+    std::mt19937_64 rng(12351);
+    std::lognormal_distribution<double> m(0.5, 1.0);
+    std::vector<double> values(200'000);
+    for (double& v : values) v = m(rng);
+    values[17] = std::numeric_limits<double>::infinity();
+    const AliasingStats a = SummarizeAliasing(values);
+    std::shuffle(values.begin(), values.end(), rng);
+    const AliasingStats b = SummarizeAliasing(values);
+    EXPECT_EQ(a.pixels, b.pixels);
+    EXPECT_DOUBLE_EQ(a.mean, b.mean);
+    EXPECT_EQ(a.p95, b.p95);
+    EXPECT_EQ(a.over_threshold, b.over_threshold);
+    std::sort(values.begin(), values.end());
+    EXPECT_EQ(a.p95, values[static_cast<std::size_t>(std::ceil(0.95 * 200'000)) - 1]);
 }
 
 TEST(SummarizeAliasing, MeanPercentileShare) {

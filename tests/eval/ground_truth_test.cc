@@ -206,6 +206,24 @@ TEST(GroundTruth, SingleRayQueriesAgreeWithStreams) {
     EXPECT_EQ(a->object, b->object);
 }
 
+// Tiles are traced in whatever order the pool takes them; the answer is the same.
+TEST(GroundTruth, OneThreadAgreesWithThePool) {
+    const Scene scene = SphereOverPlane(Point(Vec3(0.8, 5.0, 0.4)));
+    TruthOptions one;
+    one.threads = 1;
+    auto a = ComputeGroundTruth(scene);
+    auto b = ComputeGroundTruth(scene, one);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(a->state, b->state);
+    EXPECT_EQ(a->position, b->position);
+    EXPECT_EQ(a->normal, b->normal);
+    EXPECT_EQ(a->object, b->object);
+    EXPECT_EQ(a->primitive, b->primitive);
+    EXPECT_EQ(a->plane, b->plane);
+    EXPECT_EQ(a->primary_rays, b->primary_rays);
+    EXPECT_EQ(a->shadow_rays, b->shadow_rays);
+}
+
 TEST(GroundTruth, EmptyPixelsWhereNothingIsHit) {
     Scene scene = SphereOverPlane(Point(Vec3(0.8, 5.0, 0.4)));
     scene.meshes.erase(scene.meshes.begin());  // no floor: only the sphere

@@ -1,8 +1,15 @@
-// Ground-truth visibility (ground_truth.h): Embree stream queries over square tiles, one
-// std::thread per core pulling tiles from an atomic counter.
+// Ground-truth visibility (ground_truth.h): Embree stream queries over square tiles, the tiles
+// shared out by TBB's work-stealing pool (the one Embree's own BVH builds run on), so a request
+// starts no threads of its own and concurrent requests share the cores instead of each taking
+// all of them.
 #include <lixel/eval/ground_truth.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -11,7 +18,6 @@
 #include <cmath>
 #include <limits>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "ray_scene_impl.h"
@@ -35,6 +41,23 @@ struct Setup {
     double eps_angle = 0.0;               // directional facing band, radians ~ eps / diagonal
     const std::vector<PlaneOfInterest>* planes = nullptr;
     TruthOptions options;
+};
+
+// A tile's scratch: one per worker thread, reused for every tile it traces.
+struct Scratch {
+    std::vector<Vec3> origins, directions;
+    std::vector<RTCRayHit> primary;
+    std::vector<RTCRay> shadow;
+    std::vector<std::size_t> shadow_pixel;
+
+    explicit Scratch(int tile) {
+        const std::size_t per_tile = static_cast<std::size_t>(tile) * tile;
+        origins.resize(per_tile);
+        directions.resize(per_tile);
+        primary.resize(per_tile);
+        shadow.resize(per_tile * kShadowRaysPerPixel);
+        shadow_pixel.resize(per_tile);
+    }
 };
 
 void InitRay(RTCRay& ray, const Vec3& origin, const Vec3& direction, float tfar) {
@@ -161,16 +184,33 @@ struct Counters {
 };
 
 void TraceTile(const Setup& s, int x0, int y0, GroundTruth& out, Counters& counters,
-               std::vector<RTCRayHit>& primary, std::vector<RTCRay>& shadow,
-               std::vector<std::size_t>& shadow_pixel) {
+               Scratch& scratch) {
     const int x1 = std::min(x0 + s.options.tile_size, s.width);
     const int y1 = std::min(y0 + s.options.tile_size, s.height);
     const int count = (x1 - x0) * (y1 - y0);
     const bool stream = s.options.query == RayQuery::kStream;
     RTCScene scene = s.scene->scene;
+    std::vector<Vec3>& origins = scratch.origins;
+    std::vector<Vec3>& directions = scratch.directions;
+    std::vector<RTCRayHit>& primary = scratch.primary;
+    std::vector<RTCRay>& shadow = scratch.shadow;
+    std::vector<std::size_t>& shadow_pixel = scratch.shadow_pixel;
+
+    // Every field of the tile's pixels is written here, empty ones included, so the output
+    // arrays need no serial clearing beforehand and their pages are first touched by the
+    // worker that fills them.
+    for (int y = y0; y < y1; ++y) {
+        const std::size_t row = out.Index(x0, y);
+        const std::size_t n = static_cast<std::size_t>(x1 - x0);
+        std::fill_n(out.state.begin() + row, n, Truth::kEmpty);
+        std::fill_n(out.position.begin() + row, n, Vec3(0.0, 0.0, 0.0));
+        std::fill_n(out.normal.begin() + row, n, Eigen::Vector3f(0.0f, 0.0f, 0.0f));
+        std::fill_n(out.object.begin() + row, n, -1);
+        std::fill_n(out.primitive.begin() + row, n, -1);
+        std::fill_n(out.plane.begin() + row, n, std::int8_t{-1});
+    }
 
     // Primary rays.
-    std::vector<Vec3> origins(count), directions(count);
     int k = 0;
     for (int y = y0; y < y1; ++y) {
         for (int x = x0; x < x1; ++x, ++k) {
@@ -304,39 +344,43 @@ Result<GroundTruth> ComputeGroundTruth(const RayScene& scene, const TruthRequest
     out.width = s.width;
     out.height = s.height;
     const std::size_t n = static_cast<std::size_t>(s.width) * s.height;
-    out.state.assign(n, Truth::kEmpty);
-    out.position.assign(n, Vec3::Zero());
-    out.normal.assign(n, Eigen::Vector3f::Zero());
-    out.object.assign(n, -1);
-    out.primitive.assign(n, -1);
-    out.plane.assign(n, -1);
+    // Sized only: TraceTile writes every element. (Eigen's vectors are left unset by resize;
+    // the integer arrays are small next to them.)
+    out.state.resize(n);
+    out.position.resize(n);
+    out.normal.resize(n);
+    out.object.resize(n);
+    out.primitive.resize(n);
+    out.plane.resize(n);
     out.offset = s.eps;
 
     const int tile = options.tile_size;
     const int tiles_x = (s.width + tile - 1) / tile;
     const int tiles_y = (s.height + tile - 1) / tile;
     const int tiles = tiles_x * tiles_y;
-    int threads = options.threads > 0 ? options.threads
-                                      : static_cast<int>(std::thread::hardware_concurrency());
-    threads = std::clamp(threads, 1, std::max(1, tiles));
 
-    std::atomic<int> next{0};
     Counters counters;
     const auto start = std::chrono::steady_clock::now();
-    auto worker = [&] {
-        const std::size_t per_tile = static_cast<std::size_t>(tile) * tile;
-        std::vector<RTCRayHit> primary(per_tile);
-        std::vector<RTCRay> shadow(per_tile * kShadowRaysPerPixel);
-        std::vector<std::size_t> shadow_pixel(per_tile);
-        for (int t = next++; t < tiles; t = next++) {
-            TraceTile(s, (t % tiles_x) * tile, (t / tiles_x) * tile, out, counters, primary, shadow,
-                      shadow_pixel);
-        }
+    tbb::enumerable_thread_specific<Scratch> scratch(tile);
+    auto trace = [&] {
+        // One tile per task: a tile is already a few thousand rays, and stealing single tiles
+        // balances the sky-heavy rows against the shadowed ones.
+        tbb::parallel_for(
+            tbb::blocked_range<int>(0, tiles, 1), [&](const tbb::blocked_range<int>& r) {
+                Scratch& mine = scratch.local();
+                for (int t = r.begin(); t < r.end(); ++t) {
+                    TraceTile(s, (t % tiles_x) * tile, (t / tiles_x) * tile, out, counters, mine);
+                }
+            });
     };
-    std::vector<std::thread> pool;
-    for (int i = 1; i < threads; ++i) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
+    if (options.threads > 0) {
+        // More threads than cores would only be refused by TBB (with a warning on stderr).
+        tbb::task_arena arena(
+            std::clamp(options.threads, 1, std::min(tiles, tbb::info::default_concurrency())));
+        arena.execute(trace);
+    } else {
+        trace();
+    }
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.primary_rays = counters.primary;
     out.shadow_rays = counters.shadow;

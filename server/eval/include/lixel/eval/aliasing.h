@@ -30,6 +30,8 @@ Result<Mat2> PixelToLixelJacobian(const Mat4& pixel_matrix, const Mat4& light_ma
 double AliasingM(const Mat2& jacobian);
 
 // For a world point (homogeneous), the index into `maps` of the map that serves it, or -1.
+// Aliasing and ComputeLixelUse call it from several threads at once: it must be safe to (a pure
+// function of the point, as LookupMap is).
 using MapSelector = std::function<int(const Vec4&)>;
 
 struct AliasingStats {

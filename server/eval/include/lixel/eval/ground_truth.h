@@ -62,7 +62,7 @@ struct TruthOptions {
     // between eps / sqrt(2) and eps wide on the receiver, and contact within eps is undecided.
     // 1e-5 keeps eps below a millimetre in a 20 m room and well above float rounding (~1e-7).
     double offset_fraction = 1e-5;
-    int threads = 0;      // worker threads; 0 = std::thread::hardware_concurrency()
+    int threads = 0;      // worker threads (a TBB arena that wide); 0 = TBB's default: all cores
     int tile_size = 16;   // pixels per tile side; a tile is one stream query
     bool shadows = true;  // false: primary rays only (states are kLit where visible)
     RayQuery query = RayQuery::kStream;
