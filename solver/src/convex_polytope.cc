@@ -19,16 +19,18 @@ constexpr double kRelativeTolerance = 1e-9;
 constexpr double kMagnitudeUlps = 256.0 * std::numeric_limits<double>::epsilon();
 
 // Drops consecutive vertices closer than `tol` (cyclically); a polygon left with fewer than
-// three vertices is cleared.
+// three vertices is cleared. In place: every kept vertex is compared with the last one kept,
+// which lies at or before the read position.
 void MergeCloseVertices(std::vector<Vec3>& polygon, double tol) {
-    std::vector<Vec3> out;
-    out.reserve(polygon.size());
-    for (const Vec3& p : polygon) {
-        if (out.empty() || (p - out.back()).norm() > tol) out.push_back(p);
+    size_t kept = 0;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        if (kept == 0 || (polygon[i] - polygon[kept - 1]).norm() > tol) {
+            polygon[kept++] = polygon[i];
+        }
     }
-    while (out.size() > 1 && (out.front() - out.back()).norm() <= tol) out.pop_back();
-    if (out.size() < 3) out.clear();
-    polygon = std::move(out);
+    while (kept > 1 && (polygon[0] - polygon[kept - 1]).norm() <= tol) --kept;
+    if (kept < 3) kept = 0;
+    polygon.resize(kept);
 }
 
 // Orthonormal u, v with u x v = n (n unit).
@@ -68,25 +70,38 @@ ConvexPolytope ConvexPolytope::FromBox(const Aabb& box) {
     return out;
 }
 
-double ConvexPolytope::Size() const {
-    if (faces_.empty()) return 0.0;
+namespace {
+
+// The vertices' axis-aligned bounds and largest coordinate magnitude, in one pass: every clip
+// needs both for its tolerance.
+struct Extent {
+    double size = 0.0;       // diagonal of the bounds
+    double magnitude = 0.0;  // largest |coordinate|
+};
+
+Extent ExtentOf(const std::vector<PolytopeFace>& faces) {
+    Extent out;
+    if (faces.empty()) return out;
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
     Vec3 hi = -lo;
-    for (const PolytopeFace& f : faces_) {
+    for (const PolytopeFace& f : faces) {
         for (const Vec3& p : f.polygon) {
             lo = lo.cwiseMin(p);
             hi = hi.cwiseMax(p);
+            out.magnitude = std::max(out.magnitude, p.cwiseAbs().maxCoeff());
         }
     }
-    return (hi - lo).norm();
+    out.size = (hi - lo).norm();
+    return out;
 }
 
+}  // namespace
+
+double ConvexPolytope::Size() const { return ExtentOf(faces_).size; }
+
 double ConvexPolytope::Tolerance() const {
-    double magnitude = 0.0;
-    for (const PolytopeFace& f : faces_) {
-        for (const Vec3& p : f.polygon) magnitude = std::max(magnitude, p.cwiseAbs().maxCoeff());
-    }
-    return kRelativeTolerance * Size() + kMagnitudeUlps * magnitude;
+    const Extent e = ExtentOf(faces_);
+    return kRelativeTolerance * e.size + kMagnitudeUlps * e.magnitude;
 }
 
 std::vector<Vec3> ConvexPolytope::vertices() const {
@@ -115,11 +130,21 @@ bool ConvexPolytope::Contains(const Vec3& p, double slack) const {
 }
 
 ConvexPolytope ConvexPolytope::Clipped(const Vec4& plane) const {
-    if (empty() || !plane.allFinite()) return {};
+    ConvexPolytope out = *this;
+    out.Clip(plane);
+    return out;
+}
+
+void ConvexPolytope::Clip(const Vec4& plane) {
+    if (empty() || !plane.allFinite()) {
+        faces_.clear();
+        return;
+    }
     const double n_length = plane.head<3>().norm();
     if (!(n_length > 1e-12 * plane.norm())) {
         // A plane at infinity (e.g. the far plane of an infinite projection): its sign decides.
-        return plane.w() >= 0.0 ? *this : ConvexPolytope{};
+        if (!(plane.w() >= 0.0)) faces_.clear();
+        return;
     }
     const Vec4 p = plane / n_length;
     const Vec3 n = p.head<3>();
@@ -134,24 +159,38 @@ ConvexPolytope ConvexPolytope::Clipped(const Vec4& plane) const {
             any_out = any_out || d < -tol;
             any_in = any_in || d > tol;
         }
+        if (any_out && any_in) break;
     }
-    if (!any_out) return *this;
-    if (!any_in) return {};
+    if (!any_out) return;
+    if (!any_in) {
+        faces_.clear();
+        return;
+    }
 
-    ConvexPolytope out;
     std::vector<Vec3> cap_points;
-    for (const PolytopeFace& f : faces_) {
-        const std::vector<Vec3>& poly = f.polygon;
+    std::vector<Vec3> kept;       // swapped with each cut face's polygon, so storage is reused
+    std::vector<double> d;        // signed distances of the current face's vertices
+    std::vector<int> sides;       // their sides: 1 inside, -1 outside, 0 on the plane
+    size_t faces_kept = 0;
+    for (size_t face = 0; face < faces_.size(); ++face) {
+        const std::vector<Vec3>& poly = faces_[face].polygon;
         const size_t count = poly.size();
-        std::vector<Vec3> kept;
+        d.resize(count);
+        sides.resize(count);
+        for (size_t i = 0; i < count; ++i) {
+            d[i] = distance(poly[i]);
+            sides[i] = d[i] > tol ? 1 : (d[i] < -tol ? -1 : 0);
+        }
+        kept.clear();
         bool all_on = true;
         for (size_t i = 0; i < count; ++i) {
+            const size_t next = i + 1 == count ? 0 : i + 1;
             const Vec3& a = poly[i];
-            const Vec3& b = poly[(i + 1) % count];
-            const double da = distance(a);
-            const double db = distance(b);
-            const int sa = da > tol ? 1 : (da < -tol ? -1 : 0);
-            const int sb = db > tol ? 1 : (db < -tol ? -1 : 0);
+            const Vec3& b = poly[next];
+            const double da = d[i];
+            const double db = d[next];
+            const int sa = sides[i];
+            const int sb = sides[next];
             all_on = all_on && sa == 0;
             if (sa >= 0) kept.push_back(a);
             if (sa == 0) cap_points.push_back(a);
@@ -170,8 +209,12 @@ ConvexPolytope ConvexPolytope::Clipped(const Vec4& plane) const {
         }
         if (all_on) continue;  // lies in the cut: the cap replaces it
         MergeCloseVertices(kept, tol);
-        if (!kept.empty()) out.faces_.push_back({std::move(kept), f.outward_plane});
+        if (kept.empty()) continue;
+        faces_[face].polygon.swap(kept);
+        if (faces_kept != face) std::swap(faces_[faces_kept], faces_[face]);
+        ++faces_kept;
     }
+    faces_.resize(faces_kept);
 
     // The cap: the polytope's section by the plane, counter-clockwise about its outward
     // normal -n.
@@ -183,6 +226,7 @@ ConvexPolytope ConvexPolytope::Clipped(const Vec4& plane) const {
     for (const Vec3& x : cap_points) flat.emplace_back(u.dot(x), v.dot(x));
     const std::vector<Vec2> hull = ConvexHull2d(flat);
     std::vector<Vec3> cap;
+    cap.reserve(hull.size());
     for (const Vec2& h : hull) {
         for (size_t i = 0; i < flat.size(); ++i) {
             if (flat[i] == h) {
@@ -192,9 +236,8 @@ ConvexPolytope ConvexPolytope::Clipped(const Vec4& plane) const {
         }
     }
     MergeCloseVertices(cap, tol);
-    if (!cap.empty()) out.faces_.push_back({std::move(cap), Vec4(-p)});
-    if (out.empty()) return {};
-    return out;
+    if (!cap.empty()) faces_.push_back({std::move(cap), Vec4(-p)});
+    if (empty()) faces_.clear();
 }
 
 }  // namespace lixel

@@ -72,7 +72,7 @@ Result<ExtentHull> ComputeExtentHull(const Mat4& viewer, const Vec4& light,
     const ConvexPolytope box = ConvexPolytope::FromBox(bounds);
 
     ConvexPolytope v = box;
-    for (const Vec4& plane : FrustumPlanes(viewer)) v = v.Clipped(plane);
+    for (const Vec4& plane : FrustumPlanes(viewer)) v.Clip(plane);
     if (v.empty()) {
         return Error{"viewer", "view frustum does not meet scene bounds"};
     }
@@ -87,7 +87,7 @@ Result<ExtentHull> ComputeExtentHull(const Mat4& viewer, const Vec4& light,
         // w = 0 says the face does not look toward the light, so the sweep never crosses it).
         const double face_tol = directional ? kDirectionTolerance : tol;
         for (const PolytopeFace& f : v.faces()) {
-            if (f.outward_plane.dot(out.light) <= face_tol) h = h.Clipped(-f.outward_plane);
+            if (f.outward_plane.dot(out.light) <= face_tol) h.Clip(-f.outward_plane);
         }
         // Supporting planes through l and two vertices of V (silhouette edges among them).
         const std::vector<Vec3> corners = v.vertices();
@@ -109,9 +109,9 @@ Result<ExtentHull> ComputeExtentHull(const Mat4& viewer, const Vec4& light,
                     hi = std::max(hi, s);
                 }
                 if (lo >= -tol) {
-                    h = h.Clipped(plane);
+                    h.Clip(plane);
                 } else if (hi <= tol) {
-                    h = h.Clipped(-plane);
+                    h.Clip(-plane);
                 }
             }
         }

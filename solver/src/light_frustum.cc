@@ -405,8 +405,8 @@ Result<CubeFaceMap> FitCubeFace(const Vec4& light, int face, const ConvexPolytop
     ConvexPolytope part = polytope;
     // The face's pyramid: |s| <= ma and |t| <= ma, four half-spaces through the light.
     for (const Vec3& side : {kCubeS[face], kCubeT[face]}) {
-        part = part.Clipped(PlaneThroughLight(light, kCubeMajor[face] - side).transpose());
-        part = part.Clipped(PlaneThroughLight(light, kCubeMajor[face] + side).transpose());
+        part.Clip(PlaneThroughLight(light, kCubeMajor[face] - side).transpose());
+        part.Clip(PlaneThroughLight(light, kCubeMajor[face] + side).transpose());
     }
     std::vector<Vec4> inside;
     const Vec3 l3 = light.head<3>() / light.w();

@@ -166,7 +166,7 @@ Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept {
         ConvexPolytope held = ConvexPolytope::FromBox(request.bounds);
         for (const Vec4& plane : AcceptedCone(out.crop.map, {}).planes) {
             if (held.empty()) break;
-            held = held.Clipped(plane);
+            held.Clip(plane);
         }
         std::vector<Vec4> depth_points = needed;
         for (const Vec3& v : held.vertices()) depth_points.push_back(Point(v));

@@ -47,9 +47,10 @@ std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayCone
     ConvexPolytope inside = region;
     for (const Vec4& plane : cone.planes) {
         if (inside.empty()) break;
-        ConvexPolytope outside = inside.Clipped(-plane);
+        ConvexPolytope outside = inside;
+        outside.Clip(-plane);
         if (!outside.empty()) pieces.push_back(std::move(outside));
-        inside = inside.Clipped(plane);
+        inside.Clip(plane);
     }
     return pieces;
 }

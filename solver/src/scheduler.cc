@@ -121,7 +121,7 @@ Aabb Thickened(const Aabb& box, double thickness) {
 ConvexPolytope ClippedByAll(ConvexPolytope polytope, const std::vector<Vec4>& planes) {
     for (const Vec4& p : planes) {
         if (polytope.empty()) break;
-        polytope = polytope.Clipped(p);
+        polytope.Clip(p);
     }
     return polytope;
 }
@@ -176,6 +176,10 @@ struct Context {
     std::vector<Vec4> frustum;
     double thickness = 0.0;
     std::vector<Candidate> candidates;
+    // Every object's box, thickened (request order), and its part inside the extent hull (the
+    // hull itself when there are no objects): the same for every map and every budget attempt.
+    std::vector<ConvexPolytope> object_boxes;
+    std::vector<ConvexPolytope> held_regions;
     std::vector<ConvexPolytope> view_regions;  // visible part of every object
     std::vector<LeftOut> plane_left_out;       // from the candidate stage
 };
@@ -258,22 +262,10 @@ void FindCandidates(Context& c) {
 std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
                               const std::vector<Eigen::Vector3d>& half_planes) {
     const RayCone cone = AcceptedCone(map, half_planes);
-    std::vector<ConvexPolytope> regions;
-    if (c.request.objects.empty()) {
-        regions.push_back(c.hull.hull);
-    } else {
-        for (const SceneObject& o : c.request.objects) {
-            ConvexPolytope box = ConvexPolytope::FromBox(Thickened(o.bounds, c.thickness));
-            for (const PolytopeFace& f : c.hull.hull.faces()) {
-                if (box.empty()) break;
-                box = box.Clipped(-f.outward_plane);
-            }
-            regions.push_back(std::move(box));
-        }
-    }
     std::vector<Vec4> points;
-    for (ConvexPolytope& region : regions) {
-        region = ClippedByAll(std::move(region), cone.planes);
+    for (const ConvexPolytope& held : c.held_regions) {
+        if (held.empty()) continue;
+        const ConvexPolytope region = ClippedByAll(held, cone.planes);
         for (const Vec3& v : region.vertices()) points.push_back(Point(v));
     }
     return points;
@@ -522,6 +514,55 @@ Result<bool> AddFallback(const Context& c, const std::vector<ConvexPolytope>& un
     return true;
 }
 
+// Relative margin of SegmentMisses: far above the few ulps by which the slab test below can
+// differ from exact arithmetic, so the cull never drops a box that test would hit.
+constexpr double kCullMargin = 1e-9;
+
+// The points origin + t direction, t in [0, reach] (reach may be infinite), as per-axis bounds,
+// and the rounding margin a box test against them needs.
+struct RaySegment {
+    Vec3 lo, hi;
+    double magnitude = 0.0;  // largest |coordinate| of origin, reach * direction and the end
+    bool valid = false;      // false when some value is not finite: nothing is culled
+};
+
+RaySegment SegmentOf(const Vec3& origin, const Vec3& direction, double reach) {
+    RaySegment s;
+    const bool finite_reach = std::isfinite(reach);
+    const Vec3 step = finite_reach ? Vec3(reach * direction) : Vec3::Zero();
+    const Vec3 end = origin + step;
+    s.magnitude = origin.cwiseAbs().maxCoeff();
+    if (finite_reach) s.magnitude += step.cwiseAbs().maxCoeff() + end.cwiseAbs().maxCoeff();
+    s.valid = std::isfinite(s.magnitude) && direction.allFinite();
+    for (int a = 0; a < 3; ++a) {
+        s.lo(a) = origin(a);
+        s.hi(a) = origin(a);
+        if (finite_reach) {
+            s.lo(a) = std::min(s.lo(a), end(a));
+            s.hi(a) = std::max(s.hi(a), end(a));
+        } else if (direction(a) > 0.0) {
+            s.hi(a) = std::numeric_limits<double>::infinity();
+        } else if (direction(a) < 0.0) {
+            s.lo(a) = -std::numeric_limits<double>::infinity();
+        }
+    }
+    return s;
+}
+
+// Whether the segment stays more than a rounding margin outside `box` on some axis. Then the
+// slab test in EstimatePixels, whose entry and exit parameters are within 2 ulps of exact, finds
+// no entry in (0, reach) either: a division-free test that spares it for most rays and boxes.
+// `box_magnitude` is the box's largest |coordinate|.
+bool SegmentMisses(const RaySegment& s, const Aabb& box, double box_magnitude) {
+    if (!s.valid) return false;
+    const double margin = kCullMargin * (s.magnitude + box_magnitude);
+    if (!std::isfinite(margin)) return false;
+    for (int a = 0; a < 3; ++a) {
+        if (s.hi(a) < box.min(a) - margin || s.lo(a) > box.max(a) + margin) return true;
+    }
+    return false;
+}
+
 // Rays from the viewer: the nearest of the planes' needed surfaces and the objects' boxes, then
 // the lookup rule; counts per map scaled to the viewport (DESIGN §4.5 statistics).
 void EstimatePixels(const Context& c, Plan& plan) {
@@ -529,6 +570,20 @@ void EstimatePixels(const Context& c, Plan& plan) {
     const Mat4 inverse = r.viewer.inverse();
     const Mat4 pixel = PixelMatrix(r.viewer, r.viewport);
     std::vector<double> counts(plan.maps.size(), 0.0);
+    // Each bounded candidate's polygon edges, computed once rather than per ray.
+    std::vector<std::vector<Vec3>> edges(c.candidates.size());
+    for (size_t i = 0; i < c.candidates.size(); ++i) {
+        const auto& poly = r.planes[c.candidates[i].index].polygon;
+        for (size_t k = 0; k < poly.size(); ++k) {
+            edges[i].push_back(poly[(k + 1) % poly.size()] - poly[k]);
+        }
+    }
+    std::vector<double> box_magnitudes;
+    box_magnitudes.reserve(r.objects.size());
+    for (const SceneObject& o : r.objects) {
+        box_magnitudes.push_back(
+            std::max(o.bounds.min.cwiseAbs().maxCoeff(), o.bounds.max.cwiseAbs().maxCoeff()));
+    }
     const int n = kPixelSamplesPerSide;
     for (int sy = 0; sy < n; ++sy) {
         for (int sx = 0; sx < n; ++sx) {
@@ -541,7 +596,8 @@ void EstimatePixels(const Context& c, Plan& plan) {
             const Vec3 direction = far.w() != 0.0 ? Vec3(far.head<3>() / far.w() - origin)
                                                   : Vec3(far.head<3>());
             double best = std::numeric_limits<double>::infinity();
-            for (const Candidate& cand : c.candidates) {
+            for (size_t i = 0; i < c.candidates.size(); ++i) {
+                const Candidate& cand = c.candidates[i];
                 const double denom = cand.plane.head<3>().dot(direction);
                 if (denom == 0.0) continue;
                 const double t = -(cand.plane.head<3>().dot(origin) + cand.plane.w()) / denom;
@@ -551,12 +607,16 @@ void EstimatePixels(const Context& c, Plan& plan) {
                 bool inside = (hit.array() >= c.bounds.min.array() - c.thickness).all() &&
                               (hit.array() <= c.bounds.max.array() + c.thickness).all();
                 for (size_t k = 0; inside && k < poly.size(); ++k) {
-                    const Vec3 edge = poly[(k + 1) % poly.size()] - poly[k];
-                    inside = cand.plane.head<3>().dot(edge.cross(hit - poly[k])) >= 0.0;
+                    inside = cand.plane.head<3>().dot(edges[i][k].cross(hit - poly[k])) >= 0.0;
                 }
                 if (inside) best = t;
             }
-            for (const SceneObject& o : r.objects) {
+            // Boxes the ray cannot enter before `best` (the nearest plane hit, or infinity):
+            // a later, nearer box hit only shortens the segment, so the cull stays safe.
+            const RaySegment segment = SegmentOf(origin, direction, best);
+            for (size_t i = 0; i < r.objects.size(); ++i) {
+                const SceneObject& o = r.objects[i];
+                if (SegmentMisses(segment, o.bounds, box_magnitudes[i])) continue;
                 double t0 = 0.0, t1 = best;
                 for (int a = 0; a < 3 && t0 <= t1; ++a) {
                     if (direction(a) == 0.0) {
@@ -590,7 +650,8 @@ void EstimatePixels(const Context& c, Plan& plan) {
 std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m) {
     std::vector<const SceneObject*> casters;
     const RayCone cone = AcceptedCone(m.map, m.lookup.half_planes);
-    for (const SceneObject& o : c.request.objects) {
+    for (size_t i = 0; i < c.request.objects.size(); ++i) {
+        const SceneObject& o = c.request.objects[i];
         const Aabb box = Thickened(o.bounds, c.thickness);
         if (m.role == MapRole::kPlane) {
             const Vec4& p = c.request.planes[m.plane_index].plane;
@@ -599,7 +660,7 @@ std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m)
             for (const Vec4& corner : BoxCorners(box)) highest = std::max(highest, p.dot(corner) / n);
             if (!(highest > c.thickness)) continue;
         }
-        if (!ClippedByAll(ConvexPolytope::FromBox(box), cone.planes).empty()) {
+        if (!ClippedByAll(c.object_boxes[i], cone.planes).empty()) {
             casters.push_back(&o);
         }
     }
@@ -654,14 +715,23 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     if (!hull) return hull.error();
 
     Context c{r, *bounds, *hull, hull->light, FrustumPlanes(r.viewer),
-              1e-6 * bounds->Diagonal(), {}, {}, {}};
+              1e-6 * bounds->Diagonal(), {}, {}, {}, {}, {}};
     FindCandidates(c);
+    for (const SceneObject& o : r.objects) {
+        c.object_boxes.push_back(ConvexPolytope::FromBox(Thickened(o.bounds, c.thickness)));
+    }
     if (r.objects.empty()) {
+        c.held_regions.push_back(c.hull.hull);
         c.view_regions.push_back(ClippedByAll(ConvexPolytope::FromBox(c.bounds), c.frustum));
     }
-    for (const SceneObject& o : r.objects) {
-        ConvexPolytope region =
-            ClippedByAll(ConvexPolytope::FromBox(Thickened(o.bounds, c.thickness)), c.frustum);
+    for (const ConvexPolytope& box : c.object_boxes) {
+        ConvexPolytope held = box;
+        for (const PolytopeFace& f : c.hull.hull.faces()) {
+            if (held.empty()) break;
+            held.Clip(-f.outward_plane);
+        }
+        c.held_regions.push_back(std::move(held));
+        ConvexPolytope region = ClippedByAll(box, c.frustum);
         if (!region.empty()) c.view_regions.push_back(std::move(region));
     }
     // An infinite plane of interest is a surface (a floor, a wall): what lies behind it is hidden
@@ -673,7 +743,7 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
         const Vec4 front = p.plane / p.plane.head<3>().norm();
         if (!(front.dot(*eye) > 0.0)) continue;
         for (ConvexPolytope& region : c.view_regions) {
-            if (!region.empty()) region = region.Clipped(front);
+            if (!region.empty()) region.Clip(front);
         }
     }
     std::erase_if(c.view_regions, [](const ConvexPolytope& p) { return p.empty(); });
@@ -683,7 +753,10 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     std::vector<LeftOut> left_out;
     auto maps = SolvePlaneMaps(c, 1.0, left_out);
     if (!maps) return maps.error();
-    const bool fallback_needed = !Uncovered(c, *maps).empty();
+    // What the maps at one lixel per pixel leave uncovered; still the answer below when the
+    // budget needs no smaller scale (the maps are then the same).
+    std::vector<ConvexPolytope> uncovered = Uncovered(c, *maps);
+    const bool fallback_needed = !uncovered.empty();
     const std::int64_t floor =
         fallback_needed ? std::max<std::int64_t>(1, std::min(r.fallback_floor, r.lixel_budget / 2))
                         : 0;
@@ -694,7 +767,9 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
         return t;
     };
     double scale = 1.0;
+    bool rescaled = false;
     for (int attempt = 0; attempt < 40 && total(*maps) > available; ++attempt) {
+        rescaled = true;
         const double shrink = std::sqrt(static_cast<double>(std::max<std::int64_t>(available, 0)) /
                                         static_cast<double>(total(*maps)));
         scale *= std::min(shrink, 0.999) * (attempt < 4 ? 1.0 : 0.98);
@@ -715,7 +790,7 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     plan.left_out = c.plane_left_out;
     plan.left_out.insert(plan.left_out.end(), left_out.begin(), left_out.end());
 
-    const std::vector<ConvexPolytope> uncovered = Uncovered(c, plan.maps);
+    if (rescaled) uncovered = Uncovered(c, plan.maps);
     if (uncovered.empty()) {
         plan.left_out.push_back({"fallback", "not needed: the plane maps accept every ray "
                                              "through the visible scene (C_tot)"});

@@ -92,7 +92,9 @@ TEST(Scheduler, PlansFitTheBudgetAtOneLixelPerPixelWhenItAllows) {
     ASSERT_TRUE(plan.ok()) << plan.error().Message();
     EXPECT_EQ(plan->plane_scale, 1.0);
     for (const PlannedMap& m : plan->maps) {
-        if (m.role == MapRole::kPlane) EXPECT_LE(m.diagnostics.residual_lixels, 1e-9);
+        if (m.role == MapRole::kPlane) {
+            EXPECT_LE(m.diagnostics.residual_lixels, 1e-9);
+        }
     }
     EXPECT_LE(plan->total_lixels, r.lixel_budget);
 }
