@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 #include <lixel/render/context.h>
 #include <lixel/render/gpu_scene.h>
+#include <lixel/render/view_pass.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/volumes/edge_adjacency.h>
@@ -263,6 +264,46 @@ void BM_VolumeView(benchmark::State& state) {
 }
 BENCHMARK(BM_VolumeView)->Apply(Sizes);
 
+// The baseline of the volume views: the bare view pass (render::ViewVariant::kBare, no shadow
+// test) of the same surfaces at the same viewport.
+void BM_BareView(benchmark::State& state) {
+    Gl* g = TheGl();
+    if (g == nullptr) {
+        state.SkipWithError("no GL 4.5 context");
+        return;
+    }
+    static std::optional<render::ViewPass> bare;
+    if (!bare) {
+        auto created = render::ViewPass::Create(*g->context, render::ViewVariant::kBare);
+        if (!created) {
+            state.SkipWithError(created.error().Message().c_str());
+            return;
+        }
+        bare.emplace(std::move(created).value());
+    }
+    const GridScene& s = Grid(state.range(0));
+    auto surfaces = render::UploadScene(*g->context, s.meshes);
+    if (!surfaces) {
+        state.SkipWithError("upload failed");
+        return;
+    }
+    render::ViewRequest request;
+    request.viewer = s.viewer;
+    request.viewport = {kViewSize, kViewSize};
+    request.light = s.light;
+    render::ViewImages images;
+    for (auto _ : state) {
+        auto r = bare->Render(*surfaces, request, images);
+        g->context->gl().Finish();
+        if (!r) {
+            state.SkipWithError(r.error().Message().c_str());
+            return;
+        }
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+}
+BENCHMARK(BM_BareView)->Apply(Sizes);
+
 // Paper 001's volumes extruded on the CPU instead (ExtrudeSilhouetteVolume, uploaded per frame):
 // what the tessellation path saves or costs on this GL implementation.
 void BM_CpuExtrudedVolumeView(benchmark::State& state) {
@@ -354,10 +395,12 @@ BENCHMARK(BM_SmoothVolumeView)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMill
 }  // namespace lixel
 
 int main(int argc, char** argv) {
-    // CPU work against building the adjacency of the same mesh; smooth against discrete (paper
-    // 002 Table 1); the CPU-extruded and smooth views against the tessellation-shader view.
+    // The volume view against the bare view of the same surfaces; CPU work against building the
+    // adjacency of the same mesh; smooth against discrete (paper 002 Table 1); the CPU-extruded
+    // and smooth views against the tessellation-shader view.
     return lixel::bench::RunWithBaselines(argc, argv,
-                                          {{"BM_SilhouetteExtraction", "BM_EdgeAdjacency"},
+                                          {{"BM_VolumeView", "BM_BareView"},
+                                           {"BM_SilhouetteExtraction", "BM_EdgeAdjacency"},
                                            {"BM_DiscreteVolumeCpu", "BM_EdgeAdjacency"},
                                            {"BM_SmoothVolumeCpu", "BM_DiscreteVolumeCpu"},
                                            {"BM_CpuExtrudedVolumeView", "BM_VolumeView"},

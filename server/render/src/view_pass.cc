@@ -16,7 +16,8 @@ std::string MapField(std::size_t i, const char* what) {
     return "maps[" + std::to_string(i) + "]" + what;
 }
 
-Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size) {
+// `needs_maps`: false for the bare variant, which looks nothing up.
+Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size, bool needs_maps) {
     if (auto ok = ValidateViewer(r.viewer, r.viewport, "viewer"); !ok) return ok;
     if (r.viewport.width > max_texture_size || r.viewport.height > max_texture_size) {
         return Error{"viewport",
@@ -25,7 +26,7 @@ Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size) {
     if (!r.light.allFinite() || (r.light.head<3>().isZero() && r.light.w() == 0.0)) {
         return Error{"light", "not finite, or a zero direction"};
     }
-    if (r.maps.empty()) return Error{"maps", "no maps to look up"};
+    if (needs_maps && r.maps.empty()) return Error{"maps", "no maps to look up"};
     if (r.maps.size() > static_cast<std::size_t>(kMaxViewMaps)) {
         return Error{"maps", std::to_string(r.maps.size()) + " maps; the view pass takes at most " +
                                  std::to_string(kMaxViewMaps)};
@@ -162,14 +163,16 @@ Result<ViewPass> ViewPass::Create(GlContext& context, ViewVariant variant) {
     const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     context.gl().NamedFramebufferDrawBuffers(fbo, 3, buffers);
     ViewPass pass(context, std::move(built), std::move(prepass.value()),
-                  GlFramebuffer(context.gl(), fbo));
+                  GlFramebuffer(context.gl(), fbo), variant == ViewVariant::kBare);
     if (auto ok = context.Check("view pass setup"); !ok) return ok.error();
     return pass;
 }
 
 Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
                               ViewImages& target) {
-    if (auto ok = ValidateRequest(request, context_->info().max_texture_size); !ok) return ok;
+    if (auto ok = ValidateRequest(request, context_->info().max_texture_size, !bare_); !ok) {
+        return ok;
+    }
     const GlApi& gl = context_->gl();
     const Vec3& origin = scene.origin();
     const Viewport old = target.viewport;
@@ -211,7 +214,9 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
             }
         }
     }
-    if (auto ok = FillAtlases(request); !ok) return ok;
+    if (!request.maps.empty()) {
+        if (auto ok = FillAtlases(request); !ok) return ok;
+    }
     gl.ProgramUniform1i(program, shader.Uniform("u_map_count"), count);
     gl.ProgramUniformMatrix4fv(program, shader.Uniform("u_map_lixel"), kMaxViewMaps, GL_FALSE,
                                lixel.data());

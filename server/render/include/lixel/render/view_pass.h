@@ -88,7 +88,8 @@ struct ViewImages {
 };
 
 // kBare is the same pass with no map lookup and no shadow test (every pixel facing the light is
-// lit): what any view pass pays, the baseline bench/view_bench.cc measures the tests against.
+// lit; a request needs no maps): what any view pass pays, the baseline the view and volume
+// benchmarks measure against.
 enum class ViewVariant { kShadowed, kBare };
 
 class ViewPass {
@@ -102,11 +103,12 @@ class ViewPass {
 
   private:
     ViewPass(GlContext& context, std::vector<Program> programs, Program depth_prepass,
-             GlFramebuffer framebuffer)
+             GlFramebuffer framebuffer, bool bare)
         : context_(&context),
           programs_(std::move(programs)),
           depth_prepass_(std::move(depth_prepass)),
-          framebuffer_(std::move(framebuffer)) {}
+          framebuffer_(std::move(framebuffer)),
+          bare_(bare) {}
 
     // Copies each map's textures into atlas_a_ / atlas_b_ (map_atlas.h) and sets the origins.
     Result<bool> FillAtlases(const ViewRequest& request);
@@ -121,6 +123,7 @@ class ViewPass {
     // Depth only (depth.vert): the shading pass then runs once per pixel, whatever the overdraw.
     Program depth_prepass_;
     GlFramebuffer framebuffer_;
+    bool bare_;  // ViewVariant::kBare: takes requests without maps
     // Kept between views and reallocated only when a plan needs another size.
     GlTexture atlas_a_;  // GL_DEPTH_COMPONENT32F
     GlTexture atlas_b_;  // GL_RG32F
