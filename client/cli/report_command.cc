@@ -152,16 +152,21 @@ int ReportCommand(client::Client& client, const Flags& flags) {
                         failed = true;
                         break;
                     }
+                    // The evaluation's stages (building the ray scene, ground truth and its
+                    // metrics) are not the method's cost.
+                    const auto evaluation = [](const std::string& stage) {
+                        return stage == "truth" || stage == "ray_scene";
+                    };
                     double server_ms = 0.0;
+                    double truth_ms = 0.0;
                     for (const v1::StageTime& t : view->timings()) {
-                        if (t.stage() == "truth") continue;  // evaluation, not the method's cost
+                        if (evaluation(t.stage())) {
+                            truth_ms += 1e3 * t.seconds();
+                            continue;
+                        }
                         const std::string stage = t.stage() == "maps" ? "passes" : t.stage();
                         stage_ms[stage].push_back(1e3 * t.seconds());
                         server_ms += 1e3 * t.seconds();
-                    }
-                    double truth_ms = 0.0;
-                    for (const v1::StageTime& t : view->timings()) {
-                        if (t.stage() == "truth") truth_ms = 1e3 * t.seconds();
                     }
                     stage_ms["transfer"].push_back(std::max(0.0, round_trip - server_ms - truth_ms));
                     if (r == 0) evaluated = std::move(view).value();
