@@ -43,7 +43,7 @@ if [[ " $runs " == *" tsan "* ]]; then
     cmake --build "$tsan_dir" --parallel "$jobs" --target lixel_service_tests
     built=$SECONDS
     ctest --test-dir "$tsan_dir/tests/service" --output-on-failure --timeout 1200 -j "$jobs" \
-          -R '^Concurrency\.'
+          -R '^(Concurrency|RenderFeed)\.'
     echo "sanitize.sh: ThreadSanitizer concurrency tests ($LIXEL_TEST_WORKERS workers):" \
          "build $((built - start)) s, tests $((SECONDS - built)) s"
 fi

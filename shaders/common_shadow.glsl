@@ -18,16 +18,28 @@ float tent_weight(int i, int r, float f) {
     return 1.0;
 }
 
+// The 2r x 2r taps of PCF and second depth, as r x r blocks of 2 x 2 texels each read by one
+// gather_a: block (bi, bj) starts at tap (2 bi, 2 bj) from `base`. Tap weights of a block in
+// gather order: (i0, j1), (i1, j1), (i1, j0), (i0, j0).
+vec4 block_weights(int bi, int bj, int r, vec2 f) {
+    float x0 = tent_weight(2 * bi, r, f.x);
+    float x1 = tent_weight(2 * bi + 1, r, f.x);
+    float y0 = tent_weight(2 * bj, r, f.y);
+    float y1 = tent_weight(2 * bj + 1, r, f.y);
+    return vec4(x0 * y1, x1 * y1, x1 * y0, x0 * y0);
+}
+
 // Percentage-closer filtering over the 2r x 2r texels whose centres surround s.
 float pcf(int map, vec3 s, float bias, int r) {
     vec2 g = s.xy - 0.5;
     ivec2 base = ivec2(floor(g)) - (r - 1);
     vec2 f = g - floor(g);
     float sum = 0.0;
-    for (int j = 0; j < 2 * r; ++j) {
-        for (int i = 0; i < 2 * r; ++i) {
-            float w = tent_weight(i, r, f.x) * tent_weight(j, r, f.y);
-            sum += w * lit_if(s.z <= fetch_a(map, base + ivec2(i, j)).r + bias);
+    for (int bj = 0; bj < r; ++bj) {
+        for (int bi = 0; bi < r; ++bi) {
+            vec4 z = gather_a(map, base + 2 * ivec2(bi, bj));
+            vec4 lit = vec4(lessThanEqual(vec4(s.z), z + bias));
+            sum += dot(block_weights(bi, bj, r, f), lit);
         }
     }
     return sum / float((2 * r - 1) * (2 * r - 1));
@@ -43,18 +55,19 @@ float second_depth_test(int map, vec3 s, vec4 plane, float bias, int r, bool vir
     vec2 g = s.xy - 0.5;
     ivec2 base = ivec2(floor(g)) - (r - 1);
     vec2 f = g - floor(g);
-    int illuminated = 0;
+    float illuminated = 0.0;
     float filtered = 0.0;
-    for (int j = 0; j < 2 * r; ++j) {
-        for (int i = 0; i < 2 * r; ++i) {
-            bool lit = s.z <= fetch_a(map, base + ivec2(i, j)).r + bias;
-            illuminated += lit ? 1 : 0;
-            filtered += tent_weight(i, r, f.x) * tent_weight(j, r, f.y) * lit_if(lit);
+    for (int bj = 0; bj < r; ++bj) {
+        for (int bi = 0; bi < r; ++bi) {
+            vec4 z = gather_a(map, base + 2 * ivec2(bi, bj));
+            vec4 lit = vec4(lessThanEqual(vec4(s.z), z + bias));
+            illuminated += dot(lit, vec4(1.0));
+            filtered += dot(block_weights(bi, bj, r, f), lit);
         }
     }
     float norm = 1.0 / float((2 * r - 1) * (2 * r - 1));
-    if (illuminated == 0) return 0.0;
-    if (illuminated == 4 * r * r) return 1.0;
+    if (illuminated == 0.0) return 0.0;
+    if (illuminated == float(4 * r * r)) return 1.0;
     // A tangent plane that contains the light rays (c ~ 0) has no depth to resample (Fig. 9):
     // keep the ordinary comparisons.
     if (!virtual_samples ||
@@ -62,13 +75,16 @@ float second_depth_test(int map, vec3 s, vec4 plane, float bias, int r, bool vir
         return filtered * norm;
     }
     float virtual_lit = 0.0;
-    for (int j = 0; j < 2 * r; ++j) {
-        for (int i = 0; i < 2 * r; ++i) {
-            vec2 centre = vec2(base + ivec2(i, j)) + 0.5;
-            float z_virtual = -(plane.x * centre.x + plane.y * centre.y + plane.w) / plane.z;
-            float z_second = fetch_a(map, base + ivec2(i, j)).r;
-            virtual_lit += tent_weight(i, r, f.x) * tent_weight(j, r, f.y) *
-                           lit_if(z_virtual <= z_second + bias);
+    for (int bj = 0; bj < r; ++bj) {
+        for (int bi = 0; bi < r; ++bi) {
+            ivec2 t = base + 2 * ivec2(bi, bj);
+            vec4 z_second = gather_a(map, t);
+            // Tap centres in gather order.
+            vec4 cx = vec4(t.x, t.x + 1, t.x + 1, t.x) + 0.5;
+            vec4 cy = vec4(t.y + 1, t.y + 1, t.y, t.y) + 0.5;
+            vec4 z_virtual = -(plane.x * cx + plane.y * cy + plane.w) / plane.z;
+            vec4 lit = vec4(lessThanEqual(z_virtual, z_second + bias));
+            virtual_lit += dot(block_weights(bi, bj, r, f), lit);
         }
     }
     return virtual_lit * norm;

@@ -3,23 +3,27 @@
 // only with dynamically uniform expressions.
 //   u_atlas_a: depth (depth, PCF), second depth (second depth) or corner depth (silhouette map)
 //   u_atlas_b: silhouette points (silhouette map), RG32F
-// Map m's texel t lives at u_map_origin_*[m] + t; fetches clamp t to the map's own extent (its
-// edge texels, as GL_CLAMP_TO_EDGE would), never reaching a neighbour in the atlas.
-// Needs common_maps.glsl (u_map_size: the extent of the silhouette points).
+// Map m's texel t lives at u_map_origin_*[m] + t. In atlas "a" each map sits inside a border of
+// its own edge texels, 4 deep (view_pass.cc, kAtlasBorder): a tap up to 4 texels past the edge
+// reads what clamping to the map would, and never a neighbouring map. silhouette_point() bounds
+// its own texels before fetch_b.
 
 uniform sampler2D u_atlas_a;
 uniform sampler2D u_atlas_b;
+uniform vec2 u_atlas_a_texel;  // 1 / the atlas's size, for textureGather
 uniform ivec2 u_map_origin_a[LIXEL_MAX_MAPS];
-uniform ivec2 u_map_extent_a[LIXEL_MAX_MAPS];  // corner depth: the map's size plus one
 uniform ivec2 u_map_origin_b[LIXEL_MAX_MAPS];
 
-ivec2 clamp_texel(ivec2 texel, ivec2 size) { return clamp(texel, ivec2(0), size - 1); }
-
 vec4 fetch_a(int map, ivec2 texel) {
-    return texelFetch(u_atlas_a, u_map_origin_a[map] + clamp_texel(texel, u_map_extent_a[map]),
-                      0);
+    return texelFetch(u_atlas_a, u_map_origin_a[map] + texel, 0);
+}
+
+// Texels (t.x, t.y + 1), (t.x + 1, t.y + 1), (t.x + 1, t.y), (t.x, t.y) of map "a" in one
+// fetch (textureGather's component order): the point sampled is their shared corner.
+vec4 gather_a(int map, ivec2 texel) {
+    return textureGather(u_atlas_a, vec2(u_map_origin_a[map] + texel + 1) * u_atlas_a_texel);
 }
 
 vec4 fetch_b(int map, ivec2 texel) {
-    return texelFetch(u_atlas_b, u_map_origin_b[map] + clamp_texel(texel, u_map_size[map]), 0);
+    return texelFetch(u_atlas_b, u_map_origin_b[map] + texel, 0);
 }

@@ -1,6 +1,9 @@
 // The view pass's map atlas (map_atlas.h, common_textures.glsl): a map's taps past its own edge
-// read its edge texels, never the neighbouring map's texels in the atlas.
+// read its edge texels (the border that repeats them), never the neighbouring map's texels.
 #include <lixel/render/view_pass.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "view_setup.h"
 
@@ -41,6 +44,47 @@ TEST(ViewAtlas, TapsPastAMapsEdgeNeverReadItsNeighbour) {
                                 ShadowMethod::kSecondDepth, ShadowMethod::kSilhouette}) {
         // A smaller neighbour lands beside the map, a larger one first (tallest first).
         for (std::int64_t budget : {48 * 48, 160 * 160}) ExpectNeighbourNeverRead(method, budget);
+    }
+}
+
+// Floor pixels whose filter taps reach past the plane map's edge (the map is cropped to the
+// floor's needed rays, so the visible floor meets every edge), on a floor with nothing over it:
+// PCF and second depth read the repeated edge texels (the lit floor), so every one of them is
+// fully lit. An unfilled border reads 0 there and shadows them.
+TEST(ViewAtlas, TapsPastAMapsEdgeReadItsEdgeTexels) {
+    TestScene s = testing::SquareOverFloor(128);
+    s.meshes.resize(1);  // the floor slab alone
+    s.shapes.resize(1);
+    const LightMap map = testing::FloorMap(s, 96 * 96);
+    const std::vector<PlannedMap> plan = {
+        testing::Planned(map, {Pass::kDepth, Pass::kSecondDepth})};
+    const FloatImage truth = testing::TruthMask(s.shapes, s.viewer, s.viewport, s.light);
+    const auto hits = testing::PrimaryHits(s.shapes, s.viewer, s.viewport);
+    for (ShadowMethod method : {ShadowMethod::kPcf, ShadowMethod::kSecondDepth}) {
+        ShadowOptions options;
+        options.pcf_radius = 4;
+        const auto view = testing::RenderView(s, plan, method, options);
+        int edge = 0;
+        int dimmed = 0;
+        for (std::size_t i = 0; i < hits.size(); ++i) {
+            if (hits[i].shape != 0 || truth.pixels[i] != 1.0f) continue;
+            // Beyond the filter's reach (4 sqrt 2 lixels, about 0.35 here) of the slab's rim,
+            // where second-depth taps meet the slab's sides (paper 003 Fig. 9).
+            const Vec3& p = hits[i].point;
+            if (std::max(std::abs(p.x()), std::abs(p.z())) > testing::kFloorHalf - 0.4) continue;
+            const Vec4 h = map.matrix * Point(hits[i].point);
+            const double x = h.x() / h.w();
+            const double y = h.y() / h.w();
+            const double inside = std::min({x, y, map.width - x, map.height - y});
+            if (inside > 3.0) continue;  // all 8 x 8 taps inside the map
+            ++edge;
+            // The weighted sum of lit taps rounds to within a few ulps of 1; one unlit tap takes
+            // its weight, at least 1e-3 of the total here, away.
+            dimmed += view.mask.pixels[i] < 1.0f - 1e-4f;
+        }
+        EXPECT_GT(edge, 200) << ShadowMethodName(method);
+        EXPECT_EQ(dimmed, 0) << ShadowMethodName(method) << ": of " << edge
+                             << " lit floor pixels at the map's edge";
     }
 }
 

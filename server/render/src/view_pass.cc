@@ -12,6 +12,13 @@
 namespace lixel::render {
 namespace {
 
+constexpr GLuint kAtlasUnitA = 0;
+constexpr GLuint kAtlasUnitB = 1;
+// Texels of repeated edge around each map in atlas "a": the farthest tap past a map's edge is
+// r texels (PCF and second depth, r <= 4; a silhouette texel's corners stay inside its corner
+// map).
+constexpr int kAtlasBorder = 4;
+
 std::string MapField(std::size_t i, const char* what) {
     return "maps[" + std::to_string(i) + "]" + what;
 }
@@ -31,6 +38,7 @@ Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size, bool ne
         return Error{"maps", std::to_string(r.maps.size()) + " maps; the view pass takes at most " +
                                  std::to_string(kMaxViewMaps)};
     }
+    static_assert(kAtlasBorder >= 4, "the atlas border holds the widest filter's taps");
     if (r.options.pcf_radius < 1 || r.options.pcf_radius > 4) {
         return Error{"options.pcf_radius",
                      std::to_string(r.options.pcf_radius) + " outside [1, 4]"};
@@ -77,8 +85,6 @@ Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size, bool ne
     return true;
 }
 
-constexpr GLuint kAtlasUnitA = 0;
-constexpr GLuint kAtlasUnitB = 1;
 
 // The texture the method reads as "a" (depth, second depth or corner depth) and as "b"
 // (silhouette points, or none) for map m; ValidateRequest has checked they exist.
@@ -95,24 +101,46 @@ const DepthMap& TextureA(const ViewMap& m, ShadowMethod method) {
     return *m.depth;
 }
 
-// Copies `sources` (each its own size) into `atlas` at the packed origins; reallocates the atlas
-// when the layout's size differs from `atlas_size`.
+// Copies `sources` (each its own size) into `atlas` at the packed origins, each inside a
+// border of `border` texels that repeats its edge texels (what clamping to the map would read,
+// so the shaders' taps past an edge need no clamp); reallocates the atlas when the layout's size
+// differs from `atlas_size`. Returns each map's origin (its texel (0, 0)).
 Result<std::vector<Eigen::Vector2i>> CopyIntoAtlas(const GlApi& gl, int max_side, GLenum format,
                                                    const std::vector<GLuint>& sources,
-                                                   const std::vector<Viewport>& sizes,
+                                                   const std::vector<Viewport>& sizes, int border,
                                                    GlTexture& atlas, Viewport& atlas_size) {
-    auto layout = PackAtlas(sizes, max_side);
+    std::vector<Viewport> padded;
+    for (const Viewport& v : sizes) padded.push_back({v.width + 2 * border, v.height + 2 * border});
+    auto layout = PackAtlas(padded, max_side);
     if (!layout) return layout.error();
     if (!atlas || atlas_size.width != layout->width || atlas_size.height != layout->height) {
         atlas = CreateTexture2D(gl, format, layout->width, layout->height);
         atlas_size = {layout->width, layout->height};
     }
+    const GLuint a = atlas.id();
+    const auto copy_within = [&](int sx, int sy, int dx, int dy, int w, int h) {
+        gl.CopyImageSubData(a, GL_TEXTURE_2D, 0, sx, sy, 0, a, GL_TEXTURE_2D, 0, dx, dy, 0, w, h,
+                            1);
+    };
+    std::vector<Eigen::Vector2i> origins;
     for (std::size_t i = 0; i < sources.size(); ++i) {
-        const Eigen::Vector2i& o = layout->origins[i];
-        gl.CopyImageSubData(sources[i], GL_TEXTURE_2D, 0, 0, 0, 0, atlas.id(), GL_TEXTURE_2D, 0,
-                            o.x(), o.y(), 0, sizes[i].width, sizes[i].height, 1);
+        const Eigen::Vector2i o = layout->origins[i] + Eigen::Vector2i(border, border);
+        const int w = sizes[i].width;
+        const int h = sizes[i].height;
+        gl.CopyImageSubData(sources[i], GL_TEXTURE_2D, 0, 0, 0, 0, a, GL_TEXTURE_2D, 0, o.x(),
+                            o.y(), 0, w, h, 1);
+        for (int k = 1; k <= border; ++k) {  // edge columns, then edge rows with the corners
+            copy_within(o.x(), o.y(), o.x() - k, o.y(), 1, h);
+            copy_within(o.x() + w - 1, o.y(), o.x() + w - 1 + k, o.y(), 1, h);
+        }
+        for (int k = 1; k <= border; ++k) {
+            copy_within(o.x() - border, o.y(), o.x() - border, o.y() - k, w + 2 * border, 1);
+            copy_within(o.x() - border, o.y() + h - 1, o.x() - border, o.y() + h - 1 + k,
+                        w + 2 * border, 1);
+        }
+        origins.push_back(o);
     }
-    return std::move(layout->origins);
+    return origins;
 }
 
 void EnsureTexture(const GlApi& gl, GlTexture& texture, GLenum format, const Viewport& size,
@@ -319,20 +347,18 @@ Result<bool> ViewPass::FillAtlases(const ViewRequest& request) {
         }
     }
     std::vector<GLint> origin_a(2 * kMaxViewMaps, 0);
-    std::vector<GLint> extent_a(2 * kMaxViewMaps, 1);
     std::vector<GLint> origin_b(2 * kMaxViewMaps, 0);
     auto placed_a = CopyIntoAtlas(gl, max_side, GL_DEPTH_COMPONENT32F, a_textures, a_sizes,
-                                  atlas_a_, atlas_a_size_);
+                                  kAtlasBorder, atlas_a_, atlas_a_size_);
     if (!placed_a) return placed_a.error();
     for (std::size_t i = 0; i < a_sizes.size(); ++i) {
         origin_a[2 * i] = (*placed_a)[i].x();
         origin_a[2 * i + 1] = (*placed_a)[i].y();
-        extent_a[2 * i] = a_sizes[i].width;
-        extent_a[2 * i + 1] = a_sizes[i].height;
     }
     gl.BindTextureUnit(kAtlasUnitA, atlas_a_.id());
     if (!b_textures.empty()) {
-        auto placed_b = CopyIntoAtlas(gl, max_side, GL_RG32F, b_textures, b_sizes, atlas_b_,
+        // silhouette_point() tests its texel against the map itself: no border.
+        auto placed_b = CopyIntoAtlas(gl, max_side, GL_RG32F, b_textures, b_sizes, 0, atlas_b_,
                                       atlas_b_size_);
         if (!placed_b) return placed_b.error();
         for (std::size_t i = 0; i < b_sizes.size(); ++i) {
@@ -347,8 +373,10 @@ Result<bool> ViewPass::FillAtlases(const ViewRequest& request) {
     const GLuint program = shader.id();
     gl.ProgramUniform2iv(program, shader.Uniform("u_map_origin_a"), kMaxViewMaps,
                          origin_a.data());
-    gl.ProgramUniform2iv(program, shader.Uniform("u_map_extent_a"), kMaxViewMaps,
-                         extent_a.data());
+    const Eigen::Vector2f atlas_a_texel(1.0f / static_cast<float>(atlas_a_size_.width),
+                                        1.0f / static_cast<float>(atlas_a_size_.height));
+    gl.ProgramUniform2f(program, shader.Uniform("u_atlas_a_texel"), atlas_a_texel.x(),
+                        atlas_a_texel.y());
     gl.ProgramUniform2iv(program, shader.Uniform("u_map_origin_b"), kMaxViewMaps,
                          origin_b.data());
     return true;
