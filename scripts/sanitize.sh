@@ -3,7 +3,8 @@
 #   1. AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer: the whole test suite, in the
 #      clang-14 build it shares with the fuzz harnesses (scripts/lib/asan_build.sh), build-asan/.
 #   2. ThreadSanitizer: the service's concurrency tests (tests/service/concurrency_test.cc: one
-#      ShadowService, 4 GL workers, 8 caller threads, no gRPC in between), build-tsan/. Debian's
+#      ShadowService, 4 GL workers, 8 caller threads, no gRPC in between) and Render's streaming
+#      hand-off (tests/service/render_feed_test.cc, RenderFeed.*), build-tsan/. Debian's
 #      gRPC is not built with TSan; its hand-offs between threads are invisible to TSan, so the
 #      gRPC-level suites report hundreds of races inside gRPC's inlined code (docs/reliability.md).
 # Either run can be skipped: LIXEL_SANITIZE_RUNS="asan", "tsan" or "asan tsan" (the default).
