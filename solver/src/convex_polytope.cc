@@ -70,37 +70,31 @@ ConvexPolytope ConvexPolytope::FromBox(const Aabb& box) {
     return out;
 }
 
-namespace {
-
-// The vertices' axis-aligned bounds and largest coordinate magnitude, in one pass: every clip
-// needs both for its tolerance.
-struct Extent {
-    double size = 0.0;       // diagonal of the bounds
-    double magnitude = 0.0;  // largest |coordinate|
-};
-
-Extent ExtentOf(const std::vector<PolytopeFace>& faces) {
-    Extent out;
-    if (faces.empty()) return out;
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
-    Vec3 hi = -lo;
-    for (const PolytopeFace& f : faces) {
-        for (const Vec3& p : f.polygon) {
-            lo = lo.cwiseMin(p);
-            hi = hi.cwiseMax(p);
-            out.magnitude = std::max(out.magnitude, p.cwiseAbs().maxCoeff());
+const ConvexPolytope::Extent& ConvexPolytope::extent() const {
+    if (extent_valid_) return extent_;
+    extent_ = Extent{};
+    if (!faces_.empty()) {
+        Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+        Vec3 hi = -lo;
+        for (const PolytopeFace& f : faces_) {
+            for (const Vec3& p : f.polygon) {
+                lo = lo.cwiseMin(p);
+                hi = hi.cwiseMax(p);
+                extent_.magnitude = std::max(extent_.magnitude, p.cwiseAbs().maxCoeff());
+            }
         }
+        extent_.size = (hi - lo).norm();
+        extent_.lo = lo;
+        extent_.hi = hi;
     }
-    out.size = (hi - lo).norm();
-    return out;
+    extent_valid_ = true;
+    return extent_;
 }
 
-}  // namespace
-
-double ConvexPolytope::Size() const { return ExtentOf(faces_).size; }
+double ConvexPolytope::Size() const { return extent().size; }
 
 double ConvexPolytope::Tolerance() const {
-    const Extent e = ExtentOf(faces_);
+    const Extent& e = extent();
     return kRelativeTolerance * e.size + kMagnitudeUlps * e.magnitude;
 }
 
@@ -135,42 +129,67 @@ ConvexPolytope ConvexPolytope::Clipped(const Vec4& plane) const {
     return out;
 }
 
-void ConvexPolytope::Clip(const Vec4& plane) {
-    if (empty() || !plane.allFinite()) {
-        faces_.clear();
-        return;
-    }
+ClipEffect ConvexPolytope::Effect(const Vec4& plane) const {
+    if (empty() || !plane.allFinite()) return ClipEffect::kKeepsNothing;
     const double n_length = plane.head<3>().norm();
     if (!(n_length > 1e-12 * plane.norm())) {
         // A plane at infinity (e.g. the far plane of an infinite projection): its sign decides.
-        if (!(plane.w() >= 0.0)) faces_.clear();
-        return;
+        return plane.w() >= 0.0 ? ClipEffect::kKeepsAll : ClipEffect::kKeepsNothing;
     }
     const Vec4 p = plane / n_length;
     const Vec3 n = p.head<3>();
     const double tol = Tolerance();
-    auto distance = [&](const Vec3& x) { return n.dot(x) + p.w(); };
-
+    // The bounds' support: every vertex's n . x + d lies between `lowest` and `highest`, and a
+    // computed value strays from the exact one by a few ulps of the terms' sizes, so a margin of
+    // 16 ulps decides for every vertex at once when the box is clear of the cut.
+    const Extent& e = extent();
+    double lowest = p.w();
+    double highest = p.w();
+    for (int a = 0; a < 3; ++a) {
+        lowest += n(a) * (n(a) > 0.0 ? e.lo(a) : e.hi(a));
+        highest += n(a) * (n(a) > 0.0 ? e.hi(a) : e.lo(a));
+    }
+    const double slack = 16.0 * std::numeric_limits<double>::epsilon() *
+                         (n.cwiseAbs().sum() * e.magnitude + std::abs(p.w()));
+    if (lowest - slack > tol) return ClipEffect::kKeepsAll;
+    if (highest + slack < -tol) return ClipEffect::kKeepsNothing;
     bool any_out = false;
     bool any_in = false;
     for (const PolytopeFace& f : faces_) {
         for (const Vec3& x : f.polygon) {
-            const double d = distance(x);
+            const double d = n.dot(x) + p.w();
             any_out = any_out || d < -tol;
             any_in = any_in || d > tol;
         }
         if (any_out && any_in) break;
     }
-    if (!any_out) return;
-    if (!any_in) {
+    if (!any_out) return ClipEffect::kKeepsAll;
+    return any_in ? ClipEffect::kCuts : ClipEffect::kKeepsNothing;
+}
+
+void ConvexPolytope::Clip(const Vec4& plane) {
+    const ClipEffect effect = Effect(plane);
+    if (effect == ClipEffect::kKeepsAll) return;
+    if (effect == ClipEffect::kKeepsNothing) {
         faces_.clear();
+        extent_valid_ = false;
         return;
     }
+    const double n_length = plane.head<3>().norm();
+    const Vec4 p = plane / n_length;
+    const Vec3 n = p.head<3>();
+    const double tol = Tolerance();  // of the polytope before the cut, as Effect used
+    extent_valid_ = false;
+    auto distance = [&](const Vec3& x) { return n.dot(x) + p.w(); };
 
-    std::vector<Vec3> cap_points;
-    std::vector<Vec3> kept;       // swapped with each cut face's polygon, so storage is reused
-    std::vector<double> d;        // signed distances of the current face's vertices
-    std::vector<int> sides;       // their sides: 1 inside, -1 outside, 0 on the plane
+    // Per-thread scratch: the scheduler clips thousands of times per plan, and fresh vectors
+    // each time cost more in malloc than the clip itself.
+    thread_local std::vector<Vec3> cap_points;
+    thread_local std::vector<Vec3> kept;  // swapped with each cut face's polygon: storage reused
+    thread_local std::vector<double> d;   // signed distances of the current face's vertices
+    thread_local std::vector<int> sides;  // their sides: 1 inside, -1 outside, 0 on the plane
+    thread_local std::vector<Vec2> flat;
+    cap_points.clear();
     size_t faces_kept = 0;
     for (size_t face = 0; face < faces_.size(); ++face) {
         const std::vector<Vec3>& poly = faces_[face].polygon;
@@ -221,8 +240,7 @@ void ConvexPolytope::Clip(const Vec4& plane) {
     const Vec3 outward = -n;
     Vec3 u, v;
     PlaneBasis(outward, u, v);
-    std::vector<Vec2> flat;
-    flat.reserve(cap_points.size());
+    flat.clear();
     for (const Vec3& x : cap_points) flat.emplace_back(u.dot(x), v.dot(x));
     const std::vector<Vec2> hull = ConvexHull2d(flat);
     std::vector<Vec3> cap;

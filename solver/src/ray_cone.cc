@@ -45,11 +45,23 @@ RayCone AcceptedCone(const LightMap& map, const std::vector<Eigen::Vector3d>& ha
 std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayCone& cone) {
     std::vector<ConvexPolytope> pieces;
     ConvexPolytope inside = region;
+    // Most pieces come out empty: clip a per-thread scratch copy, whose storage assignment
+    // reuses, and copy only the pieces that remain.
+    thread_local ConvexPolytope outside;
     for (const Vec4& plane : cone.planes) {
         if (inside.empty()) break;
-        ConvexPolytope outside = inside;
-        outside.Clip(-plane);
-        if (!outside.empty()) pieces.push_back(std::move(outside));
+        switch (inside.Effect(-plane)) {
+            case ClipEffect::kKeepsNothing:
+                break;
+            case ClipEffect::kKeepsAll:
+                pieces.push_back(inside);
+                break;
+            case ClipEffect::kCuts:
+                outside = inside;
+                outside.Clip(-plane);
+                if (!outside.empty()) pieces.push_back(outside);
+                break;
+        }
         inside.Clip(plane);
     }
     return pieces;

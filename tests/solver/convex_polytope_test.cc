@@ -175,6 +175,47 @@ TEST(ConvexPolytope, ClipInPlaceMatchesAPlainCopyingClipBitForBit) {
     }
 }
 
+// Size and tolerance are kept with the faces between clips; copies, assignments into a reused
+// polytope and clips that leave it whole must all report what the faces themselves give.
+TEST(ConvexPolytope, KeptExtentMatchesTheFacesThroughClipsCopiesAndAssignments) {
+    std::mt19937_64 rng(4711);
+    ConvexPolytope reused;  // assigned into on every step, as the scheduler's scratch is
+    for (int trial = 0; trial < 200; ++trial) {
+        const double scale = std::pow(10.0, Uniform(rng, -6.0, 6.0));
+        const Vec3 centre = scale * Vec3(Uniform(rng, -5, 5), Uniform(rng, -5, 5),
+                                         Uniform(rng, -5, 5));
+        const Vec3 half = scale * Vec3(Uniform(rng, 0.1, 3), Uniform(rng, 0.1, 3),
+                                       Uniform(rng, 0.1, 3));
+        ConvexPolytope polytope = ConvexPolytope::FromBox(Aabb{centre - half, centre + half});
+        for (int step = 0; step < 16 && !polytope.empty(); ++step) {
+            const Vec3 n = RandomUnit(rng);
+            const Vec3 through = centre + scale * Vec3(Uniform(rng, -4, 4), Uniform(rng, -4, 4),
+                                                       Uniform(rng, -4, 4));
+            const Vec4 plane(n.x(), n.y(), n.z(), -n.dot(through));
+            reused = polytope;
+            reused.Clip(-plane);
+            polytope.Clip(plane);
+            for (const ConvexPolytope* p : {&polytope, &reused}) {
+                const Reference reference{p->faces()};
+                EXPECT_EQ(p->Tolerance(), reference.Tolerance()) << trial << " " << step;
+                double size = 0.0;
+                if (!p->faces().empty()) {
+                    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+                    Vec3 hi = -lo;
+                    for (const PolytopeFace& f : p->faces()) {
+                        for (const Vec3& v : f.polygon) {
+                            lo = lo.cwiseMin(v);
+                            hi = hi.cwiseMax(v);
+                        }
+                    }
+                    size = (hi - lo).norm();
+                }
+                EXPECT_EQ(p->Size(), size) << trial << " " << step;
+            }
+        }
+    }
+}
+
 TEST(ConvexPolytope, ClipByAPlaneAtInfinityOrNotFiniteKeepsAllOrNothing) {
     const Aabb box{Vec3(-1, -1, -1), Vec3(1, 1, 1)};
     ConvexPolytope kept = ConvexPolytope::FromBox(box);

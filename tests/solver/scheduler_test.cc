@@ -1,9 +1,13 @@
 // Tests for scheduler.h: which maps a view needs, what is left out and why, the budget, and the
 // lookup rule's coverage of every visible point (DESIGN §4.5; Chong & Gortler §3-4).
 #include <gtest/gtest.h>
+#include <lixel/solver/camera.h>
+#include <lixel/solver/homogeneous.h>
 #include <lixel/solver/scheduler.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -285,6 +289,124 @@ TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
         EXPECT_EQ(uncovered, 0) << "configuration " << i;
     }
     EXPECT_GT(planned, 100);
+}
+
+// EstimatePixels' rule traced ray by ray with no culling and no tiles: the nearest needed plane
+// surface (candidate planes: those the plan does not leave out before solving) or box entry,
+// then the lookup rule. Same arithmetic, so the same counts bit for bit.
+std::vector<double> ReferencePixels(const PlanRequest& r, const Plan& plan) {
+    std::vector<size_t> candidates;
+    for (size_t i = 0; i < r.planes.size(); ++i) {
+        const LeftOut* out = FindLeftOut(plan, "plane " + r.planes[i].name);
+        const bool before_solving =
+            out != nullptr && (out->reason.starts_with("faces away") ||
+                               out->reason.starts_with("seen from behind") ||
+                               out->reason.starts_with("not in view") ||
+                               out->reason.starts_with("needed set empty"));
+        if (!before_solving) candidates.push_back(i);
+    }
+    const Aabb& bounds = r.scene_bounds;
+    const double thickness = 1e-6 * bounds.Diagonal();
+    const Mat4 inverse = r.viewer.inverse();
+    const Mat4 pixel = PixelMatrix(r.viewer, r.viewport);
+    std::vector<double> counts(plan.maps.size(), 0.0);
+    const int n = 48;
+    for (int sy = 0; sy < n; ++sy) {
+        for (int sx = 0; sx < n; ++sx) {
+            const double ndc_x = 2.0 * (sx + 0.5) / n - 1.0;
+            const double ndc_y = 2.0 * (sy + 0.5) / n - 1.0;
+            const Vec4 near = inverse * Vec4(ndc_x, ndc_y, 0.0, 1.0);
+            const Vec4 far = inverse * Vec4(ndc_x, ndc_y, 1.0, 1.0);
+            if (!(near.w() != 0.0)) continue;
+            const Vec3 origin = near.head<3>() / near.w();
+            const Vec3 direction = far.w() != 0.0 ? Vec3(far.head<3>() / far.w() - origin)
+                                                  : Vec3(far.head<3>());
+            double best = std::numeric_limits<double>::infinity();
+            for (size_t i : candidates) {
+                const Vec4 plane = r.planes[i].plane / r.planes[i].plane.head<3>().norm();
+                const double denom = plane.head<3>().dot(direction);
+                if (denom == 0.0) continue;
+                const double t = -(plane.head<3>().dot(origin) + plane.w()) / denom;
+                if (!(t > 0.0 && t < best)) continue;
+                const Vec3 hit = origin + t * direction;
+                const auto& poly = r.planes[i].polygon;
+                bool inside = (hit.array() >= bounds.min.array() - thickness).all() &&
+                              (hit.array() <= bounds.max.array() + thickness).all();
+                for (size_t k = 0; inside && k < poly.size(); ++k) {
+                    const Vec3 edge = poly[(k + 1) % poly.size()] - poly[k];
+                    inside = plane.head<3>().dot(edge.cross(hit - poly[k])) >= 0.0;
+                }
+                if (inside) best = t;
+            }
+            for (const SceneObject& o : r.objects) {
+                double t0 = 0.0, t1 = best;
+                for (int a = 0; a < 3 && t0 <= t1; ++a) {
+                    if (direction(a) == 0.0) {
+                        if (origin(a) < o.bounds.min(a) || origin(a) > o.bounds.max(a)) t0 = 2 * t1;
+                        continue;
+                    }
+                    double ta = (o.bounds.min(a) - origin(a)) / direction(a);
+                    double tb = (o.bounds.max(a) - origin(a)) / direction(a);
+                    if (ta > tb) std::swap(ta, tb);
+                    t0 = std::max(t0, ta);
+                    t1 = std::min(t1, tb);
+                }
+                if (t0 <= t1 && t0 > 0.0 && t0 < best) best = t0;
+            }
+            if (!std::isfinite(best)) continue;
+            const Vec3 hit = origin + best * direction;
+            if (!(pixel.row(3).dot(Point(hit)) > 0.0)) continue;
+            const int index = LookupMap(plan, Point(hit));
+            if (index >= 0) counts[index] += 1.0;
+        }
+    }
+    for (double& count : counts) {
+        count *= static_cast<double>(r.viewport.width) * r.viewport.height / (n * n);
+    }
+    return counts;
+}
+
+// The estimate skips rays by culls and by tiles whose corners prove them alike; on random rooms
+// with tables and walls it must count exactly what tracing every ray counts.
+TEST(Scheduler, ExpectedPixelsEqualTracingEveryRayOnRandomRooms) {
+    std::mt19937_64 rng(20240611);
+    int compared = 0;
+    for (int i = 0; i < 120; ++i) {
+        PlanRequest r = FloorWallRequest();
+        r.scene_bounds = Aabb{Vec3(-10, -0.1, -5.1), Vec3(10, 8, 10)};
+        r.planes.push_back({"side", Vec4(1, 0, 0, 10), {}});
+        for (int k = 0; k < i % 7; ++k) {
+            const double x = Uniform(rng, -8, 6), z = Uniform(rng, -4, 4);
+            const double y = Uniform(rng, 0.3, 2), w = Uniform(rng, 0.3, 2), d = Uniform(rng, 0.3, 2);
+            const std::string name = "table" + std::to_string(k);
+            r.planes.push_back({name, Vec4(0, 1, 0, -y),
+                                {Vec3(x, y, z + d), Vec3(x + w, y, z + d), Vec3(x + w, y, z),
+                                 Vec3(x, y, z)}});
+            r.objects.push_back(Box(name, Vec3(x, y - 0.05, z), Vec3(x + w, y, z + d)));
+        }
+        const Vec3 eye(Uniform(rng, -8, 8), Uniform(rng, 0.5, 7), Uniform(rng, -3, 9));
+        const Vec3 target(Uniform(rng, -5, 5), Uniform(rng, 0, 3), Uniform(rng, -5, 2));
+        r.viewport = {static_cast<int>(Uniform(rng, 64, 1024)),
+                      static_cast<int>(Uniform(rng, 64, 1024))};
+        r.viewer = Perspective(Uniform(rng, 30, 90) * kDegree,
+                               static_cast<double>(r.viewport.width) / r.viewport.height, 0.1,
+                               100.0) *
+                   LookAt(eye, target, Vec3::UnitY());
+        r.light = i % 3 == 0 ? Vec4(Uniform(rng, -1, 1), Uniform(rng, 0.3, 1),
+                                    Uniform(rng, -0.2, 1), 0)
+                             : Point(Vec3(Uniform(rng, -9, 9), Uniform(rng, 5, 7.9),
+                                          Uniform(rng, -4, 9)));
+        r.lixel_budget = static_cast<std::int64_t>(Uniform(rng, 256 * 256, 2048 * 2048));
+        const auto plan = PlanShadowMaps(r);
+        if (!plan.ok()) continue;
+        ++compared;
+        const std::vector<double> expected = ReferencePixels(r, *plan);
+        for (size_t m = 0; m < plan->maps.size(); ++m) {
+            EXPECT_EQ(plan->maps[m].expected_pixels, expected[m])
+                << "configuration " << i << " map " << plan->maps[m].name;
+        }
+    }
+    EXPECT_GT(compared, 100);
 }
 
 TEST(Scheduler, RefusesBadInputNamingTheField) {

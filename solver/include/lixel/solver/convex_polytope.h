@@ -15,6 +15,9 @@ struct PolytopeFace {
     Vec4 outward_plane;         // (n, d) with |n| = 1; n . x + d > 0 outside the polytope
 };
 
+// What one Clip does to a polytope.
+enum class ClipEffect { kKeepsAll, kKeepsNothing, kCuts };
+
 class ConvexPolytope {
   public:
     ConvexPolytope() = default;  // the empty polytope
@@ -33,6 +36,10 @@ class ConvexPolytope {
     // it whole and reusing its faces' storage when it cuts (the scheduler clips thousands of
     // times per plan).
     void Clip(const Vec4& plane);
+
+    // What Clip(plane) would do, by the same tests, without changing the polytope: callers that
+    // clip a copy by many planes need no copy while the planes keep all of it.
+    ClipEffect Effect(const Vec4& plane) const;
 
     bool empty() const noexcept { return faces_.size() < 4; }
     const std::vector<PolytopeFace>& faces() const noexcept { return faces_; }
@@ -55,7 +62,18 @@ class ConvexPolytope {
     double SignedDistance(const Vec3& p) const;
 
   private:
+    // The vertices' bounds, kept with the faces: every Clip needs the tolerance, and most clips
+    // leave the polytope whole, so it is recomputed only when the faces change.
+    struct Extent {
+        Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // the vertices' axis-aligned bounds
+        double size = 0.0;       // diagonal of those bounds
+        double magnitude = 0.0;  // largest |coordinate|
+    };
+    const Extent& extent() const;
+
     std::vector<PolytopeFace> faces_;
+    mutable Extent extent_;
+    mutable bool extent_valid_ = false;
 };
 
 }  // namespace lixel
