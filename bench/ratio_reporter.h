@@ -41,11 +41,18 @@ class RatioReporter : public benchmark::ConsoleReporter {
 
     void ReportRuns(const std::vector<Run>& runs) override {
         for (const Run& run : runs) {
-            if (run.run_type == Run::RT_Iteration && run.iterations > 0 && !run.error_occurred) {
-                // Seconds, so benchmarks reported in different units compare.
-                times_[DisplayName(run.benchmark_name())].push_back(
-                    run.GetAdjustedRealTime() / benchmark::GetTimeUnitMultiplier(run.time_unit));
+            if (run.iterations <= 0 || run.error_occurred) continue;
+            // Seconds, so benchmarks reported in different units compare.
+            const double seconds =
+                run.GetAdjustedRealTime() / benchmark::GetTimeUnitMultiplier(run.time_unit);
+            if (run.run_type == Run::RT_Iteration) {
+                times_[DisplayName(run.benchmark_name())].push_back(seconds);
                 order_.push_back(DisplayName(run.benchmark_name()));
+            } else if (run.aggregate_name == "median") {
+                // With --benchmark_report_aggregates_only only the aggregates arrive.
+                const std::string name = DisplayName(run.run_name.str());
+                medians_[name] = seconds;
+                order_.push_back(name);
             }
         }
         ConsoleReporter::ReportRuns(runs);
@@ -84,6 +91,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
     }
 
     double Median(const std::string& name) const {
+        if (const auto m = medians_.find(name); m != medians_.end()) return m->second;
         const auto it = times_.find(name);
         if (it == times_.end() || it->second.empty()) return 0.0;
         std::vector<double> t = it->second;
@@ -94,6 +102,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
 
     std::vector<Pairing> pairs_;
     std::map<std::string, std::vector<double>> times_;
+    std::map<std::string, double> medians_;  // benchmark's own median aggregates
     std::vector<std::string> order_;
 };
 
