@@ -88,5 +88,29 @@ TEST(ViewAtlas, TapsPastAMapsEdgeReadItsEdgeTexels) {
     }
 }
 
+// A map as wide as the GL allows leaves no room for its border in the atlas: refused, naming it.
+TEST(ViewAtlas, MapsWiderThanTheAtlasAllowsAreRefusedNamingTheMap) {
+    const TestScene s = testing::SquareOverFloor(64);
+    const int max_side = testing::Context().info().max_texture_size;
+    LightMap wide = testing::UniformMap(s, 64 * 64);
+    const double grow = static_cast<double>(max_side) / wide.width;
+    wide.matrix.row(0) *= grow;  // the same light, max_side lixels across
+    wide.width = max_side;
+    ViewRequest request;
+    request.viewer = s.viewer;
+    request.viewport = s.viewport;
+    request.light = s.light;
+    request.maps = {ViewMap{wide, {}, nullptr, nullptr, nullptr}};
+    auto scene = UploadScene(testing::Context(), s.meshes, s.origin);
+    ASSERT_TRUE(scene.ok());
+    ViewImages images;
+    auto refused = testing::TheRenderer().view().Render(*scene, request, images);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field.rfind("maps[0]", 0), 0u) << refused.error().Message();
+    EXPECT_NE(refused.error().Message().find(std::to_string(max_side - 2 * kAtlasBorder)),
+              std::string::npos)
+        << refused.error().Message();
+}
+
 }  // namespace
 }  // namespace lixel::render

@@ -14,10 +14,6 @@ namespace {
 
 constexpr GLuint kAtlasUnitA = 0;
 constexpr GLuint kAtlasUnitB = 1;
-// Texels of repeated edge around each map in atlas "a": the farthest tap past a map's edge is
-// r texels (PCF and second depth, r <= 4; a silhouette texel's corners stay inside its corner
-// map).
-constexpr int kAtlasBorder = 4;
 
 std::string MapField(std::size_t i, const char* what) {
     return "maps[" + std::to_string(i) + "]" + what;
@@ -46,7 +42,11 @@ Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size, bool ne
     for (std::size_t i = 0; i < r.maps.size(); ++i) {
         const ViewMap& m = r.maps[i];
         const std::string field = MapField(i, "");
-        if (auto ok = ValidateLightMap(m.map, max_texture_size, field.c_str()); !ok) return ok;
+        // Each map and its border must fit the atlas, one texture of the GL's maximum size.
+        if (auto ok = ValidateLightMap(m.map, max_texture_size - 2 * kAtlasBorder, field.c_str());
+            !ok) {
+            return ok;
+        }
         if (m.lookup.half_planes.size() > static_cast<std::size_t>(kMaxHalfPlanes)) {
             return Error{MapField(i, ".lookup.half_planes"),
                          "more than " + std::to_string(kMaxHalfPlanes) + " half-planes"};

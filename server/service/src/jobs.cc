@@ -457,6 +457,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     const bool volumes = request.filter() == v1::FILTER_VOLUMES;
     auto decoded = DecodePlanRequest(plan_message, scene.get(), "plan");
     if (!decoded) return InvalidArgument(decoded.error());
+    // The view pass reads every map from one atlas, each inside a border (view_pass.h).
+    decoded->max_texture_size =
+        std::min(decoded->max_texture_size, kMaxImageSide - 2 * render::kAtlasBorder);
     const std::uint64_t pixels =
         static_cast<std::uint64_t>(decoded->viewport.width) * decoded->viewport.height;
     if (pixels > state.options.max_view_pixels) {
@@ -530,6 +533,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
                         : RenderMask(worker, **gpu_scene, job, cancelled, &mask_times);
     if (!mask) {
         if (cancelled()) return CancelledStatus();
+        // The maps together larger than the view pass takes (more than it holds, or more than
+        // one atlas texture): the request's size, not a fault.
+        if (mask.error().field == "maps") return Exhausted("plan: " + mask.error().Message());
         return grpc::Status(grpc::StatusCode::INTERNAL, mask.error().Message());
     }
     times.emplace_back("maps", mask_times.maps_seconds);

@@ -28,6 +28,12 @@ inline constexpr int kShadowMethodCount = 4;
 
 const char* ShadowMethodName(ShadowMethod method) noexcept;
 
+// Texels of repeated edge around each map in the view's atlas of depth-like maps
+// (common_textures.glsl): the farthest tap past a map's edge is r texels (PCF and second depth,
+// r <= 4; a silhouette texel's corners stay inside its corner map). A view's maps may therefore
+// be at most the GL's maximum texture size minus twice this on a side.
+inline constexpr int kAtlasBorder = 4;
+
 // At most this many maps per view, and half-planes per map's lookup rule.
 inline constexpr int kMaxViewMaps = 8;
 inline constexpr int kMaxHalfPlanes = 8;
