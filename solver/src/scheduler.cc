@@ -693,12 +693,13 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
     // The ray's points past its origin lie beyond the near plane (far w > 0), where a polygon or
     // box is seen inside its screen rectangle: off the rectangle, the ray cannot meet it.
     const bool screen_culls = e.proofs.enabled && near.w() > 0.0 && far.w() > 0.0;
-    auto off_screen = [&](const ScreenRect& rect) {
-        return screen_culls && Disjoint(rect, s.ndc_x, s.ndc_y, s.ndc_x, s.ndc_y);
+    // The rectangles exist only when the proofs are enabled: test that before indexing them.
+    auto off_screen = [&](const std::vector<ScreenRect>& rects, std::size_t i) {
+        return screen_culls && Disjoint(rects[i], s.ndc_x, s.ndc_y, s.ndc_x, s.ndc_y);
     };
     for (size_t i = 0; i < c.candidates.size(); ++i) {
         const Candidate& cand = c.candidates[i];
-        if (off_screen(e.proofs.polygons[i])) continue;
+        if (off_screen(e.proofs.polygons, i)) continue;
         const double denom = cand.plane.head<3>().dot(direction);
         if (denom == 0.0) continue;
         const double num = cand.plane.head<3>().dot(origin) + cand.plane.w();
@@ -728,7 +729,7 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
     const RaySegment segment = SegmentOf(origin, direction, best);
     for (size_t i = 0; i < r.objects.size(); ++i) {
         const SceneObject& o = r.objects[i];
-        if (off_screen(e.proofs.boxes[i])) continue;
+        if (off_screen(e.proofs.boxes, i)) continue;
         if (SegmentMisses(segment, o.bounds, e.box_magnitudes[i])) continue;
         double t0 = 0.0, t1 = best;
         for (int a = 0; a < 3 && t0 <= t1; ++a) {

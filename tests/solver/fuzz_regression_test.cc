@@ -1,6 +1,7 @@
 // Solver fuzz regressions: inputs fuzz/fuzz_solver and fuzz/fuzz_scheduler crashed on (ASan,
 // UBSan or a broken contract), reduced to their essentials. Each must be refused or answered
 // with a finite result, never undefined behaviour.
+#include <lixel/solver/camera.h>
 #include <lixel/solver/crop.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/mesh.h>
@@ -90,6 +91,31 @@ TEST(FuzzRegression, PlanWithLightNearDoubleMaxHasNoInfiniteMaps) {
         EXPECT_EQ(plan.error().field, "request") << plan.error().Message();
         return;
     }
+    for (const PlannedMap& m : plan->maps) {
+        EXPECT_TRUE(m.map.matrix.allFinite()) << m.name;
+        EXPECT_TRUE(std::isfinite(m.expected_pixels)) << m.name;
+    }
+}
+
+// A viewer whose matrix is ill-conditioned (condition number about 1e8) over a floor with a box:
+// the pixel estimate's tile proofs are off for it, and its per-ray screen culls must read the
+// proofs' rectangles only when they are on (fuzz_scheduler under UBSan: a reference into an
+// empty vector).
+TEST(FuzzRegression, PlanWithAnIllConditionedViewerEstimatesPixelsWithoutTileProofs) {
+    PlanRequest request;
+    request.viewer = Perspective(1.0, 1.0, 0.1, 100.0) *
+                     LookAt(Vec3(0, 6, 6), Vec3(0, 0, 0), Vec3::UnitY());
+    request.viewer.row(0) *= 1e4;
+    request.viewer.row(1) *= 1e-4;
+    request.viewport = {256, 256};
+    request.light = Point(Vec3(3.0, 8.0, 2.0));
+    request.scene_bounds = Aabb{Vec3(-5, -1, -5), Vec3(5, 3, 5)};
+    request.planes = {PlaneOfInterest{"floor", Vec4(0, 1, 0, 0), {}}};
+    request.objects = {SceneObject{"box", Aabb{Vec3(-1, 0, -1), Vec3(1, 2, 1)}, nullptr, true},
+                       SceneObject{"floor", Aabb{Vec3(-5, -1, -5), Vec3(5, 0, 5)}, nullptr, true}};
+    request.lixel_budget = 256 * 256;
+    const auto plan = PlanShadowMaps(request);
+    ASSERT_TRUE(plan.ok()) << plan.error().Message();
     for (const PlannedMap& m : plan->maps) {
         EXPECT_TRUE(m.map.matrix.allFinite()) << m.name;
         EXPECT_TRUE(std::isfinite(m.expected_pixels)) << m.name;
