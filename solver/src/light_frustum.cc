@@ -266,7 +266,16 @@ Result<LightMap> FitImageRectangle(const Mat4& prelim, const Vec4& light,
         y0 = mid - 0.5 * least;
         y1 = mid + 0.5 * least;
     }
-    Result<std::array<int, 2>> wh = ChooseSize(size, (x1 - x0) / (y1 - y0));
+    // Images each finite can still lie further apart than a double holds, or so far from the
+    // origin that the least extent is below their spacing in double.
+    const double extent_x = x1 - x0;
+    const double extent_y = y1 - y0;
+    if (!(std::isfinite(extent_x) && std::isfinite(extent_y) && extent_x > 0.0 &&
+          extent_y > 0.0)) {
+        return Error{"points", "their light-image rectangle has no finite, positive extent in "
+                               "double (the images lie too far apart, or too far out)"};
+    }
+    Result<std::array<int, 2>> wh = ChooseSize(size, extent_x / extent_y);
     if (!wh) return wh.error();
     const int width = (*wh)[0];
     const int height = (*wh)[1];

@@ -4,6 +4,7 @@
 #include <lixel/solver/camera.h>
 #include <lixel/solver/crop.h>
 #include <lixel/solver/homogeneous.h>
+#include <lixel/solver/light_frustum.h>
 #include <lixel/solver/mesh.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/scheduler.h>
@@ -120,6 +121,19 @@ TEST(FuzzRegression, PlanWithAnIllConditionedViewerEstimatesPixelsWithoutTilePro
         EXPECT_TRUE(m.map.matrix.allFinite()) << m.name;
         EXPECT_TRUE(std::isfinite(m.expected_pixels)) << m.name;
     }
+}
+
+// Points whose light images are each finite but 2e308 apart: the rectangle's aspect was
+// inf / inf, and the map size a NaN converted to an integer (fuzz_solver under UBSan).
+TEST(FuzzRegression, FrustumOfImagesFurtherApartThanADoubleIsRefused) {
+    const Mat4 prelim = Mat4::Identity();  // rows 0, 1, 3 are planes through the light at w = 0
+    // Images at (-1e308, -1e308) and (1e308, 1e308): q = 1e-308 > 0, x = y = +-1 / q.
+    const std::vector<Vec4> points = {Vec4(-1.0, -1.0, 0.0, 1e-308), Vec4(1.0, 1.0, 0.0, 1e-308)};
+    MapSize size;
+    size.lixel_budget = 1024;
+    const auto map = FitImageRectangle(prelim, Vec4(0, 0, 1, 0), points, size);
+    ASSERT_FALSE(map.ok());
+    EXPECT_EQ(map.error().field, "points") << map.error().Message();
 }
 
 }  // namespace
