@@ -119,7 +119,12 @@ void TimeView(benchmark::State& state, ViewPass& pass, ShadowMethod method) {
         state.SkipWithError(ok.error().Message().c_str());
         return;
     }
-    if (paired) render(*f.bare, bare_images);
+    if (paired) {
+        if (auto ok = render(*f.bare, bare_images); !ok) {
+            state.SkipWithError(ok.error().Message().c_str());
+            return;
+        }
+    }
     double bare_s = 0.0;
     double pass_s = 0.0;
     for (auto _ : state) {

@@ -320,11 +320,11 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     // Atlases are kept for the next view unless large: a worker holds no more than this between
     // calls.
     constexpr std::int64_t kKeptAtlasTexels = std::int64_t{1} << 24;
-    for (auto [atlas, size] : {std::pair{&atlas_a_, &atlas_a_size_},
-                               std::pair{&atlas_b_, &atlas_b_size_}}) {
-        if (static_cast<std::int64_t>(size->width) * size->height > kKeptAtlasTexels) {
+    for (auto [atlas, extent] : {std::pair{&atlas_a_, &atlas_a_size_},
+                                 std::pair{&atlas_b_, &atlas_b_size_}}) {
+        if (static_cast<std::int64_t>(extent->width) * extent->height > kKeptAtlasTexels) {
             atlas->Reset();
-            *size = Viewport{};
+            *extent = Viewport{};
         }
     }
     return context_->Check(std::string("view pass (") + ShadowMethodName(request.method) + ")");
