@@ -137,6 +137,28 @@ TEST(SilhouetteMap, StoredPointsLieOnTheSilhouetteAndCoverEveryCrossedTexel) {
     EXPECT_GT(crossed, 10);
 }
 
+// A point light at the world origin is a point light like any other (the zero direction is
+// only refused for w = 0): the square's edges are stored.
+TEST(SilhouetteMap, PointLightAtTheWorldOriginIsAccepted) {
+    TestScene s = testing::OpenSquareOverFloor(64);
+    const Vec3 light(1.5, 6.0, 1.0);  // OpenSquareOverFloor's light, moved to the origin
+    for (Mesh& m : s.meshes) {
+        for (auto& p : m.positions) p -= light.cast<float>();
+    }
+    s.bounds = Aabb{s.bounds.min - light, s.bounds.max - light};
+    s.origin -= light;
+    s.light = Point(Vec3::Zero());
+    const LightMap map = testing::UniformMap(s, 64 * 64);
+    const SilhouetteMap silhouettes = RenderSilhouettes(s, map);
+    auto points = ReadSilhouettePoints(testing::Context(), silhouettes);
+    ASSERT_TRUE(points.ok()) << points.error().Message();
+    int stored = 0;
+    for (int y = 0; y < points->height; ++y) {
+        for (int x = 0; x < points->width; ++x) stored += points->at(x, y, 0) >= 0.0f;
+    }
+    EXPECT_GT(stored, 20) << "the square's outline crosses dozens of texels";
+}
+
 TEST(SilhouetteMap, EdgesHiddenFromTheLightAreNotStored) {
     // A small square under a larger plate: its outline is hidden from the light, farther than
     // all four corner depths, and must leave no points (paper 000 §3.1).

@@ -32,7 +32,7 @@ Result<bool> SilhouettePass::Render(const GpuScene& scene, const LightMap& map, 
     if (auto ok = ValidateLightMap(map, context_->info().max_texture_size - 1, "map"); !ok) {
         return ok;
     }
-    if (!light.allFinite() || light.head<3>().isZero()) {
+    if (!light.allFinite() || (light.head<3>().isZero() && light.w() == 0.0)) {
         return Error{"light", "not finite, or a zero direction"};
     }
     if (!(options.visibility_bias >= 0.0f && options.visibility_bias < 1.0f)) {
