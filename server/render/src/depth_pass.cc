@@ -62,14 +62,15 @@ Result<bool> DepthPass::Render(const GpuScene& scene, const LightMap& map, FaceS
         target.texture = CreateTexture2D(gl, GL_DEPTH_COMPONENT32F, map.width, map.height);
     }
     target.map = map;
-    if (attached_ != target.texture.id()) {
-        gl.NamedFramebufferTexture(framebuffer_.id(), GL_DEPTH_ATTACHMENT, target.texture.id(), 0);
-        const GLenum status = gl.CheckNamedFramebufferStatus(framebuffer_.id(), GL_FRAMEBUFFER);
-        if (status != GL_FRAMEBUFFER_COMPLETE) {
-            return Error{"depth pass",
-                         "framebuffer incomplete (status " + std::to_string(status) + ")"};
-        }
-        attached_ = target.texture.id();
+    // Attached on every render and detached after it: a texture name says nothing about which
+    // texture it is once the one before was deleted (drivers reuse names; NVIDIA does by
+    // default), and an attachment left in place would keep a freed map's storage alive.
+    gl.NamedFramebufferTexture(framebuffer_.id(), GL_DEPTH_ATTACHMENT, target.texture.id(), 0);
+    const GLenum status = gl.CheckNamedFramebufferStatus(framebuffer_.id(), GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        gl.NamedFramebufferTexture(framebuffer_.id(), GL_DEPTH_ATTACHMENT, 0, 0);
+        return Error{"depth pass",
+                     "framebuffer incomplete (status " + std::to_string(status) + ")"};
     }
     const MapTransform transform = MakeMapTransform(map, scene.origin());
     gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
@@ -105,6 +106,7 @@ Result<bool> DepthPass::Render(const GpuScene& scene, const LightMap& map, FaceS
     gl.Disable(GL_DEPTH_CLAMP);
     gl.BindVertexArray(0);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl.NamedFramebufferTexture(framebuffer_.id(), GL_DEPTH_ATTACHMENT, 0, 0);
     return context_->Check(std::string("depth pass (") + FaceSelectionName(faces) + ")");
 }
 

@@ -106,6 +106,8 @@ Result<bool> SilhouettePass::Render(const GpuScene& scene, const LightMap& map, 
     gl.BindVertexArray(0);
     gl.BindTextureUnit(0, 0);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    // The map belongs to the caller: no attachment keeps it alive once it frees it.
+    gl.NamedFramebufferTexture(framebuffer_.id(), GL_COLOR_ATTACHMENT0, 0, 0);
     if (auto ok = context_->Check("silhouette pass"); !ok) return ok;
     drawn_triangles_ = drawn;
     return true;

@@ -317,6 +317,10 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     gl.BindTextureUnit(kAtlasUnitA, 0);
     gl.BindTextureUnit(kAtlasUnitB, 0);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    // The images belong to the caller: no attachment keeps them alive once it frees them.
+    const GLenum attachments[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1,
+                                  GL_COLOR_ATTACHMENT2, GL_DEPTH_ATTACHMENT};
+    for (GLenum attachment : attachments) gl.NamedFramebufferTexture(fbo, attachment, 0, 0);
     // Atlases are kept for the next view unless large: a worker holds no more than this between
     // calls.
     constexpr std::int64_t kKeptAtlasTexels = std::int64_t{1} << 24;

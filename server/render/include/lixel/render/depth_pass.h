@@ -49,7 +49,6 @@ class DepthPass {
     Program program_;
     GlFramebuffer framebuffer_;
     GLint clip_location_ = -1;
-    GLuint attached_ = 0;
 };
 
 // The map is drawable: finite matrix, sides in [1, min(kMaxImageSide, max texture size)].
