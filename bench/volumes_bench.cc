@@ -209,6 +209,7 @@ BENCHMARK(BM_SmoothVolumeCpu)->Apply(Sizes);
 struct Gl {
     render::GlContext* context = nullptr;
     std::optional<gl::VolumePass> pass;
+    std::optional<render::ViewPass> bare;  // the volume views' baseline
 };
 
 Gl* TheGl() {
@@ -220,6 +221,9 @@ Gl* TheGl() {
         auto pass = gl::VolumePass::Create(*g->context);
         if (!pass) return std::unique_ptr<Gl>();
         g->pass.emplace(std::move(pass.value()));
+        auto bare = render::ViewPass::Create(*g->context, render::ViewVariant::kBare);
+        if (!bare) return std::unique_ptr<Gl>();
+        g->bare.emplace(std::move(bare.value()));
         return g;
     }();
     return gl.get();
@@ -272,15 +276,6 @@ void BM_BareView(benchmark::State& state) {
         state.SkipWithError("no GL 4.5 context");
         return;
     }
-    static std::optional<render::ViewPass> bare;
-    if (!bare) {
-        auto created = render::ViewPass::Create(*g->context, render::ViewVariant::kBare);
-        if (!created) {
-            state.SkipWithError(created.error().Message().c_str());
-            return;
-        }
-        bare.emplace(std::move(created).value());
-    }
     const GridScene& s = Grid(state.range(0));
     auto surfaces = render::UploadScene(*g->context, s.meshes);
     if (!surfaces) {
@@ -293,7 +288,7 @@ void BM_BareView(benchmark::State& state) {
     request.light = s.light;
     render::ViewImages images;
     for (auto _ : state) {
-        auto r = bare->Render(*surfaces, request, images);
+        auto r = g->bare->Render(*surfaces, request, images);
         g->context->gl().Finish();
         if (!r) {
             state.SkipWithError(r.error().Message().c_str());
