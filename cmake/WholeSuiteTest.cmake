@@ -1,0 +1,13 @@
+# A second run of a whole GoogleTest executable under another environment (another GL driver,
+# GL names reused as soon as freed). ctest runs it beside the discovered single tests of the same
+# executable, so it gets its own TEST_TMPDIR (GoogleTest's TempDir() reads it): two runs of one
+# test never write the same files at once.
+function(lixel_add_whole_suite_test)
+    cmake_parse_arguments(ARG "" "NAME;COMMAND;TIMEOUT" "ENVIRONMENT" ${ARGN})
+    set(tmp "${CMAKE_CURRENT_BINARY_DIR}/${ARG_NAME}.tmp")
+    file(MAKE_DIRECTORY "${tmp}")
+    add_test(NAME ${ARG_NAME} COMMAND ${ARG_COMMAND})
+    set_tests_properties(${ARG_NAME} PROPERTIES
+                         ENVIRONMENT "${ARG_ENVIRONMENT};TEST_TMPDIR=${tmp}"
+                         TIMEOUT ${ARG_TIMEOUT})
+endfunction()
