@@ -33,9 +33,11 @@ Result<std::vector<RenderedMap>> Renderer::RenderMaps(const GpuScene& scene,
             return std::find(planned.passes.begin(), planned.passes.end(), pass) !=
                    planned.passes.end();
         };
-        auto depth = depth_.Render(scene, planned.map, FaceSelection::kBoth);
-        if (!depth) return Error{field + "." + depth.error().field, depth.error().reason};
-        rendered.depth = std::move(depth.value());
+        if (asked(Pass::kDepth)) {
+            auto depth = depth_.Render(scene, planned.map, FaceSelection::kBoth);
+            if (!depth) return Error{field + "." + depth.error().field, depth.error().reason};
+            rendered.depth = std::move(depth.value());
+        }
         if (asked(Pass::kSecondDepth)) {
             auto second = depth_.Render(scene, planned.map, FaceSelection::kSecondDepth);
             if (!second) return Error{field + "." + second.error().field, second.error().reason};

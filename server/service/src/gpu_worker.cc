@@ -78,7 +78,9 @@ std::vector<ImageShape> PlannedImages(const Plan& plan) {
             return std::find(m.passes.begin(), m.passes.end(), pass) != m.passes.end();
         };
         const int index = static_cast<int>(i);
-        shapes.push_back({index, Pass::kDepth, m.map.width, m.map.height, 1});
+        if (asked(Pass::kDepth)) {
+            shapes.push_back({index, Pass::kDepth, m.map.width, m.map.height, 1});
+        }
         if (asked(Pass::kSecondDepth)) {
             shapes.push_back({index, Pass::kSecondDepth, m.map.width, m.map.height, 1});
         }

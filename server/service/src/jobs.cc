@@ -63,9 +63,7 @@ grpc::Status FindScene(ServiceState& state, const v1::PlanRequest& plan, bool re
 // Bytes of every map a plan renders, as float32 (the memory cap of DESIGN §8).
 std::uint64_t PlanBytes(const Plan& plan) {
     std::uint64_t bytes = 0;
-    for (const PlannedMap& m : plan.maps) {
-        bytes += static_cast<std::uint64_t>(m.map.width) * m.map.height * 4 * m.passes.size();
-    }
+    for (const ImageShape& image : PlannedImages(plan)) bytes += image.bytes();
     return bytes;
 }
 
@@ -500,12 +498,12 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
         job.maps = {m};
     }
-    // The filter decides the passes every map needs, casters or not.
-    for (PlannedMap& m : job.maps) {
-        m.passes = {Pass::kDepth};
-        if (method == render::ShadowMethod::kSecondDepth) m.passes.push_back(Pass::kSecondDepth);
-        if (method == render::ShadowMethod::kSilhouette) m.passes.push_back(Pass::kSilhouetteMap);
-    }
+    // The filter decides the one pass every map needs, casters or not: second depth and the
+    // silhouette map's corner depths stand in for the first depth, which they never read.
+    const Pass pass = method == render::ShadowMethod::kSecondDepth  ? Pass::kSecondDepth
+                      : method == render::ShadowMethod::kSilhouette ? Pass::kSilhouetteMap
+                                                                    : Pass::kDepth;
+    for (PlannedMap& m : job.maps) m.passes = {pass};
     times.emplace_back("plan", Since(start));
     Plan for_bytes;
     for_bytes.maps = job.maps;

@@ -23,7 +23,7 @@ struct RenderedMap {
     std::string name;
     LightMap map;
     LookupRule lookup;
-    std::optional<DepthMap> depth;            // always rendered
+    std::optional<DepthMap> depth;            // when the plan asked for Pass::kDepth
     std::optional<DepthMap> second_depth;     // when the plan asked for Pass::kSecondDepth
     std::optional<SilhouetteMap> silhouette;  // when the plan asked for Pass::kSilhouetteMap
 };
