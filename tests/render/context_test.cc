@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "gl_environment.h"
 
@@ -32,7 +33,54 @@ TEST(GlContext, GlErrorsBecomeErrorsWithTheDebugMessage) {
     EXPECT_EQ(checked.error().field, "enable");
     EXPECT_NE(checked.error().reason.find("GL_INVALID_ENUM"), std::string::npos)
         << checked.error().reason;
+    // The debug message, not only glGetError's code: it names the call and its argument.
+    EXPECT_NE(checked.error().reason.find("error "), std::string::npos) << checked.error().reason;
+    EXPECT_NE(checked.error().reason.find("glEnable"), std::string::npos)
+        << checked.error().reason;
     EXPECT_TRUE(context.Check("after").ok()) << "errors are reported once";
+}
+
+TEST(GlContext, DebugLogKeepsTheMostRecentMessagesOnly) {
+    GlContext& context = testing::Context();
+    (void)context.TakeMessages();
+    constexpr int kInserted = 10'000;
+    for (int i = 0; i < kInserted; ++i) {
+        const std::string text = "lixel message " + std::to_string(i);
+        context.gl().DebugMessageInsert(GL_DEBUG_SOURCE_APPLICATION, GL_DEBUG_TYPE_OTHER, 1,
+                                        GL_DEBUG_SEVERITY_NOTIFICATION,
+                                        static_cast<GLsizei>(text.size()), text.c_str());
+    }
+    const std::vector<std::string> messages = context.TakeMessages();
+    ASSERT_EQ(messages.size(), GlContext::kDebugWindow + 1);
+    EXPECT_EQ(messages.front(), std::to_string(kInserted - GlContext::kDebugWindow) +
+                                    " earlier debug messages dropped");
+    EXPECT_EQ(messages[1], "other 1: lixel message " +
+                               std::to_string(kInserted - GlContext::kDebugWindow));
+    EXPECT_EQ(messages.back(), "other 1: lixel message " + std::to_string(kInserted - 1));
+    EXPECT_TRUE(context.TakeMessages().empty());
+    EXPECT_TRUE(context.Check("notifications are not errors").ok());
+}
+
+TEST(GlContext, ManyErrorsAreReportedAsTheFirstFewAndACount) {
+    GlContext& context = testing::Context();
+    ASSERT_TRUE(context.Check("before").ok());
+    constexpr int kErrors = 1'000;
+    for (int i = 0; i < kErrors; ++i) context.gl().Enable(0x1234);
+    auto checked = context.Check("enable");
+    ASSERT_FALSE(checked.ok());
+    const std::string& reason = checked.error().reason;
+    std::size_t named = 0;
+    for (std::size_t at = reason.find("glEnable"); at != std::string::npos;
+         at = reason.find("glEnable", at + 1)) {
+        ++named;
+    }
+    EXPECT_EQ(named, GlContext::kDebugErrors) << reason.substr(0, 400);
+    EXPECT_NE(reason.find("and " + std::to_string(kErrors - GlContext::kDebugErrors) +
+                          " more debug errors"),
+              std::string::npos)
+        << reason.substr(0, 400);
+    EXPECT_TRUE(context.Check("after").ok());
+    (void)context.TakeMessages();
 }
 
 TEST(GlContext, ThreadContextIsCreatedOnceAndReused) {

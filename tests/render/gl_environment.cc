@@ -15,7 +15,7 @@ std::unique_ptr<Renderer> renderer;
 class GlEnvironment : public ::testing::Environment {
   public:
     void SetUp() override {
-        auto c = ThreadContext(ContextOptions{TestBackend()});
+        auto c = ThreadContext(ContextOptions{.backend = TestBackend(), .synchronous_debug = true});
         ASSERT_TRUE(c.ok()) << c.error().Message();
         context = *c;
         std::printf("[ GL       ] %s\n", context->info().Summary().c_str());

@@ -2,6 +2,9 @@
 #include <lixel/render/context.h>
 
 #include <cstdio>
+#include <deque>
+#include <iterator>
+#include <mutex>
 #include <string>
 #include <utility>
 
@@ -27,17 +30,45 @@ const char* DebugTypeName(GLenum type) {
     }
 }
 
+}  // namespace
+
+// Written by the KHR_debug callback, which an asynchronous context may call from a driver
+// thread; read by Check() and TakeMessages() on the context's own thread.
+struct GlContext::DebugLog {
+    std::mutex mutex;
+    std::vector<std::string> errors;  // the first kDebugErrors since the last Check()
+    std::size_t errors_dropped = 0;
+    std::deque<std::string> recent;  // the last kDebugWindow messages
+    std::size_t recent_dropped = 0;
+
+    void Add(std::string text, bool is_error) {
+        std::lock_guard lock(mutex);
+        if (is_error) {
+            if (errors.size() < kDebugErrors) {
+                errors.push_back(text);
+            } else {
+                ++errors_dropped;
+            }
+        }
+        recent.push_back(std::move(text));
+        if (recent.size() > kDebugWindow) {
+            recent.pop_front();
+            ++recent_dropped;
+        }
+    }
+};
+
+namespace {
+
 void APIENTRY OnDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum severity,
                              GLsizei length, const GLchar* message, const void* user) {
     auto* log = static_cast<GlContext::DebugLog*>(const_cast<void*>(user));
     std::string text = std::string(DebugTypeName(type)) + " " + std::to_string(id) + ": " +
                        std::string(message, length >= 0 ? static_cast<std::size_t>(length)
                                                         : std::char_traits<char>::length(message));
-    if (type == GL_DEBUG_TYPE_ERROR || type == GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR ||
-        severity == GL_DEBUG_SEVERITY_HIGH) {
-        log->errors.push_back(text);
-    }
-    log->messages.push_back(std::move(text));
+    log->Add(std::move(text), type == GL_DEBUG_TYPE_ERROR ||
+                                  type == GL_DEBUG_TYPE_UNDEFINED_BEHAVIOR ||
+                                  severity == GL_DEBUG_SEVERITY_HIGH);
 }
 
 const char* GlErrorName(GLenum code) {
@@ -138,8 +169,7 @@ Result<std::unique_ptr<GlContext>> GlContext::Create(const ContextOptions& optio
     context->log_ = std::make_unique<DebugLog>();
     if (options.debug && (HasGlExtension(gl, "GL_KHR_debug") || major * 10 + minor >= 43)) {
         gl.Enable(GL_DEBUG_OUTPUT);
-        // Synchronous: the message arrives inside the call that caused it, on this thread.
-        gl.Enable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+        if (options.synchronous_debug) gl.Enable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
         gl.DebugMessageCallback(OnDebugMessage, context->log_.get());
         gl.DebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_TRUE);
         info.khr_debug = true;
@@ -156,11 +186,18 @@ Result<bool> GlContext::MakeCurrent() { return backend_->MakeCurrent(); }
 
 Result<bool> GlContext::Check(std::string_view where) {
     std::string text;
-    for (const std::string& e : log_->errors) {
-        if (!text.empty()) text += "; ";
-        text += e;
+    {
+        std::lock_guard lock(log_->mutex);
+        for (const std::string& e : log_->errors) {
+            if (!text.empty()) text += "; ";
+            text += e;
+        }
+        if (log_->errors_dropped > 0) {
+            text += "; and " + std::to_string(log_->errors_dropped) + " more debug errors";
+        }
+        log_->errors.clear();
+        log_->errors_dropped = 0;
     }
-    log_->errors.clear();
     for (GLenum code = gl_.GetError(); code != GL_NO_ERROR; code = gl_.GetError()) {
         if (!text.empty()) text += "; ";
         text += GlErrorName(code);
@@ -169,7 +206,18 @@ Result<bool> GlContext::Check(std::string_view where) {
     return Error{std::string(where), text};
 }
 
-std::vector<std::string> GlContext::TakeMessages() { return std::exchange(log_->messages, {}); }
+std::vector<std::string> GlContext::TakeMessages() {
+    std::lock_guard lock(log_->mutex);
+    std::vector<std::string> messages;
+    messages.reserve(log_->recent.size() + 1);
+    if (log_->recent_dropped > 0) {
+        messages.push_back(std::to_string(log_->recent_dropped) + " earlier debug messages dropped");
+    }
+    std::move(log_->recent.begin(), log_->recent.end(), std::back_inserter(messages));
+    log_->recent.clear();
+    log_->recent_dropped = 0;
+    return messages;
+}
 
 Result<GlContext*> ThreadContext(const ContextOptions& options) {
     thread_local std::unique_ptr<GlContext> context;

@@ -22,7 +22,8 @@ class GlEnvironment : public ::testing::Environment {
             ASSERT_TRUE(parsed.ok()) << parsed.error().Message();
             backend = *parsed;
         }
-        auto c = render::ThreadContext(render::ContextOptions{backend});
+        auto c = render::ThreadContext(
+            render::ContextOptions{.backend = backend, .synchronous_debug = true});
         ASSERT_TRUE(c.ok()) << c.error().Message();
         context = *c;
         std::printf("[ GL       ] %s\n", context->info().Summary().c_str());

@@ -6,6 +6,7 @@
 #include <lixel/render/gl_api.h>
 #include <lixel/solver/result.h>
 
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -33,6 +34,12 @@ struct ContextOptions {
     EglPlatform egl_platform = EglPlatform::kAuto;
     // A KHR_debug context whose error messages Check() reports. Costs little on Mesa.
     bool debug = true;
+    // Synchronous KHR_debug output delivers each message inside the call that caused it, so an
+    // error is reported by the Check() right after it: what tests want. Asynchronous (the
+    // default) lets the driver deliver when it likes, from any thread, without serialising the
+    // GL; an error may then be reported by a later Check(). glGetError codes are always
+    // reported by the first Check() after the call.
+    bool synchronous_debug = false;
 };
 
 // What the context reported at creation (the server logs it at start).
@@ -71,24 +78,28 @@ class GlContext {
     // ok() when there were none; otherwise Error{where, "the messages; joined"}.
     Result<bool> Check(std::string_view where);
 
-    // Every debug message (all types) since the previous call; for logs and tests.
+    // The most recent debug messages (all types, at most kDebugWindow) since the previous
+    // call, oldest first; when more arrived, a first line says how many were dropped.
     std::vector<std::string> TakeMessages();
 
     class Native;  // EGL or OSMesa specifics, in src/
 
-    // Implementation detail of the KHR_debug callback.
-    struct DebugLog {
-        std::vector<std::string> errors;
-        std::vector<std::string> messages;
-    };
+    // A context lives as long as its thread and a driver may report on every draw: the log
+    // keeps the first kDebugErrors errors since the last Check() and the last kDebugWindow
+    // messages, and counts the rest, so it never grows with the work done.
+    static constexpr std::size_t kDebugErrors = 8;
+    static constexpr std::size_t kDebugWindow = 64;
+    struct DebugLog;
 
   private:
     GlContext() = default;
 
+    // Declared first so it is destroyed last: an asynchronous callback may still arrive until
+    // the backend has destroyed the context.
+    std::unique_ptr<DebugLog> log_;  // stable address for the callback
     std::unique_ptr<Native> backend_;
     GlApi gl_;
     ContextInfo info_;
-    std::unique_ptr<DebugLog> log_;  // stable address for the callback
 };
 
 // The calling thread's context: created by the first call with `options` and reused by every

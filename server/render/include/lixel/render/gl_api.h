@@ -33,6 +33,7 @@ namespace lixel::render {
     X(PixelStorei, PIXELSTOREI)                                 \
     X(DebugMessageCallback, DEBUGMESSAGECALLBACK)               \
     X(DebugMessageControl, DEBUGMESSAGECONTROL)                 \
+    X(DebugMessageInsert, DEBUGMESSAGEINSERT)                   \
     X(CreateShader, CREATESHADER)                               \
     X(ShaderSource, SHADERSOURCE)                               \
     X(CompileShader, COMPILESHADER)                             \
