@@ -61,7 +61,6 @@ struct ViewCase {
     GpuScene scene;
     std::vector<RenderedMap> maps;
     ViewSettings settings;
-    bool any_open = false;
 };
 
 ViewCase& CaseFor(long triangles, int side) {
@@ -80,7 +79,6 @@ ViewCase& CaseFor(long triangles, int side) {
     c.settings.viewer = s.camera.Viewer();
     c.settings.viewport = s.camera.viewport;
     c.settings.light = plan.hull.light;
-    for (const Mesh& m : s.meshes) c.any_open = c.any_open || !m.closed;
     return cases.emplace(key, std::move(c)).first->second;
 }
 
@@ -90,8 +88,6 @@ ViewRequest RequestFor(const ViewCase& c, ShadowMethod method) {
     r.viewport = c.settings.viewport;
     r.light = c.settings.light;
     r.method = method;
-    // As the service sets it: open surfaces need a second-depth bias (paper 003 §3.3).
-    if (c.any_open) r.options.second_depth_bias = 1e-5f;
     for (const RenderedMap& m : c.maps) {
         r.maps.push_back({m.map, m.lookup, &*m.depth, &*m.second_depth, &*m.silhouette});
     }

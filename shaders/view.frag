@@ -21,7 +21,9 @@ uniform vec4 u_eye;    // the viewer's centre of projection, same convention
 uniform float u_depth_bias;   // clip-depth units
 uniform float u_slope_bias;   // multiple of the tangent plane's depth change over the reach
 uniform float u_max_bias;     // clip-depth units; caps the slope term near grazing
-uniform float u_second_depth_bias;  // paper 003 §3.3; 0 for solids
+uniform float u_second_depth_bias;       // paper 003 §3.3: closed solids, 0 by default
+uniform float u_open_second_depth_bias;  // open, two-sided surfaces: rounding only
+uniform int u_receiver_open;             // the drawn surface is open (GpuMeshRange::closed)
 uniform int u_pcf_radius;
 uniform int u_virtual_samples;
 uniform int u_tint_maps;
@@ -80,8 +82,8 @@ void main() {
             lit = pcf(map, s, biased(slope_len, kReachPerRadius * float(u_pcf_radius)),
                       u_pcf_radius);
         } else if (kMethod == kMethodSecondDepth) {
-            lit = second_depth_test(map, s, plane, u_second_depth_bias, u_pcf_radius,
-                                    u_virtual_samples != 0);
+            float bias = u_receiver_open != 0 ? u_open_second_depth_bias : u_second_depth_bias;
+            lit = second_depth_test(map, s, plane, bias, u_pcf_radius, u_virtual_samples != 0);
         } else {
             lit = silhouette_test(map, s, biased(slope_len, kReachCorners));
         }

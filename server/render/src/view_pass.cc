@@ -269,6 +269,9 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     gl.ProgramUniform1f(program, shader.Uniform("u_slope_bias"), o.slope_bias);
     gl.ProgramUniform1f(program, shader.Uniform("u_max_bias"), o.max_bias);
     gl.ProgramUniform1f(program, shader.Uniform("u_second_depth_bias"), o.second_depth_bias);
+    gl.ProgramUniform1f(program, shader.Uniform("u_open_second_depth_bias"),
+                        o.open_second_depth_bias);
+    const GLint receiver_open = shader.Uniform("u_receiver_open");
     gl.ProgramUniform1i(program, shader.Uniform("u_pcf_radius"), o.pcf_radius);
     gl.ProgramUniform1i(program, shader.Uniform("u_virtual_samples"), o.virtual_samples ? 1 : 0);
     gl.ProgramUniform1i(program, shader.Uniform("u_tint_maps"), o.tint_maps ? 1 : 0);
@@ -290,8 +293,10 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     gl.ClearNamedFramebufferiv(fbo, GL_COLOR, 2, no_map);
     gl.ClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &far);
     gl.BindVertexArray(scene.triangles());
-    const auto draw_scene = [&] {
+    // `per_surface`: tell the shading program whether each draw's surface is open.
+    const auto draw_scene = [&](bool per_surface) {
         for (const GpuMeshRange& range : scene.ranges()) {
+            if (per_surface) gl.ProgramUniform1i(program, receiver_open, range.closed ? 0 : 1);
             gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count),
                             GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
@@ -305,12 +310,12 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
                                viewer.data());
     gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     gl.UseProgram(prepass);
-    draw_scene();
+    draw_scene(false);
     gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     gl.DepthFunc(GL_EQUAL);
     gl.DepthMask(GL_FALSE);
     gl.UseProgram(program);
-    draw_scene();
+    draw_scene(true);
     gl.DepthMask(GL_TRUE);
     gl.DepthFunc(GL_LESS);
     gl.BindVertexArray(0);

@@ -28,10 +28,6 @@ double Since(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-// Clip-depth bias for second depth when the scene has open surfaces: measured by the renderer's
-// tests as the smallest that clears the acne of an open planar floor (docs/render.md).
-constexpr float kOpenSurfaceSecondDepthBias = 1e-5f;
-
 grpc::Status NotFound(const std::string& id) {
     return grpc::Status(grpc::StatusCode::NOT_FOUND,
                         "scene_id: no scene " + id + " on this instance; upload it again");
@@ -474,11 +470,6 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     job.viewport = decoded->viewport;
     job.light = plan->hull.light;
     job.method = method;
-    // Second depth needs no bias on closed solids (paper 003 §3.3); open or two-sided surfaces
-    // (a floor that is a single sheet) do, or their own rounding shadows them.
-    for (const Mesh& m : scene->scene.meshes) {
-        if (!m.closed) job.options.second_depth_bias = kOpenSurfaceSecondDepthBias;
-    }
     if (volumes) {
         job.maps.clear();  // shadow volumes need no map
     } else if (request.method() == v1::METHOD_PLANE_OPTIMAL) {
