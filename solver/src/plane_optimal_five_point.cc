@@ -110,16 +110,27 @@ Result<PlaneOptimalMatrix> SolvePlaneOptimalFivePoint(const PlaneOptimalInput& i
     m /= row_scale;
 
     // Sign (paper §2, Fig. 5): needed points in front of the viewer must get q > 0. The null
-    // vector's sign is arbitrary, so test it on the plane point under the viewport centre,
-    // or, when that lies beyond the horizon, with the closed form's rule q ~ (P.l) a_w.X.
-    const Vec4 centre = PlanePointAtPixel(pixel, plane, 0.5 * g, 0.5 * h);
-    double q_sign = 0.0;
-    if (pixel.row(3).dot(centre) * centre.w() > 0.0) {
-        q_sign = m.row(3).dot(centre) * centre.w();
+    // vector's sign is arbitrary. On P the solved w row is a multiple k a_w of the viewer's
+    // (eq. 3-6 fix every plane point's image, so m_w - k a_w vanishes on P and is a multiple of
+    // P), and the needed points are those with (a_w . X) X_w > 0, so q > 0 on them iff k > 0:
+    // k is read off the w row itself, by least squares in the complement of P, for every view,
+    // whichever part of P is visible or however far the horizon lies from the viewport centre.
+    const Vec4 a_w = pixel.row(3).transpose();
+    const Vec4 m_w = m.row(3).transpose();
+    const Vec4 unit_plane = plane / plane.norm();  // (n, d): unit as a 4-vector here
+    const Vec4 a_off = a_w - a_w.dot(unit_plane) * unit_plane;
+    const Vec4 m_off = m_w - m_w.dot(unit_plane) * unit_plane;
+    const double k = m_off.dot(a_off);
+    if (!(a_off.norm() > 1e-12 * a_w.norm()) || !(std::abs(k) > 0.0)) {
+        return Error{"plane",
+                     "is the plane through the viewer's centre parallel to its image "
+                     "plane: every point of it images at infinity"};
     }
-    const bool flip = q_sign != 0.0 ? q_sign < 0.0 : plane.dot(l) < 0.0;
-    if (flip) m = -m;
-    return FinishPlaneOptimal(m, flip ? -1 : 1, pixel, *normalized, input);
+    if (k < 0.0) m = -m;
+    // The factor relative to the closed form (P.l) a_j - (a_j.l) P, whose w row is (P.l) a_w on
+    // P: the same rule as SolvePlaneOptimal's.
+    const int sign = plane.dot(l) > 0.0 ? 1 : -1;
+    return FinishPlaneOptimal(m, sign, pixel, *normalized, input);
 }
 
 }  // namespace lixel

@@ -8,6 +8,7 @@
 #include <lixel/solver/types.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -83,6 +84,144 @@ inline Configuration RandomConfiguration(std::mt19937_64& rng) {
             d = RandomUnit(rng);
         } while (std::abs(normal.dot(d)) < 0.05);
         c.light = Direction(d);
+    }
+    return c;
+}
+
+// Whether viewer pixel (u, v) sees the plane in front of the viewer (paper Fig. 5: the part of
+// Q on this side of infinity).
+inline bool SeesPlaneAt(const Mat4& pixel, const Vec4& plane, double u, double v) {
+    const Vec4 x = PlanePointAtPixel(pixel, plane, u, v);
+    return pixel.row(3).dot(x) * x.w() > 0.0;
+}
+
+// How many of the viewport's four corners see the plane in front of the viewer.
+inline int CornersSeeingPlane(const Configuration& c) {
+    const Mat4 pixel = PixelMatrix(c.viewer, c.viewport);
+    const double g = c.viewport.width;
+    const double h = c.viewport.height;
+    return int(SeesPlaneAt(pixel, c.plane, 0, 0)) + int(SeesPlaneAt(pixel, c.plane, g, 0)) +
+           int(SeesPlaneAt(pixel, c.plane, g, h)) + int(SeesPlaneAt(pixel, c.plane, 0, h));
+}
+
+// A viewer `height` off a random plane (either orientation) whose view direction rises
+// `elevation` radians away from it (negative: toward it), rolled at random, with a random
+// viewport and a vertical field of view of `fovy` radians, in bounds `reach` heights around the
+// eye. `target` is a point on the view axis, not on the plane.
+inline Configuration ViewerOffPlane(std::mt19937_64& rng, double height, double elevation,
+                                    double fovy, double reach = 30.0) {
+    Configuration c;
+    c.viewport.width = static_cast<int>(Uniform(rng, 16, 2048));
+    c.viewport.height = static_cast<int>(Uniform(rng, 16, 2048));
+    const double aspect = static_cast<double>(c.viewport.width) / c.viewport.height;
+    const Vec3 normal = RandomUnit(rng);
+    const Vec3 foot(Uniform(rng, -10, 10), Uniform(rng, -10, 10), Uniform(rng, -10, 10));
+    c.plane = Vec4(normal.x(), normal.y(), normal.z(), -normal.dot(foot));
+    if (std::bernoulli_distribution(0.5)(rng)) c.plane = -c.plane;
+    c.eye = foot + height * normal;
+    Vec3 along = RandomUnit(rng);
+    along = (along - along.dot(normal) * normal).normalized();
+    const Vec3 forward = std::cos(elevation) * along + std::sin(elevation) * normal;
+    c.target = c.eye + height * forward;
+    Vec3 up;
+    do {
+        up = RandomUnit(rng);
+    } while (std::abs(up.dot(forward)) > 0.95);
+    const double near = height * Uniform(rng, 0.01, 0.2);
+    const double far = std::bernoulli_distribution(0.25)(rng)
+                           ? std::numeric_limits<double>::infinity()
+                           : near * 1e4;
+    c.viewer = Perspective(fovy, aspect, near, far) * LookAt(c.eye, c.target, up);
+    c.bounds.min = c.eye - Vec3::Constant(reach * height);
+    c.bounds.max = c.eye + Vec3::Constant(reach * height);
+    return c;
+}
+
+// A point light (half the time) or a directional one for `c`, at least `min_height` (relative
+// to its distance from the eye, or as the sine of a direction's elevation) off the plane, on
+// either side of it.
+inline Vec4 RandomLightOffPlane(std::mt19937_64& rng, const Configuration& c, double scale,
+                                double min_height) {
+    const Vec3 n = c.plane.head<3>();
+    const double d = c.plane.w();
+    if (std::bernoulli_distribution(0.5)(rng)) {
+        Vec3 l;
+        do {
+            l = c.eye + RandomUnit(rng) * Uniform(rng, 0.2, 20.0) * scale;
+        } while (std::abs(n.dot(l) + d) < min_height * (l - c.eye).norm());
+        return Point(l);
+    }
+    Vec3 dir;
+    do {
+        dir = RandomUnit(rng);
+    } while (std::abs(n.dot(dir)) < min_height);
+    return Direction(dir);
+}
+
+// Views whose centre ray does not meet the plane in front of the viewer (it rises away from
+// the plane, meets it behind the eye, or runs along the horizon), while some of the viewport
+// still shows the plane: a viewer standing on a floor and looking up. Lights at least 5% of
+// their distance off the plane.
+inline Configuration RandomCentreBeyondHorizonConfiguration(std::mt19937_64& rng) {
+    for (;;) {
+        const double fovy = Uniform(rng, 15.0, 120.0) * std::numbers::pi / 180.0;
+        const double height = std::exp(Uniform(rng, std::log(0.05), std::log(20.0)));
+        // Up to 1.6 half fields (about the half diagonal of a 4:3 view); a draw whose corners
+        // all miss the plane is drawn again.
+        const double elevation =
+            std::bernoulli_distribution(0.1)(rng) ? 0.0 : Uniform(rng, 0.0, 0.5 * fovy * 1.6);
+        Configuration c = ViewerOffPlane(rng, height, elevation, fovy);
+        const Mat4 pixel = PixelMatrix(c.viewer, c.viewport);
+        if (SeesPlaneAt(pixel, c.plane, 0.5 * c.viewport.width, 0.5 * c.viewport.height)) {
+            continue;
+        }
+        if (CornersSeeingPlane(c) < 1) continue;
+        c.light = RandomLightOffPlane(rng, c, height, 0.05);
+        return c;
+    }
+}
+
+// Grazing views: a narrow vertical field of view (0.05 to 2 degrees) whose axis runs within two
+// fields of the horizon, below or above it, so the plane is seen within a few degrees of
+// edge-on; the bounds reach 1e5 eye heights.
+inline Configuration RandomGrazingConfiguration(std::mt19937_64& rng) {
+    for (;;) {
+        const double fovy =
+            std::exp(Uniform(rng, std::log(0.05), std::log(2.0))) * std::numbers::pi / 180.0;
+        const double height = std::exp(Uniform(rng, std::log(0.05), std::log(20.0)));
+        const double elevation = Uniform(rng, -2.0, 0.7) * fovy;
+        Configuration c = ViewerOffPlane(rng, height, elevation, fovy, 1e5);
+        if (CornersSeeingPlane(c) < 1) continue;
+        c.light = RandomLightOffPlane(rng, c, height, 0.05);
+        return c;
+    }
+}
+
+// A random view (RandomConfiguration or, half the time, one whose centre is beyond the horizon)
+// with the light moved to 1e-9 ... 1e-3 of its distance off the plane: the paper's construction
+// is then close to singular (the light nearly on P), conditioning up to 1e9.
+inline Configuration RandomNearDegenerateLightConfiguration(std::mt19937_64& rng) {
+    Configuration c = std::bernoulli_distribution(0.5)(rng)
+                          ? RandomConfiguration(rng)
+                          : RandomCentreBeyondHorizonConfiguration(rng);
+    const Vec3 n = c.plane.head<3>() / c.plane.head<3>().norm();
+    const double d = c.plane.w() / c.plane.head<3>().norm();
+    const double relative = std::pow(10.0, Uniform(rng, -9.0, -3.0));
+    const double side = std::bernoulli_distribution(0.5)(rng) ? 1.0 : -1.0;
+    const double scale = (c.target - c.eye).norm();
+    if (std::bernoulli_distribution(0.5)(rng)) {
+        // A point on the plane 0.2 to 5 view distances from the eye's foot, lifted.
+        const Vec3 foot = c.eye - (n.dot(c.eye) + d) * n;
+        Vec3 offset = RandomUnit(rng);
+        offset = (offset - offset.dot(n) * n).normalized() * Uniform(rng, 0.2, 5.0) * scale;
+        const Vec3 on_plane = foot + offset;
+        const double reach = (on_plane - c.eye).norm();
+        c.light = Point(on_plane + side * relative * reach * n);
+    } else {
+        Vec3 along = RandomUnit(rng);
+        along = (along - along.dot(n) * n).normalized();
+        const double s = side * relative;
+        c.light = Direction(std::sqrt(1.0 - s * s) * along + s * n);
     }
     return c;
 }
