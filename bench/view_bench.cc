@@ -74,7 +74,7 @@ ViewCase& CaseFor(long triangles, int side) {
                      "plan");
     for (PlannedMap& m : plan.maps) m.passes = {Pass::kDepth, Pass::kSecondDepth,
                                                 Pass::kSilhouetteMap};
-    ViewCase c{Must(UploadScene(*f.context, s.meshes), "upload"), {}, {}, false};
+    ViewCase c{Must(UploadScene(*f.context, s.meshes), "upload"), {}, {}};
     c.maps = Must(f.renderer->RenderMaps(c.scene, plan.maps, plan.hull.light), "maps");
     c.settings.viewer = s.camera.Viewer();
     c.settings.viewport = s.camera.viewport;

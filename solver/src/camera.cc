@@ -10,6 +10,14 @@
 
 namespace lixel {
 
+namespace {
+
+// |w| of the unit-norm centre below which it is taken to lie at infinity: a few ulps of the
+// cofactors Cross4 sums.
+constexpr double kEyeAtInfinity = 1e-15;
+
+}  // namespace
+
 Mat4 LookAt(const Vec3& eye, const Vec3& target, const Vec3& up) {
     const Vec3 f = (target - eye).normalized();
     const Vec3 s = f.cross(up).normalized();
@@ -41,6 +49,15 @@ Mat4 Perspective(double fovy_radians, double aspect, double near, double far) {
     return m;
 }
 
+Mat4 Orthographic(double half_width, double half_height, double near, double far) {
+    Mat4 m = Mat4::Identity();
+    m(0, 0) = 1.0 / half_width;
+    m(1, 1) = 1.0 / half_height;
+    m(2, 2) = -1.0 / (far - near);
+    m(2, 3) = -near / (far - near);
+    return m;
+}
+
 Mat4 ViewportMatrix(const Viewport& viewport) {
     Mat4 m = Mat4::Identity();
     m(0, 0) = 0.5 * viewport.width;
@@ -62,7 +79,24 @@ Result<Vec4> EyePoint(const Mat4& viewer) {
         return Error{"viewer", "rows x, y and w are linearly dependent: no centre of projection"};
     }
     eye /= eye.norm();
-    if (eye.w() < 0.0) eye = -eye;
+    // A w within rounding of 0 carries no sign: the eye is at infinity (an orthographic viewer,
+    // or a perspective one so far away that its w is noise, which is then set to 0 so no caller
+    // divides by it), and the sign that matters is which way along the projection direction the
+    // viewer sits. Depth grows away from it in the [0, 1] convention (camera.h), and row z
+    // vanishes on no centre of an invertible matrix.
+    if (std::abs(eye.w()) > kEyeAtInfinity) {
+        if (eye.w() < 0.0) eye = -eye;
+        return eye;
+    }
+    const double depth = viewer.row(2).dot(eye);
+    if (!(std::abs(depth) > 0.0)) {
+        return Error{"viewer",
+                     "depth does not change along the projection direction: the "
+                     "matrix is singular"};
+    }
+    eye.w() = 0.0;
+    eye /= eye.norm();
+    if (depth > 0.0) eye = -eye;
     return eye;
 }
 

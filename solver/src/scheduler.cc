@@ -47,6 +47,60 @@ struct Candidate {
     std::vector<size_t> cut_by;  // infinite planes whose lines bound the needed part
 };
 
+// Turns and distances below this share of the polygon's extent (squared for turns) are a
+// straight angle or a vertex on an edge's line, within what rounding the vertices carry.
+constexpr double kPolygonSlack = 1e-9;
+
+// A bounded plane of interest must be convex and counter-clockwise seen from its normal's side:
+// the lookup's edge tests (paper §3: "four explicit point line tests") and EstimatePixels keep a
+// point when it lies left of every edge, which is its inside only then. Names the first vertex
+// where the boundary turns clockwise, or one that lies right of some edge (a polygon that winds
+// more than once turns counter-clockwise everywhere).
+Result<bool> ConvexCounterClockwise(const PlaneOfInterest& p, const std::string& field) {
+    const std::vector<Vec3>& poly = p.polygon;
+    const size_t count = poly.size();
+    if (count == 0) return true;
+    const Vec3 n = p.plane.head<3>().normalized();
+    double extent = 0.0;
+    for (const Vec3& v : poly) extent = std::max(extent, (v - poly[0]).norm());
+    auto vertex = [&](size_t k) { return field + ".polygon[" + std::to_string(k) + "]"; };
+    Vec3 twice_area = Vec3::Zero();
+    for (size_t k = 0; k < count; ++k) twice_area += poly[k].cross(poly[(k + 1) % count]);
+    const double area = 0.5 * n.dot(twice_area);
+    if (!(std::abs(area) > kPolygonSlack * extent * extent)) {
+        return Error{field + ".polygon", "has no area seen along the plane's normal (" +
+                                             Format(area) + "): its vertices are collinear"};
+    }
+    for (size_t k = 0; k < count; ++k) {
+        const Vec3& before = poly[(k + count - 1) % count];
+        const Vec3& after = poly[(k + 1) % count];
+        const double turn = n.dot((poly[k] - before).cross(after - poly[k]));
+        if (turn < -kPolygonSlack * extent * extent) {
+            return Error{vertex(k),
+                         area < 0.0
+                             ? "turns clockwise seen from the plane's normal side: the polygon "
+                               "runs clockwise; give its vertices counter-clockwise"
+                             : "turns clockwise seen from the plane's normal side: the polygon "
+                               "is not convex; it must be convex and counter-clockwise"};
+        }
+    }
+    for (size_t k = 0; k < count; ++k) {
+        const Vec3 edge = poly[(k + 1) % count] - poly[k];
+        const double length = edge.norm();
+        if (!(length > 0.0)) continue;
+        for (size_t m = 0; m < count; ++m) {
+            const double left = n.dot(edge.cross(poly[m] - poly[k])) / length;
+            if (left < -kPolygonSlack * extent) {
+                return Error{vertex(m), "lies right of the edge from vertex " + std::to_string(k) +
+                                            " to " + std::to_string((k + 1) % count) +
+                                            ": the polygon winds more than once; it must be "
+                                            "convex and counter-clockwise"};
+            }
+        }
+    }
+    return true;
+}
+
 Result<Aabb> ValidatedBounds(const PlanRequest& r) {
     if (auto v = ValidateViewer(r.viewer, r.viewport); !v) return v.error();
     if (!r.light.allFinite()) return Error{"light", "is not finite"};
@@ -93,6 +147,7 @@ Result<Aabb> ValidatedBounds(const PlanRequest& r) {
             united.min = united.min.cwiseMin(v);
             united.max = united.max.cwiseMax(v);
         }
+        if (auto convex = ConvexCounterClockwise(p, field); !convex) return convex.error();
     }
     const Aabb& given = r.scene_bounds;
     if ((given.min.array() <= given.max.array()).all()) {
@@ -193,6 +248,18 @@ std::vector<Vec4> Points(const std::vector<Vec3>& vertices) {
     return out;
 }
 
+// The part of one object's box (thickened) in view and in front of every plane that hides its
+// back side: what some map must hold.
+struct ViewRegion {
+    ConvexPolytope region;
+    int object = -1;  // into PlanRequest::objects; -1 for the scene bounds when there are none
+    // An infinite plane of interest the object lies on or behind (its box on the plane's back
+    // side, the plane hiding that side, the box inside the scene bounds), else -1: then every
+    // visible point of the object lies on that plane, in its needed polygon, and the region is
+    // held wherever that polygon is.
+    int on_plane = -1;
+};
+
 // Everything the planning passes share.
 struct Context {
     const PlanRequest& request;
@@ -207,12 +274,29 @@ struct Context {
     std::vector<ConvexPolytope> object_boxes;
     std::vector<ConvexPolytope> held_regions;
     std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i].vertices()
-    std::vector<ConvexPolytope> view_regions;  // visible part of every object
-    std::vector<LeftOut> plane_left_out;       // from the candidate stage
+    std::vector<ViewRegion> view_regions;          // visible part of every object
+    std::vector<LeftOut> plane_left_out;           // from the candidate stage
 };
 
+// Whether an infinite plane (unit normal) hides every point on its back side from the viewer:
+// every view ray starts on the near plane, so it does when the whole near face of the frustum
+// lies on its front side, by more than `margin` (world units). A plane the viewer faces can still
+// cut the near face (a wall just past the eye of a wide view, or any plane across an
+// orthographic viewer's near face), and rays that start behind it see what lies there.
+bool HidesItsBackSide(const Mat4& viewer_inverse, const Vec4& plane, double margin) {
+    for (const double x : {-1.0, 1.0}) {
+        for (const double y : {-1.0, 1.0}) {
+            const Vec4 corner = viewer_inverse * Vec4(x, y, kClipDepthNear, 1.0);
+            if (!corner.allFinite() || corner.w() == 0.0) return false;
+            if (!(plane.dot(corner / corner.w()) > margin)) return false;
+        }
+    }
+    return true;
+}
+
 // The needed part of every plane of interest (paper §3): inside the view frustum and the scene,
-// inside its polygon, on the positive side of every other infinite plane, lit side only.
+// inside its polygon, on the positive side of every other infinite plane that is kept and hides
+// its back side, lit side only.
 void FindCandidates(Context& c) {
     const PlanRequest& r = c.request;
     std::vector<Vec4> planes(r.planes.size());
@@ -220,27 +304,29 @@ void FindCandidates(Context& c) {
         planes[i] = r.planes[i].plane / r.planes[i].plane.head<3>().norm();
     }
     const auto eye = EyePoint(r.viewer);
+    // First every plane on its own: lit, facing the viewer, in view. `polygons[i]` is then its
+    // part in view, empty when it is left out.
+    std::vector<std::vector<Vec3>> polygons(r.planes.size());
     for (size_t i = 0; i < r.planes.size(); ++i) {
-        Candidate cand;
-        cand.index = i;
-        cand.name = PlaneName(r, i);
-        cand.plane = planes[i];
-        cand.bounded = !r.planes[i].polygon.empty();
-        const double lit = cand.plane.dot(c.light);
+        const std::string name = PlaneName(r, i);
+        const bool bounded = !r.planes[i].polygon.empty();
+        const double lit = planes[i].dot(c.light);
         if (!(lit > 0.0)) {
             c.plane_left_out.push_back(
-                {cand.name, "faces away from the light: the side of interest is in its own "
-                            "shadow (P.l = " + Format(lit) + ")"});
+                {name,
+                 "faces away from the light: the side of interest is in its own "
+                 "shadow (P.l = " +
+                     Format(lit) + ")"});
             continue;
         }
-        if (eye.ok() && cand.plane.dot(*eye) <= 0.0) {
+        if (eye.ok() && planes[i].dot(*eye) <= 0.0) {
             c.plane_left_out.push_back(
-                {cand.name, "seen from behind: the viewer is on the plane's back side"});
+                {name, "seen from behind: the viewer is on the plane's back side"});
             continue;
         }
         std::vector<Vec3> polygon =
-            cand.bounded ? r.planes[i].polygon : PlaneBoxPolygon(cand.plane, c.bounds);
-        if (cand.bounded) {
+            bounded ? r.planes[i].polygon : PlaneBoxPolygon(planes[i], c.bounds);
+        if (bounded) {
             for (int axis = 0; axis < 3; ++axis) {
                 Vec4 lower = Vec4::Zero();
                 lower(axis) = 1.0;
@@ -254,12 +340,33 @@ void FindCandidates(Context& c) {
         for (const Vec4& f : c.frustum) polygon = ClipPolygon(polygon, f);
         if (polygon.size() < 3) {
             c.plane_left_out.push_back(
-                {cand.name, "not in view: it does not meet the view frustum inside the scene"});
+                {name, "not in view: it does not meet the view frustum inside the scene"});
             continue;
         }
+        polygons[i] = std::move(polygon);
+    }
+    // Then each kept plane gives up what lies behind another kept infinite plane that hides its
+    // back side from the viewer (paper §3: C_floor stops at the floor/wall line, where C_wall
+    // starts). A plane left out is no such proof: one seen from behind hides its front side, not
+    // its back, and the viewer is on its back side; one facing away from the light or not in
+    // view has no map to take those rays over.
+    const Mat4 viewer_inverse = r.viewer.inverse();
+    std::vector<bool> occludes(r.planes.size(), false);
+    for (size_t j = 0; j < r.planes.size(); ++j) {
+        occludes[j] = !polygons[j].empty() && r.planes[j].polygon.empty() &&
+                      HidesItsBackSide(viewer_inverse, planes[j], c.thickness);
+    }
+    for (size_t i = 0; i < r.planes.size(); ++i) {
+        if (polygons[i].empty()) continue;
+        Candidate cand;
+        cand.index = i;
+        cand.name = PlaneName(r, i);
+        cand.plane = planes[i];
+        cand.bounded = !r.planes[i].polygon.empty();
+        std::vector<Vec3> polygon = polygons[i];
         std::string behind;
         for (size_t j = 0; j < r.planes.size(); ++j) {
-            if (j == i || !r.planes[j].polygon.empty()) continue;
+            if (j == i || !occludes[j]) continue;
             const std::vector<Vec3> clipped = ClipPolygon(polygon, planes[j]);
             if (clipped.size() < 3) {
                 behind = PlaneName(r, j);
@@ -408,26 +515,92 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
     return maps;
 }
 
-// The visible regions' parts no map accepts: what the fallback (or cube faces) must cover.
-std::vector<ConvexPolytope> Uncovered(const Context& c, const std::vector<PlannedMap>& maps) {
-    std::vector<ConvexPolytope> remaining = c.view_regions;
-    for (const PlannedMap& m : maps) {
-        const RayCone cone = AcceptedCone(m.map, m.lookup.half_planes);
-        std::vector<ConvexPolytope> next;
-        for (const ConvexPolytope& piece : remaining) {
-            for (ConvexPolytope& rest : Subtract(piece, cone)) next.push_back(std::move(rest));
+// Whether the maps accept every light ray through the needed polygon of plane of interest
+// `plane` (to Subtract's sliver tolerance); false when that plane is no candidate, since nothing
+// then vouches for the objects on it.
+bool PlaneHeld(const Context& c, const std::vector<RayCone>& cones, int plane) {
+    for (const Candidate& cand : c.candidates) {
+        if (static_cast<int>(cand.index) != plane) continue;
+        std::vector<std::vector<Vec3>> remaining = {cand.polygon};
+        for (const RayCone& cone : cones) {
+            std::vector<std::vector<Vec3>> next;
+            for (const auto& piece : remaining) {
+                for (auto& rest : Subtract(piece, cone)) next.push_back(std::move(rest));
+            }
+            remaining = std::move(next);
+            if (remaining.empty()) return true;
         }
-        remaining = std::move(next);
+        return remaining.empty();
     }
-    return remaining;
+    return false;
 }
 
-std::vector<Vec4> VerticesOf(const std::vector<ConvexPolytope>& pieces) {
+// A visible region's part that no map accepts, with the object it belongs to.
+struct UncoveredPiece {
+    ConvexPolytope piece;
+    int object = -1;
+};
+
+// The visible regions' parts no map accepts: what the fallback (or cube faces) must cover. An
+// object lying on a plane whose needed polygon the maps hold needs nothing more: its visible
+// points are points of that polygon (paper §2: every point of P in view images on P's map).
+std::vector<UncoveredPiece> Uncovered(const Context& c, const std::vector<PlannedMap>& maps) {
+    std::vector<RayCone> cones;
+    cones.reserve(maps.size());
+    for (const PlannedMap& m : maps) cones.push_back(AcceptedCone(m.map, m.lookup.half_planes));
+    std::vector<int> plane_held(c.request.planes.size(), -1);  // -1 unknown, 0 no, 1 yes
+    std::vector<UncoveredPiece> out;
+    for (const ViewRegion& v : c.view_regions) {
+        if (v.on_plane >= 0) {
+            int& held = plane_held[v.on_plane];
+            if (held < 0) held = PlaneHeld(c, cones, v.on_plane) ? 1 : 0;
+            if (held == 1) continue;
+        }
+        std::vector<ConvexPolytope> remaining = {v.region};
+        for (const RayCone& cone : cones) {
+            std::vector<ConvexPolytope> next;
+            for (const ConvexPolytope& piece : remaining) {
+                for (ConvexPolytope& rest : Subtract(piece, cone)) next.push_back(std::move(rest));
+            }
+            remaining = std::move(next);
+        }
+        for (ConvexPolytope& piece : remaining) out.push_back({std::move(piece), v.object});
+    }
+    return out;
+}
+
+std::vector<Vec4> VerticesOf(const std::vector<UncoveredPiece>& pieces) {
     std::vector<Vec4> points;
-    for (const ConvexPolytope& p : pieces) {
-        for (const Vec3& v : p.vertices()) points.push_back(Point(v));
+    for (const UncoveredPiece& p : pieces) {
+        for (const Vec3& v : p.piece.vertices()) points.push_back(Point(v));
     }
     return points;
+}
+
+// What the fallback or the cube faces are kept for, in words: the objects with visible parts
+// whose light rays no plane map holds.
+std::string KeptFor(const Context& c, const std::vector<UncoveredPiece>& uncovered) {
+    std::vector<int> objects;
+    for (const UncoveredPiece& p : uncovered) {
+        if (std::find(objects.begin(), objects.end(), p.object) == objects.end()) {
+            objects.push_back(p.object);
+        }
+    }
+    if (objects.size() == 1 && objects[0] < 0) {
+        return "kept for the scene bounds in view: the request names no objects, so any point "
+               "in view may need it";
+    }
+    constexpr size_t kNamed = 4;
+    std::string names;
+    for (size_t k = 0; k < objects.size() && k < kNamed; ++k) {
+        const SceneObject& o = c.request.objects[objects[k]];
+        names += (names.empty() ? "" : ", ") +
+                 (o.name.empty() ? "objects[" + std::to_string(objects[k]) + "]" : o.name);
+    }
+    if (objects.size() > kNamed) {
+        names += " and " + std::to_string(objects.size() - kNamed) + " more";
+    }
+    return "kept for objects in view with light rays no plane map holds: " + names;
 }
 
 // The fallback: one conventional map over HULL(C_tot - ∪ C_plane) (paper §3), or, when the
@@ -476,9 +649,10 @@ auto FitWithinSide(Fit fit, std::int64_t budget, int max_side) -> decltype(fit(M
     return fitted;
 }
 
-Result<bool> AddFallback(const Context& c, const std::vector<ConvexPolytope>& uncovered,
+Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& uncovered,
                          std::int64_t budget, Plan& plan) {
     const std::vector<Vec4> points = VerticesOf(uncovered);
+    const std::string kept_for = KeptFor(c, uncovered);
     const int max_side = c.request.max_texture_size;
     if (!c.hull.light_inside) {
         auto fallback = FitWithinSide(
@@ -488,6 +662,7 @@ Result<bool> AddFallback(const Context& c, const std::vector<ConvexPolytope>& un
             PlannedMap m;
             m.role = MapRole::kFallback;
             m.name = "fallback";
+            m.kept_for = kept_for;
             m.map = *fallback;
             m.passes = {Pass::kDepth};
             m.needed_image = ImageHull(m.map.matrix, points);
@@ -504,8 +679,8 @@ Result<bool> AddFallback(const Context& c, const std::vector<ConvexPolytope>& un
     std::vector<int> kept;
     for (int face = 0; face < kCubeFaces; ++face) {
         bool holds = false;
-        for (const ConvexPolytope& piece : uncovered) {
-            auto probe = FitCubeFace(c.light, face, piece, MapSize{1, 1, 0});
+        for (const UncoveredPiece& piece : uncovered) {
+            auto probe = FitCubeFace(c.light, face, piece.piece, MapSize{1, 1, 0});
             if (probe.ok() && probe->holds_points) {
                 holds = true;
                 break;
@@ -532,6 +707,7 @@ Result<bool> AddFallback(const Context& c, const std::vector<ConvexPolytope>& un
         PlannedMap m;
         m.role = MapRole::kCubeFace;
         m.cube_face = face;
+        m.kept_for = kept_for;
         m.name = std::string("cube ") + kCubeFaceNames[face];
         m.map = fitted->map;
         m.passes = {Pass::kDepth};
@@ -1130,33 +1306,56 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     for (const SceneObject& o : r.objects) {
         c.object_boxes.push_back(ConvexPolytope::FromBox(Thickened(o.bounds, c.thickness)));
     }
+    // An infinite plane of interest is a surface (a floor, a wall): what lies behind it is hidden
+    // from a viewer in front of it, so it needs no lookup.
+    const Mat4 viewer_inverse = r.viewer.inverse();
+    std::vector<Vec4> hiding;  // unit normals, with their indices into r.planes
+    std::vector<int> hiding_index;
+    for (size_t j = 0; j < r.planes.size(); ++j) {
+        const PlaneOfInterest& p = r.planes[j];
+        if (!p.polygon.empty()) continue;
+        const Vec4 front = p.plane / p.plane.head<3>().norm();
+        if (!HidesItsBackSide(viewer_inverse, front, c.thickness)) continue;
+        hiding.push_back(front);
+        hiding_index.push_back(static_cast<int>(j));
+    }
     if (r.objects.empty()) {
         c.held_regions.push_back(c.hull.hull);
-        c.view_regions.push_back(ClippedByAll(ConvexPolytope::FromBox(c.bounds), c.frustum));
+        c.view_regions.push_back(
+            {ClippedByAll(ConvexPolytope::FromBox(c.bounds), c.frustum), -1, -1});
     }
-    for (const ConvexPolytope& box : c.object_boxes) {
+    for (size_t i = 0; i < c.object_boxes.size(); ++i) {
+        const ConvexPolytope& box = c.object_boxes[i];
         ConvexPolytope held = box;
         for (const PolytopeFace& f : c.hull.hull.faces()) {
             if (held.empty()) break;
             held.Clip(-f.outward_plane);
         }
         c.held_regions.push_back(std::move(held));
-        ConvexPolytope region = ClippedByAll(box, c.frustum);
-        if (!region.empty()) c.view_regions.push_back(std::move(region));
+        ViewRegion v{ClippedByAll(box, c.frustum), static_cast<int>(i), -1};
+        if (v.region.empty()) continue;
+        // A slab standing for the plane itself (a floor mesh at y = 0): its box, unthickened,
+        // lies on the plane or behind it, so what the viewer sees of it is on the plane. The test
+        // is exact, with no tolerance: a point above the plane by any amount has its light ray
+        // meet the plane elsewhere, possibly outside the plane's needed polygon.
+        const Aabb& b = r.objects[i].bounds;
+        const bool in_bounds = (b.min.array() >= c.bounds.min.array()).all() &&
+                               (b.max.array() <= c.bounds.max.array()).all();
+        for (size_t k = 0; k < hiding.size() && in_bounds && v.on_plane < 0; ++k) {
+            bool behind = true;
+            for (const Vec4& corner : BoxCorners(b)) {
+                behind = behind && hiding[k].dot(corner) <= 0.0;
+            }
+            if (behind) v.on_plane = hiding_index[k];
+        }
+        c.view_regions.push_back(std::move(v));
     }
-    // An infinite plane of interest is a surface (a floor, a wall): what lies behind it is hidden
-    // from a viewer in front of it, so it needs no lookup. A slab standing for the plane itself
-    // flattens to nothing here: its surface is the plane map's to cover.
-    const auto eye = EyePoint(r.viewer);
-    for (const PlaneOfInterest& p : r.planes) {
-        if (!p.polygon.empty() || !eye.ok()) continue;
-        const Vec4 front = p.plane / p.plane.head<3>().norm();
-        if (!(front.dot(*eye) > 0.0)) continue;
-        for (ConvexPolytope& region : c.view_regions) {
-            if (!region.empty()) region.Clip(front);
+    for (const Vec4& front : hiding) {
+        for (ViewRegion& v : c.view_regions) {
+            if (!v.region.empty()) v.region.Clip(front);
         }
     }
-    std::erase_if(c.view_regions, [](const ConvexPolytope& p) { return p.empty(); });
+    std::erase_if(c.view_regions, [](const ViewRegion& v) { return v.region.empty(); });
     for (const ConvexPolytope& held : c.held_regions) c.held_vertices.push_back(held.vertices());
 
     // Budget (paper §4: 350^2 + 350^2 + 128^2 against 512^2): one lixel per pixel when it fits,
@@ -1166,7 +1365,7 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     if (!maps) return maps.error();
     // What the maps at one lixel per pixel leave uncovered; still the answer below when the
     // budget needs no smaller scale (the maps are then the same).
-    std::vector<ConvexPolytope> uncovered = Uncovered(c, *maps);
+    std::vector<UncoveredPiece> uncovered = Uncovered(c, *maps);
     const bool fallback_needed = !uncovered.empty();
     const std::int64_t floor =
         fallback_needed ? std::max<std::int64_t>(1, std::min(r.fallback_floor, r.lixel_budget / 2))

@@ -92,13 +92,19 @@ inline bool Eventually(const std::function<bool()>& done, double seconds = 10.0)
 // A one-view, one-plane, one-light Solve at 256 x 256 pixels, the light above the origin.
 inline v1::SolveRequest SmallSolve() { return FloorSolve(256, Vec3(0, 3, 8), Vec3(0, 9, 0)); }
 
-// A Render of tens of MiB (2048^2 lixels, second depth): a client that does not read its stream
-// keeps the call in flight.
+// A Render of SmallScene() of tens of MiB, so a client that does not read its stream keeps the
+// call in flight: the scene's camera at 2048 x 2048 makes its plane maps (one lixel per pixel on
+// the floor and the wall, within 2048^2 lixels) large, with second depth.
 inline v1::RenderRequest BigRender(const std::string& scene_id) {
     v1::RenderRequest request;
     request.mutable_plan()->set_scene_id(scene_id);
     request.mutable_plan()->set_lixel_budget(2048 * 2048);
     request.mutable_plan()->mutable_passes()->set_second_depth(true);
+    const scene::Scene scene = scene::FloorWallScene();
+    v1::Camera* camera = request.mutable_plan()->mutable_camera();
+    service::EncodeMat4(scene.camera.Viewer(), camera->mutable_viewer());
+    camera->set_width(2048);
+    camera->set_height(2048);
     return request;
 }
 

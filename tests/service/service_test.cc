@@ -188,10 +188,40 @@ TEST_F(ServiceTest, PlanWithBoundsOnlyAndWithAnUploadedScene) {
     EXPECT_EQ(plan->maps(0).name(), "plane floor");
     EXPECT_LE(plan->total_lixels(), 512u * 512u);
 
+
     auto scene_plan = client_->Plan(ScenePlan());
     ASSERT_TRUE(scene_plan.ok()) << scene_plan.error().Message();
     EXPECT_LE(scene_plan->total_lixels(), 256u * 256u);
     EXPECT_FALSE(scene_plan->left_out().empty());
+}
+
+TEST_F(ServiceTest, PlanSaysWhatTheFallbackIsKeptForOrWhyItIsLeftOut) {
+    // floor_wall: the floor and wall maps hold every visible ray, so no fallback.
+    auto plain = client_->Plan(ScenePlan());
+    ASSERT_TRUE(plain.ok()) << plain.error().Message();
+    for (const v1::PlannedMap& m : plain->maps()) EXPECT_EQ(m.role(), v1::MAP_ROLE_PLANE);
+    bool explained = false;
+    for (const v1::LeftOut& l : plain->left_out()) explained |= l.item() == "fallback";
+    EXPECT_TRUE(explained);
+    // table_floor: the pin casts past the table's edge, where neither plane map looks.
+    v1::Scene table;
+    service::EncodeScene(service::MakeSceneRecord(scene::TableFloorScene()), &table);
+    auto uploaded = client_->UploadScene(table);
+    ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
+    v1::PlanRequest request;
+    request.set_scene_id(uploaded->scene_id());
+    auto plan = client_->Plan(request);
+    ASSERT_TRUE(plan.ok()) << plan.error().Message();
+    int kept = 0;
+    for (const v1::PlannedMap& m : plan->maps()) {
+        if (m.role() == v1::MAP_ROLE_PLANE) {
+            EXPECT_TRUE(m.kept_for().empty()) << m.name();
+            continue;
+        }
+        ++kept;
+        EXPECT_EQ(m.kept_for().rfind("kept for objects in view", 0), 0u) << m.kept_for();
+    }
+    EXPECT_GE(kept, 1);
 }
 
 TEST_F(ServiceTest, UploadIsContentAddressedAndIdempotent) {

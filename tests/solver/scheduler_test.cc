@@ -161,6 +161,76 @@ TEST(Scheduler, FloorSeenFromAboveWithEveryShadowOnItNeedsNoFallback) {
     EXPECT_NE(fallback->reason.find("not needed"), std::string::npos);
 }
 
+// An orthographic viewer straight above the floor (its centre of projection at infinity, up):
+// the floor faces it, so the floor gets its plane map, one lixel per pixel, and every floor
+// point in view is looked up there.
+TEST(Scheduler, OrthographicViewerAboveTheFloorGetsTheFloorMap) {
+    PlanRequest r;
+    r.viewer =
+        Orthographic(6.0, 6.0, 0.5, 50.0) * LookAt(Vec3(0, 12, 0), Vec3(0, 0, 0), -Vec3::UnitZ());
+    r.viewport = {512, 512};
+    r.light = Point(Vec3(0.5, 20, 0.3));
+    r.objects = {Box("floor", Vec3(-20, -0.1, -20), Vec3(20, 0, 20)),
+                 Box("crate", Vec3(-1, 0, -1), Vec3(0, 1, 0)),
+                 Box("stool", Vec3(1, 0, 1), Vec3(1.6, 0.6, 1.6))};
+    r.planes = {{"floor", Vec4(0, 1, 0, 0), {}}};
+    r.lixel_budget = 1024 * 1024;
+    const auto plan = PlanShadowMaps(r);
+    ASSERT_TRUE(plan.ok()) << plan.error().Message();
+    const LeftOut* floor_out = FindLeftOut(*plan, "plane floor");
+    EXPECT_EQ(floor_out, nullptr) << floor_out->reason;
+    ASSERT_FALSE(plan->maps.empty());
+    const PlannedMap& floor = plan->maps[0];
+    ASSERT_EQ(floor.name, "plane floor");
+    EXPECT_EQ(floor.scale, 1.0);
+    // The plane's points keep their pixel to the rounding of lixel coordinates up to the map's
+    // side S, as for perspective viewers (plane_optimal_stiff_test): 8 eps S.
+    EXPECT_LE(floor.diagnostics.residual_lixels,
+              8 * std::numeric_limits<double>::epsilon() *
+                  std::max(floor.map.width, floor.map.height));
+    std::mt19937_64 rng(7);
+    for (int k = 0; k < 500; ++k) {
+        const Vec3 x(Uniform(rng, -5.9, 5.9), 0.0, Uniform(rng, -5.9, 5.9));
+        EXPECT_EQ(LookupMap(*plan, Point(x)), 0) << x.transpose();
+    }
+}
+
+// Planes that are left out, or that the viewer sees from behind, hide nothing the viewer sees
+// in front of them: a partition wall behind the viewer facing the next room, a ceiling seen
+// from below and a screen turned away from the light leave the floor and the wall exactly as
+// they are without them.
+TEST(Scheduler, PlanesLeftOutOrSeenFromBehindDoNotCutTheOthers) {
+    const auto reference = PlanShadowMaps(FloorWallRequest());
+    ASSERT_TRUE(reference.ok()) << reference.error().Message();
+    const std::vector<PlaneOfInterest> extras = {
+        {"next_room_wall", Vec4(0, 0, 1, -10), {}},  // z = 10, behind the eye at z = 8
+        {"ceiling", Vec4(0, 1, 0, -8), {}},          // y = 8 facing up, the eye below it
+        {"screen", Vec4(-1, 0, 0, 3), {}},           // x = 3 facing the eye, its back lit
+    };
+    for (const PlaneOfInterest& extra : extras) {
+        PlanRequest r = FloorWallRequest();
+        r.planes.push_back(extra);
+        const auto plan = PlanShadowMaps(r);
+        ASSERT_TRUE(plan.ok()) << plan.error().Message();
+        const LeftOut* out = FindLeftOut(*plan, "plane " + extra.name);
+        ASSERT_NE(out, nullptr) << extra.name;
+        for (const char* kept : {"plane floor", "plane wall"}) {
+            const LeftOut* lost = FindLeftOut(*plan, kept);
+            EXPECT_EQ(lost, nullptr) << extra.name << ": " << kept << " " << lost->reason;
+        }
+        EXPECT_EQ(MapNames(*plan), MapNames(*reference)) << extra.name;
+        // The plane maps; the fallback may shrink where a screen facing the viewer hides part
+        // of the view.
+        for (size_t m = 0; m < 2 && m < std::min(plan->maps.size(), reference->maps.size()); ++m) {
+            EXPECT_EQ(plan->maps[m].map.matrix, reference->maps[m].map.matrix)
+                << extra.name << " " << plan->maps[m].name;
+            EXPECT_EQ(plan->maps[m].lookup.half_planes.size(),
+                      reference->maps[m].lookup.half_planes.size())
+                << extra.name << " " << plan->maps[m].name;
+        }
+    }
+}
+
 // A light in view among the objects, with open space above it: rays go every way but up.
 TEST(Scheduler, LightInsideTheSceneKeepsOnlyTheCubeFacesItNeeds) {
     PlanRequest r = FloorWallRequest();
@@ -207,17 +277,33 @@ TEST(Scheduler, PassesAreLeftOutUnlessAskedForAndCastersExist) {
     EXPECT_EQ(sd->reason, "no caster inside the needed rays");
 }
 
-// Random rooms, views, lights and budgets: the budget and the texture size always hold, and
-// every point of a visible object is accepted by some map whose frustum and depth range hold it.
+// Random rooms, views (one in four orthographic), lights and budgets, some with a partition
+// behind the viewer facing the next room: the budget and the texture size always hold, every
+// point of a visible object is accepted by some map whose frustum and depth range hold it, and
+// every point of a plane map's needed polygon is looked up in that map for a perspective viewer
+// (the floor comes first, and a wall point's light ray meets the floor only beyond the floor/wall
+// line or behind the light, where the floor map's lookup refuses it) and in a plane map for any.
 TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
     std::mt19937_64 rng(12351);
     int planned = 0;
+    int orthographic = 0;
+    int plane_points = 0;
+    int taken = 0;  // plane points an earlier plane map takes
     for (int i = 0; i < 150; ++i) {
         PlanRequest r = FloorWallRequest();
         const Vec3 eye(Uniform(rng, -8, 8), Uniform(rng, 0.5, 7), Uniform(rng, -3, 9));
         const Vec3 target(Uniform(rng, -5, 5), Uniform(rng, 0, 3), Uniform(rng, -5, 2));
-        r.viewer = Perspective(Uniform(rng, 30, 90) * kDegree, 1.0, 0.1, 100.0) *
-                   LookAt(eye, target, Vec3::UnitY());
+        const double fovy = Uniform(rng, 30, 90) * kDegree;
+        if (i % 4 == 1) {
+            // The same field at the target's distance, seen from infinitely far behind the eye.
+            const double half = std::tan(0.5 * fovy) * (target - eye).norm();
+            r.viewer = Orthographic(half, half, 0.1, 100.0) * LookAt(eye, target, Vec3::UnitY());
+        } else {
+            r.viewer = Perspective(fovy, 1.0, 0.1, 100.0) * LookAt(eye, target, Vec3::UnitY());
+        }
+        if (i % 5 == 2) {
+            r.planes.push_back({"partition", Vec4(0, 0, 1, -(eye.z() + Uniform(rng, 0.2, 3))), {}});
+        }
         r.viewport = {static_cast<int>(Uniform(rng, 64, 1024)),
                       static_cast<int>(Uniform(rng, 64, 1024))};
         // A light anywhere in the room but inside an object (a light inside a caster is dark).
@@ -238,18 +324,19 @@ TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
         r.lixel_budget = static_cast<std::int64_t>(Uniform(rng, 64 * 64, 2048 * 2048));
         r.max_texture_size = 2048;
         const auto plan = PlanShadowMaps(r);
-        SCOPED_TRACE("configuration " + std::to_string(i) + " eye " +
-                     std::to_string(eye.x()) + " " + std::to_string(eye.y()) + " " +
-                     std::to_string(eye.z()) + " target " + std::to_string(target.x()) + " " +
-                     std::to_string(target.y()) + " " + std::to_string(target.z()) + " light " +
-                     std::to_string(r.light.x()) + " " + std::to_string(r.light.y()) + " " +
-                     std::to_string(r.light.z()) + " " + std::to_string(r.light.w()));
+        SCOPED_TRACE("configuration " + std::to_string(i) + " eye " + std::to_string(eye.x()) +
+                     " " + std::to_string(eye.y()) + " " + std::to_string(eye.z()) + " target " +
+                     std::to_string(target.x()) + " " + std::to_string(target.y()) + " " +
+                     std::to_string(target.z()) + " light " + std::to_string(r.light.x()) + " " +
+                     std::to_string(r.light.y()) + " " + std::to_string(r.light.z()) + " " +
+                     std::to_string(r.light.w()) + (i % 4 == 1 ? " orthographic" : ""));
         if (!plan.ok()) {
             // Only a view that misses the scene may be refused.
             EXPECT_EQ(plan.error().field, "viewer") << i << ": " << plan.error().Message();
             continue;
         }
         ++planned;
+        orthographic += i % 4 == 1 ? 1 : 0;
         EXPECT_LE(plan->total_lixels, r.lixel_budget) << i;
         for (const PlannedMap& m : plan->maps) {
             EXPECT_LE(m.map.width, 2048);
@@ -258,6 +345,54 @@ TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
                 EXPECT_LE(std::max(m.map.width, m.map.height),
                           16 * std::min(m.map.width, m.map.height) + 16)
                     << m.name << " " << m.map.width << " x " << m.map.height;
+            }
+        }
+        // A partition behind a perspective viewer, facing away, hides nothing in view (one across
+        // an orthographic viewer's near face may hide some or all of the room); and a plane is
+        // seen from behind only when the eye (or, orthographic, the direction back toward the
+        // viewer) is on its back side.
+        for (size_t p = 0; p < 2; ++p) {
+            const std::string name = "plane " + r.planes[p].name;
+            const LeftOut* out = FindLeftOut(*plan, name);
+            if (out == nullptr) continue;
+            if (i % 4 != 1) {
+                EXPECT_EQ(out->reason.find("partition"), std::string::npos)
+                    << name << ": " << out->reason;
+            }
+            if (out->reason.starts_with("seen from behind")) {
+                const Vec4 eye_point = i % 4 == 1 ? Direction(eye - target) : Point(eye);
+                EXPECT_LE(r.planes[p].plane.dot(eye_point), 0.0) << name << ": " << out->reason;
+            }
+        }
+        // Points inside each plane map's needed polygon, away from its edges by rounding only.
+        for (size_t m = 0; m < plan->maps.size(); ++m) {
+            const PlannedMap& map = plan->maps[m];
+            if (map.role != MapRole::kPlane) continue;
+            for (int k = 0; k < 100; ++k) {
+                Vec3 x = Vec3::Zero();
+                double total = 0.0;
+                for (const Vec3& v : map.needed_polygon) {
+                    const double weight = Uniform(rng, 0.01, 1.0);
+                    x += weight * v;
+                    total += weight;
+                }
+                x /= total;
+                ++plane_points;
+                const int index = LookupMap(*plan, Point(x));
+                if (index == static_cast<int>(m)) continue;
+                ++taken;
+                // Earlier planes win shared rays (DESIGN §4.5). A perspective viewer's near face
+                // lies inside the room, so the floor and the wall hide their back sides and each
+                // map's lookup stops at the floor/wall line: no map takes the other's points. An
+                // orthographic viewer's near face may poke through the wall's plane and see the
+                // floor behind it; the floor map then holds rays through the wall too, and may
+                // take its points (a correct shadow, at the floor map's sampling).
+                ASSERT_EQ(i % 4, 1) << map.name << " point " << x.transpose() << " in "
+                                    << (index < 0 ? "no map" : plan->maps[index].name);
+                ASSERT_GE(index, 0) << map.name << " point " << x.transpose() << " in no map";
+                ASSERT_LT(index, static_cast<int>(m))
+                    << map.name << " point " << x.transpose() << " in " << plan->maps[index].name;
+                ASSERT_EQ(plan->maps[index].role, MapRole::kPlane);
             }
         }
         // Dense samples of the visible objects.
@@ -289,6 +424,10 @@ TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
         EXPECT_EQ(uncovered, 0) << "configuration " << i;
     }
     EXPECT_GT(planned, 100);
+    EXPECT_GT(orthographic, 25);
+    EXPECT_GT(plane_points, 10000);
+    EXPECT_LT(taken, plane_points / 20);
+    RecordProperty("plane_points_taken_by_earlier_maps", std::to_string(taken));
 }
 
 // EstimatePixels' rule traced ray by ray with no culling and no tiles: the nearest needed plane
@@ -407,6 +546,94 @@ TEST(Scheduler, ExpectedPixelsEqualTracingEveryRayOnRandomRooms) {
         }
     }
     EXPECT_GT(compared, 100);
+}
+
+// A request with one bounded plane of interest: `polygon` on the plane with unit normal `n`
+// through `origin`, vertices given in the plane's (u, v) coordinates with u x v = n, in the
+// paper's room.
+PlanRequest TableRequest(const Vec3& origin, const Vec3& n, const std::vector<Vec2>& uv) {
+    const Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+    const Vec3 u = helper.cross(n).normalized();
+    const Vec3 v = n.cross(u);
+    PlaneOfInterest table{"table", Vec4(n.x(), n.y(), n.z(), -n.dot(origin)), {}};
+    for (const Vec2& p : uv) table.polygon.push_back(origin + p.x() * u + p.y() * v);
+    PlanRequest r = FloorWallRequest();
+    r.planes.insert(r.planes.begin(), table);
+    return r;
+}
+
+std::string RefusedField(const PlanRequest& r) {
+    const auto plan = PlanShadowMaps(r);
+    return plan.ok() ? std::string("accepted") : plan.error().field;
+}
+
+// EstimatePixels and the lookup's edge tests read a bounded polygon as convex and
+// counter-clockwise about its plane's normal (scheduler.h). Random convex polygons on random
+// planes are accepted as given; reversed, they are refused at vertex 0, where they first turn
+// clockwise; with one vertex pushed inside the chord of its neighbours, they are refused at
+// exactly that vertex; a pentagram (every turn counter-clockwise, wound twice) is refused.
+TEST(Scheduler, RefusesBoundedPolygonsThatAreNotConvexAndCounterClockwise) {
+    std::mt19937_64 rng(9);
+    int reflex_named = 0;
+    for (int i = 0; i < 200; ++i) {
+        const Vec3 n = i % 2 == 0 ? Vec3::UnitY() : testing::RandomUnit(rng);
+        const Vec3 origin(Uniform(rng, -2, 2), Uniform(rng, 0.5, 2), Uniform(rng, -3, 1));
+        const int count = 3 + i % 6;
+        // Sorted angles on an ellipse: convex, counter-clockwise in (u, v).
+        std::vector<double> angles(count);
+        for (double& a : angles) a = Uniform(rng, 0.0, 2.0 * std::numbers::pi);
+        std::sort(angles.begin(), angles.end());
+        const double a = Uniform(rng, 0.3, 2), b = Uniform(rng, 0.3, 2);
+        std::vector<Vec2> uv;
+        for (double t : angles) uv.emplace_back(a * std::cos(t), b * std::sin(t));
+        SCOPED_TRACE("polygon " + std::to_string(i) + " of " + std::to_string(count));
+        const std::string given = RefusedField(TableRequest(origin, n, uv));
+        EXPECT_EQ(given.find("planes[0].polygon"), std::string::npos) << given;
+
+        std::vector<Vec2> reversed(uv.rbegin(), uv.rend());
+        EXPECT_EQ(RefusedField(TableRequest(origin, n, reversed)), "planes[0].polygon[0]");
+
+        if (count < 4) continue;
+        // Vertex k moved to 30% of the way from its neighbours' midpoint to the centroid: a
+        // reflex vertex, and every other turn still counter-clockwise.
+        const int k = static_cast<int>(Uniform(rng, 0, count - 1e-9));
+        const Vec2 mid = 0.5 * (uv[(k + count - 1) % count] + uv[(k + 1) % count]);
+        Vec2 centroid = Vec2::Zero();
+        for (const Vec2& p : uv) centroid += p / count;
+        std::vector<Vec2> dented = uv;
+        dented[k] = mid + 0.3 * (centroid - mid);
+        const bool reflex = [&] {
+            const Vec2 e1 = dented[k] - dented[(k + count - 1) % count];
+            const Vec2 e2 = dented[(k + 1) % count] - dented[k];
+            return e1.x() * e2.y() - e1.y() * e2.x() < -1e-6;
+        }();
+        if (!reflex) continue;
+        ++reflex_named;
+        EXPECT_EQ(RefusedField(TableRequest(origin, n, dented)),
+                  "planes[0].polygon[" + std::to_string(k) + "]");
+    }
+    EXPECT_GT(reflex_named, 50);
+
+    std::vector<Vec2> star;
+    for (int k = 0; k < 5; ++k) {
+        const double t = 2.0 * std::numbers::pi * (2 * k) / 5;
+        star.emplace_back(std::cos(t), std::sin(t));
+    }
+    const std::string star_field =
+        RefusedField(TableRequest(Vec3(0, 0.8, -1), Vec3::UnitY(), star));
+    EXPECT_TRUE(star_field.starts_with("planes[0].polygon")) << star_field;
+
+    // The message says what the polygon must be.
+    PlanRequest r = TableRequest(Vec3(0, 0.8, -1), Vec3::UnitY(),
+                                 {{0, 0}, {0, 1}, {1, 1}, {1, 0}});  // clockwise about +y
+    const auto plan = PlanShadowMaps(r);
+    ASSERT_FALSE(plan.ok());
+    EXPECT_NE(plan.error().reason.find("counter-clockwise"), std::string::npos)
+        << plan.error().Message();
+    // A straight angle (a vertex on the edge between its neighbours) keeps it convex.
+    EXPECT_EQ(RefusedField(TableRequest(Vec3(0, 0.8, -1), Vec3::UnitY(),
+                                        {{0, 0}, {1, 0}, {2, 0}, {2, 1}, {0, 1}})),
+              "accepted");
 }
 
 TEST(Scheduler, RefusesBadInputNamingTheField) {

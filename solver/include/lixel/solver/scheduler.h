@@ -22,7 +22,8 @@ struct PlaneOfInterest {
     std::string name;  // for the plan's explanations ("floor", "table")
     Vec4 plane = Vec4::Zero();
     // Empty: the infinite plane. Otherwise a convex polygon on the plane (a table top), vertices
-    // counter-clockwise seen from the normal's side, world units.
+    // counter-clockwise seen from the normal's side, world units; PlanShadowMaps refuses one
+    // that is not, naming the vertex where it turns clockwise or winds again.
     std::vector<Vec3> polygon;
 };
 
@@ -83,6 +84,9 @@ struct PlannedMap {
     double scale = 1.0;            // lixels per viewer pixel on the plane (plane maps), else 0
     std::int64_t lixels = 0;       // width * height
     double expected_pixels = 0.0;  // viewer pixels expected to read this map
+    // For the fallback and cube faces: what they are kept for, in words (the objects with parts
+    // in view whose light rays no plane map holds). Empty for plane maps.
+    std::string kept_for;
 };
 
 struct LeftOut {
