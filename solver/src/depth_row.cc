@@ -15,8 +15,8 @@ constexpr double kDepthMargin = 1e-6;
 
 }  // namespace
 
-Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light,
-                            std::span<const Vec4> points) noexcept {
+Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light, std::span<const Vec4> points,
+                            std::span<const Vec4> receivers) noexcept {
     const bool directional = light.w() == 0.0;
     // z0 . light != 0 makes the light map to (0, 0, z, 0): depth is then a projective function
     // along each light ray, monotone because r_w . X is affine in the ray parameter.
@@ -33,18 +33,48 @@ Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light,
         const double q = r_w.dot(x);
         if (std::isfinite(q)) q_max = std::max(q_max, q);
     }
+    // Receivers bound the range whatever the clamp: the nearest sets how far toward the light
+    // it must reach.
+    double q_receiver_min = std::numeric_limits<double>::infinity();
+    for (const Vec4& raw : receivers) {
+        const Vec4 x = normalized(raw);
+        const double q = r_w.dot(x);
+        if (raw.w() < 0.0 || !(q > 0.0) || !std::isfinite(q)) {
+            return Error{"receivers", "a receiver lies behind the light or at it (r_w . X = " +
+                                          std::to_string(q) + ")"};
+        }
+        q_max = std::max(q_max, q);
+        if (x.w() > 0.0 || directional) q_receiver_min = std::min(q_receiver_min, q);
+    }
     if (!(q_max > 0.0)) {
         return Error{"depth_points", "no point lies in front of the light (r_w . X > 0)"};
     }
 
     // Near-light clamp (kMinNearRatio): on a point light u = X_w / q grows without bound
     // toward the light; on a directional one tiny q only belongs to rays far outside the view.
-    const double q_floor = q_max * kMinNearRatio;
+    // Casters nearer than the floor are depth-clamped to 0 and still occlude; receivers are
+    // never nearer than it.
+    const double q_floor = std::min(q_max * kMinNearRatio, q_receiver_min);
     double u_min = std::numeric_limits<double>::infinity();
     double u_max = -u_min;
     bool have_probe = false;
     Vec4 probe = Vec4::Zero();
     bool clamped = false;
+    for (const Vec4& raw : receivers) {
+        const Vec4 x = normalized(raw);
+        const double q = r_w.dot(x);
+        // A point light's receiver at infinity has u = X_w / q = 0: the far end reaches it.
+        const double u = !directional && x.w() == 0.0 ? 0.0 : z0.dot(x) / q;
+        if (!std::isfinite(u)) {
+            return Error{"receivers", "a receiver's depth is not finite"};
+        }
+        u_min = std::min(u_min, u);
+        u_max = std::max(u_max, u);
+        if (!have_probe && (x.w() > 0.0 || directional)) {
+            probe = x;
+            have_probe = true;
+        }
+    }
     for (const Vec4& raw : points) {
         if (raw.w() < 0.0) continue;
         const Vec4 x = normalized(raw);

@@ -170,7 +170,8 @@ Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept {
         }
         std::vector<Vec4> depth_points = needed;
         for (const Vec3& v : held.vertices()) depth_points.push_back(Point(v));
-        auto r_z = FitDepthRow(out.uncropped.matrix.row(3), out.uncropped.light, depth_points);
+        auto r_z =
+            FitDepthRow(out.uncropped.matrix.row(3), out.uncropped.light, depth_points, needed);
         if (!r_z) return r_z.error();
         out.uncropped.matrix.row(2) = *r_z;
         out.crop.map.matrix.row(2) = *r_z;

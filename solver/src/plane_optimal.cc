@@ -169,12 +169,14 @@ Result<PlaneOptimalMatrix> FinishPlaneOptimal(Mat4 m, int sign, const Mat4& pixe
                                               const PlaneOptimalInput& input) noexcept {
     std::array<Vec4, 5> probes;
     std::span<const Vec4> depth_points = input.depth_points;
+    std::span<const Vec4> receivers = input.depth_receivers;
     if (depth_points.empty()) {
         const int count =
             VisiblePlaneProbes(pixel_matrix, normalized.plane, input.viewport, probes);
         depth_points = std::span<const Vec4>(probes.data(), count);
+        if (receivers.empty()) receivers = depth_points;
     }
-    auto r_z = FitDepthRow(m.row(3), normalized.light, depth_points);
+    auto r_z = FitDepthRow(m.row(3), normalized.light, depth_points, receivers);
     if (!r_z) return r_z.error();
     m.row(2) = *r_z;
     if (!m.allFinite()) return Error{"light", "solve produced non-finite entries"};

@@ -410,12 +410,11 @@ std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
     return points;
 }
 
-// Refits a map's depth row to DepthPoints (plus `extra`), keeping the old row when nothing
-// is held.
-void RefitDepth(const Context& c, PlannedMap& m, const std::vector<Vec4>& extra = {}) {
+// Refits a map's depth row to DepthPoints, with `receivers` (what the map is kept for) inside
+// [0, 1] by construction; keeps the old row when nothing is held.
+void RefitDepth(const Context& c, PlannedMap& m, const std::vector<Vec4>& receivers = {}) {
     std::vector<Vec4> points = DepthPoints(c, m.map, m.lookup.half_planes);
-    points.insert(points.end(), extra.begin(), extra.end());
-    auto r_z = FitDepthRow(m.map.matrix.row(3), c.light, points);
+    auto r_z = FitDepthRow(m.map.matrix.row(3), c.light, points, receivers);
     if (r_z.ok()) m.map.matrix.row(2) = *r_z;
 }
 
@@ -445,13 +444,15 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
         }
 
         std::vector<Vec4> depth_points = c.hull.ray_points;
-        for (const Vec3& v : cand.polygon) depth_points.push_back(Point(v));
+        const std::vector<Vec4> receivers = Points(cand.polygon);
+        depth_points.insert(depth_points.end(), receivers.begin(), receivers.end());
         PlaneMapRequest pr;
         pr.input.viewer = r.viewer;
         pr.input.viewport = r.viewport;
         pr.input.light = r.light;
         pr.input.plane = cand.plane;
         pr.input.depth_points = depth_points;
+        pr.input.depth_receivers = receivers;
         pr.needed_polygon = cand.polygon;
         pr.bounds = c.bounds;
         pr.crop.scale = scale;

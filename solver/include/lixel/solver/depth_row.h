@@ -23,7 +23,15 @@ inline constexpr double kMinNearRatio = 1e-4;
 // taken as the vertices of a region that reaches toward the light. Depth grows along light propagation, so the light's side
 // maps to kClipDepthNear. `light` is a point (w != 0, either sign) or a direction (w == 0).
 // Errors when no point lies in front of the light (r_w . X > 0).
-Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light,
-                            std::span<const Vec4> points) noexcept;
+//
+// `receivers` are points whose depth is read back by a lookup (a plane map's needed polygon,
+// the fallback's needed region): they land in [kClipDepthNear, kClipDepthFar] by construction.
+// The near clamp never cuts one off (the range reaches down to the nearest receiver however
+// close to the light), and a receiver at infinity on a point light's side (w = 0) pulls the far
+// end out to it. Only `points` that are not receivers (casters) may fall outside and be
+// depth-clamped. Every receiver must lie in front of the light (r_w . X > 0, or w = 0 with
+// r_w . X > 0 along its direction); one that does not is an error naming `receivers`.
+Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light, std::span<const Vec4> points,
+                            std::span<const Vec4> receivers = {}) noexcept;
 
 }  // namespace lixel

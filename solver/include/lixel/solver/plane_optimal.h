@@ -19,6 +19,10 @@ struct PlaneOptimalInput {
     // Homogeneous world points the depth range must hold: the extent hull's vertices and the
     // needed part of the plane. Empty: depth is fitted to the plane samples of the caller.
     std::span<const Vec4> depth_points;
+    // The receivers among them (or besides them): the needed part of the plane, whose lookup
+    // depth lands in [0, 1] by construction (FitDepthRow). Empty with depth points: none is
+    // singled out; empty without: the visible plane samples are the receivers.
+    std::span<const Vec4> depth_receivers;
 };
 
 // The uncropped solution: on P, lixel (x, y) equals viewer pixel (x, y).
