@@ -428,4 +428,95 @@ Result<CubeFaceMap> FitCubeFace(const Vec4& light, int face, const ConvexPolytop
     return out;
 }
 
+Result<CubeFaceMap> FitCubeFaceCropped(const Vec4& light, int face,
+                                       std::span<const ConvexPolytope> regions,
+                                       const MapSize& size) noexcept {
+    if (Result<bool> ok = ValidateCubeFace(light, face); !ok) return ok.error();
+    const RowVec4 r_w = PlaneThroughLight(light, kCubeMajor[face]);
+    const RowVec4 r_s = PlaneThroughLight(light, kCubeS[face]);
+    const RowVec4 r_t = PlaneThroughLight(light, kCubeT[face]);
+    const Vec3 l3 = light.head<3>() / light.w();
+    // The rays a face holds are those through each region's part inside its pyramid; a convex
+    // part images (q > 0 throughout) to the convex hull of its vertices' images.
+    std::vector<Vec4> inside;
+    bool meets = false;
+    for (const ConvexPolytope& region : regions) {
+        ConvexPolytope part = region;
+        for (const Vec3& side : {kCubeS[face], kCubeT[face]}) {
+            if (part.empty()) break;
+            part.Clip(PlaneThroughLight(light, kCubeMajor[face] - side).transpose());
+            part.Clip(PlaneThroughLight(light, kCubeMajor[face] + side).transpose());
+        }
+        if (part.empty()) continue;
+        meets = true;
+        for (const Vec3& p : part.vertices()) {
+            if ((p - l3).norm() > part.Tolerance()) inside.push_back(Point(p));
+        }
+    }
+    Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
+    Vec2 hi = -lo;
+    std::vector<Vec2> tangents;
+    for (const Vec4& p : inside) {
+        const double q = r_w.dot(p);
+        if (!(q > 0.0)) continue;
+        const Vec2 t = Vec2(r_s.dot(p) / q, r_t.dot(p) / q).cwiseMax(-1.0).cwiseMin(1.0);
+        if (!t.allFinite()) continue;
+        tangents.push_back(t);
+        lo = lo.cwiseMin(t);
+        hi = hi.cwiseMax(t);
+    }
+    CubeFaceMap out;
+    out.face = face;
+    out.holds_points = meets && !tangents.empty();
+    if (out.holds_points) {
+        for (int a = 0; a < 2; ++a) {
+            lo(a) -= kCubeCropMargin;
+            hi(a) += kCubeCropMargin;
+            if (hi(a) - lo(a) < kMinCubeCropExtent) {
+                const double mid = 0.5 * (lo(a) + hi(a));
+                lo(a) = mid - 0.5 * kMinCubeCropExtent;
+                hi(a) = mid + 0.5 * kMinCubeCropExtent;
+            }
+            // Within the face: shift a rectangle that reaches past one side back inside.
+            if (lo(a) < -1.0) {
+                hi(a) = std::min(1.0, hi(a) + (-1.0 - lo(a)));
+                lo(a) = -1.0;
+            }
+            if (hi(a) > 1.0) {
+                lo(a) = std::max(-1.0, lo(a) - (hi(a) - 1.0));
+                hi(a) = 1.0;
+            }
+        }
+    } else {
+        lo = Vec2::Constant(-1.0);
+        hi = Vec2::Constant(1.0);
+    }
+    Result<std::array<int, 2>> wh = ChooseSize(size, (hi.x() - lo.x()) / (hi.y() - lo.y()));
+    if (!wh) return wh.error();
+    out.tangent_min = lo;
+    out.tangent_max = hi;
+    out.map.width = (*wh)[0];
+    out.map.height = (*wh)[1];
+    // x = W (s/ma - s0) / (s1 - s0), y likewise: rows still planes through the light.
+    out.map.matrix.row(0) = out.map.width / (hi.x() - lo.x()) * (r_s - lo.x() * r_w);
+    out.map.matrix.row(1) = out.map.height / (hi.y() - lo.y()) * (r_t - lo.y() * r_w);
+    out.map.matrix.row(3) = r_w;
+    out.map.matrix.row(2) = r_w;
+    if (out.holds_points) {
+        if (Result<RowVec4> r_z = FitDepthRow(r_w, light, inside); r_z) {
+            out.map.matrix.row(2) = *r_z;
+        } else {
+            out.holds_points = false;  // nothing in front of the face
+        }
+    }
+    std::vector<Vec2> image;
+    image.reserve(tangents.size());
+    for (const Vec2& t : tangents) {
+        image.emplace_back(out.map.width * (t.x() - lo.x()) / (hi.x() - lo.x()),
+                           out.map.height * (t.y() - lo.y()) / (hi.y() - lo.y()));
+    }
+    out.needed_image = ConvexHull2d(std::move(image));
+    return out;
+}
+
 }  // namespace lixel

@@ -676,34 +676,54 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
             return true;
         }
     }
-    // More than a hemisphere of rays: keep the faces whose pyramids meet an uncovered piece.
+    // More than a hemisphere of rays: keep the faces whose pyramids meet an uncovered piece,
+    // each cropped to the rays it holds.
+    std::vector<ConvexPolytope> regions;
+    regions.reserve(uncovered.size());
+    for (const UncoveredPiece& piece : uncovered) regions.push_back(piece.piece);
     std::vector<int> kept;
+    std::vector<double> areas;  // of each kept face's rectangle, tangent units^2
     for (int face = 0; face < kCubeFaces; ++face) {
-        bool holds = false;
-        for (const UncoveredPiece& piece : uncovered) {
-            auto probe = FitCubeFace(c.light, face, piece.piece, MapSize{1, 1, 0});
-            if (probe.ok() && probe->holds_points) {
-                holds = true;
-                break;
-            }
-        }
-        if (holds) {
+        auto probe = FitCubeFaceCropped(c.light, face, regions, MapSize{1, 1, 0});
+        if (probe.ok() && probe->holds_points) {
             kept.push_back(face);
+            areas.push_back((probe->tangent_max - probe->tangent_min).prod());
         } else {
             plan.left_out.push_back({std::string("cube ") + kCubeFaceNames[face],
                                      "holds no needed rays"});
         }
     }
     if (kept.empty()) return true;
-    const std::int64_t per_face = budget / static_cast<std::int64_t>(kept.size());
-    if (per_face < 1) {
+    const std::int64_t faces = static_cast<std::int64_t>(kept.size());
+    if (budget < faces) {
         return Error{"lixel_budget", "too small for the " + std::to_string(kept.size()) +
                                          " cube faces the light inside the scene needs"};
     }
-    for (int face : kept) {
+    // Shared by the area each face's rectangle takes in its own projective image (tangent
+    // units), so every face gets the same lixels per unit of image and a lixel subtends the same
+    // tangent extent on both sides of a seam. One lixel each, then the rest by cumulative
+    // floors, which sum to the budget exactly.
+    double total_area = 0.0;
+    for (double a : areas) total_area += a;
+    const std::int64_t spare = budget - faces;
+    std::vector<std::int64_t> shares(kept.size());
+    double cumulative = 0.0;
+    std::int64_t given = 0;
+    for (size_t k = 0; k < kept.size(); ++k) {
+        cumulative += areas[k];
+        const std::int64_t upto =
+            k + 1 == kept.size()
+                ? spare
+                : std::min(spare, static_cast<std::int64_t>(std::floor(
+                                      static_cast<double>(spare) * (cumulative / total_area))));
+        shares[k] = 1 + std::max<std::int64_t>(0, upto - given);
+        given = std::max(given, upto);
+    }
+    for (size_t k = 0; k < kept.size(); ++k) {
+        const int face = kept[k];
         auto fitted = FitWithinSide(
-            [&](const MapSize& size) { return FitCubeFace(c.light, face, points, size); },
-            per_face, max_side);
+            [&](const MapSize& size) { return FitCubeFaceCropped(c.light, face, regions, size); },
+            shares[k], max_side);
         if (!fitted) return fitted.error();
         PlannedMap m;
         m.role = MapRole::kCubeFace;
@@ -712,7 +732,7 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
         m.name = std::string("cube ") + kCubeFaceNames[face];
         m.map = fitted->map;
         m.passes = {Pass::kDepth};
-        m.needed_image = ImageHull(m.map.matrix, points);
+        m.needed_image = fitted->needed_image;
         m.scale = 0.0;
         m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
         RefitDepth(c, m);

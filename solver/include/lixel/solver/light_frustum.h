@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace lixel {
 
@@ -60,6 +61,12 @@ struct CubeFaceMap {
     // face's frustum. When false the map holds nothing and its depth row is r_w (every point at
     // depth kClipDepthFar): leave the face out.
     bool holds_points = false;
+    // The part of the face the map covers, in tangent units (s/ma, t/ma), within [-1, 1]^2:
+    // the whole face for FitCubeFace, the needed rays' rectangle for FitCubeFaceCropped.
+    Vec2 tangent_min = Vec2::Constant(-1.0);
+    Vec2 tangent_max = Vec2::Constant(1.0);
+    // FitCubeFaceCropped only: the convex hull of the held rays' image, in the map's lixels.
+    std::vector<Vec2> needed_image;
 };
 
 // `size`: fixed, or a budget giving a square of side min(floor(sqrt(budget)), kMaxImageSide).
@@ -72,5 +79,23 @@ Result<CubeFaceMap> FitCubeFace(const Vec4& light, int face, std::span<const Vec
 // depth is fitted to that part alone.
 Result<CubeFaceMap> FitCubeFace(const Vec4& light, int face, const ConvexPolytope& polytope,
                                 const MapSize& size) noexcept;
+
+// Tangent units (s/ma, t/ma; a face spans [-1, 1]) by which a cropped face reaches past the
+// bounds of the needed rays' image, so the lookup's half-open [0, W) x [0, H) test still accepts
+// the extreme ones after rounding (1e-3 lixel at a 16384-lixel face); clamped to the face.
+inline constexpr double kCubeCropMargin = 1e-7;
+// Narrowest side of a cropped face's rectangle, tangent units: a face holding a single ray.
+inline constexpr double kMinCubeCropExtent = 1e-6;
+
+// The face cropped to the rays from the light through `regions` (convex, world units) that lie
+// in its pyramid, as a conventional map is cropped to its needed image (DESIGN §4.2): the map
+// covers the bounding rectangle of their image in tangent units, padded by kCubeCropMargin and
+// kept within the face, so the faces still tile every direction. `size`: fixed, or a budget
+// giving the largest W x H <= budget with the rectangle's aspect (square lixels). Depth is
+// fitted to the held parts. holds_points is false (and the rectangle the whole face) when no
+// region meets the pyramid in a volume.
+Result<CubeFaceMap> FitCubeFaceCropped(const Vec4& light, int face,
+                                       std::span<const ConvexPolytope> regions,
+                                       const MapSize& size) noexcept;
 
 }  // namespace lixel
