@@ -1,9 +1,13 @@
 // Tests for program.h: include expansion with #line, errors naming file and line, and every
-// embedded shader building.
+// program the passes build from the embedded shaders compiling and linking.
 #include <lixel/render/program.h>
 #include <lixel/render/shader_sources.h>
+#include <lixel/render/view_pass.h>
 
 #include <map>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "gl_environment.h"
 
@@ -68,18 +72,91 @@ TEST(BuildProgram, ErrorsInTheMainFileKeepTheirLineAfterIncludes) {
         << program.error().reason;
 }
 
-TEST(BuildProgram, EveryEmbeddedStageCompiles) {
-    // The passes' programs are built by the environment's Renderer; here each file is checked
-    // to be embedded and the unknown-stage refusal is exercised.
-    for (const char* name : {"depth.vert", "silhouette_map.vert", "silhouette_map.geom",
-                             "silhouette_map.frag", "view.vert", "view.frag", "common_maps.glsl",
-                             "common_shadow.glsl", "common_textures.glsl"}) {
+// The programs the passes build, with the defines each is built with: depth.vert alone (depth
+// pass, second depth and the view's depth pre-pass), the silhouette map, and the view once per
+// method (view.frag picks the test at compile time) plus the bare variant. Kept in step with
+// depth_pass.cc, silhouette_pass.cc and view_pass.cc.
+struct PassProgram {
+    std::string name;
+    std::vector<std::string_view> stages;
+    std::vector<std::string> defines;
+};
+
+std::vector<PassProgram> PassPrograms() {
+    std::vector<PassProgram> out = {
+        {"depth", {"depth.vert"}, {}},
+        {"silhouette map",
+         {"silhouette_map.vert", "silhouette_map.geom", "silhouette_map.frag"},
+         {}}};
+    const std::vector<std::string> limits = {
+        "#define LIXEL_MAX_MAPS " + std::to_string(kMaxViewMaps),
+        "#define LIXEL_MAX_HALF_PLANES " + std::to_string(kMaxHalfPlanes)};
+    for (int method = 0; method < kShadowMethodCount; ++method) {
+        std::vector<std::string> defines = limits;
+        defines.push_back("#define LIXEL_METHOD " + std::to_string(method));
+        out.push_back({std::string("view ") + ShadowMethodName(static_cast<ShadowMethod>(method)),
+                       {"view.vert", "view.frag"},
+                       defines});
+    }
+    std::vector<std::string> bare = limits;
+    bare.push_back("#define LIXEL_METHOD 0");
+    bare.push_back("#define LIXEL_BARE_VIEW 1");
+    out.push_back({"view bare", {"view.vert", "view.frag"}, bare});
+    return out;
+}
+
+Result<Program> Build(const PassProgram& p) {
+    // BuildProgram takes an initializer_list; the stage counts are the three the passes use.
+    GlContext& context = testing::Context();
+    switch (p.stages.size()) {
+        case 1:
+            return BuildProgram(context, {p.stages[0]}, p.defines);
+        case 2:
+            return BuildProgram(context, {p.stages[0], p.stages[1]}, p.defines);
+        case 3:
+            return BuildProgram(context, {p.stages[0], p.stages[1], p.stages[2]}, p.defines);
+    }
+    return Error{"program " + p.name, "unexpected stage count"};
+}
+
+TEST(BuildProgram, EveryPassProgramCompilesAndLinks) {
+    for (const PassProgram& p : PassPrograms()) {
+        auto program = Build(p);
+        if (!program.ok()) {
+            ADD_FAILURE() << p.name << ": " << program.error().Message();
+            continue;
+        }
+        EXPECT_NE(program->id(), 0u) << p.name;
+        EXPECT_TRUE(testing::Context().Check(p.name).ok()) << p.name;
+    }
+}
+
+TEST(BuildProgram, EveryEmbeddedFileIsUsedByAPassProgram) {
+    // A stage file no program links, or a common file no stage includes, is not covered by the
+    // test above: a new shader must be added to PassPrograms().
+    const std::vector<PassProgram> programs = PassPrograms();
+    std::set<std::string> used;
+    for (const PassProgram& p : programs) {
+        for (std::string_view stage : p.stages) {
+            auto expanded = ExpandShader(stage, EmbeddedShaderLookup(), p.defines);
+            ASSERT_TRUE(expanded.ok()) << p.name << ": " << expanded.error().Message();
+            used.insert(expanded->files.begin(), expanded->files.end());
+        }
+    }
+    ASSERT_FALSE(EmbeddedShaders().empty());
+    for (const EmbeddedShader& s : EmbeddedShaders()) {
+        EXPECT_TRUE(used.contains(std::string(s.name))) << s.name << " is in no pass program";
+    }
+    for (const std::string& name : used) {
         EXPECT_NE(FindEmbeddedShader(name), nullptr) << name;
     }
+}
+
+TEST(BuildProgram, RefusesAFileOfNoKnownStage) {
     auto unknown = BuildProgram(testing::Context(), {"common_maps.glsl"});
     ASSERT_FALSE(unknown.ok());
+    EXPECT_EQ(unknown.error().field, "shader common_maps.glsl");
     EXPECT_NE(unknown.error().reason.find("unknown stage"), std::string::npos);
-    EXPECT_TRUE(BuildProgram(testing::Context(), {"depth.vert"}).ok());
 }
 
 TEST(NameSourcesInLog, RewritesSourceNumbersOnly) {

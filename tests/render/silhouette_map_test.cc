@@ -1,17 +1,25 @@
 // Tests for silhouette_pass.h and the silhouette test of the view pass (paper 000): stored points
 // lie on the light-space silhouette, every texel the silhouette crosses keeps one, a line through
-// texel corners is stored in all four neighbours, and the reconstructed shadow boundary is within
-// half a lixel of the truth where the plain depth map is off by more.
+// texel corners is stored in all four neighbours, closed meshes store their silhouette edges and
+// not their interior ones, stored points match a CPU reference of the diagonal rule, and the
+// reconstructed shadow boundary is within half a lixel of the truth where the plain depth map is
+// off by more.
 #include <lixel/render/image_io.h>
 #include <lixel/render/readback.h>
 #include <lixel/render/silhouette_pass.h>
 #include <lixel/solver/homogeneous.h>
 
 #include <Eigen/LU>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <map>
 #include <numbers>
+#include <optional>
+#include <random>
+#include <utility>
 
 #include "view_setup.h"
 
@@ -223,6 +231,340 @@ TEST(SilhouetteMap, LineThroughTexelCornersIsStoredInAllFourNeighbours) {
             EXPECT_LT(std::abs(p.x() - p.y()), 1.0 / 32.0) << "on the diagonal";
         }
     }
+}
+
+// --- closed meshes: silhouette edges found on the CPU ---------------------------------------
+
+// A directional light along `toward` and a map whose lixels are `cell` world units across the
+// plane perpendicular to it, centred on the world origin, `size` lixels a side. Depth runs from
+// 0 at distance 4 toward the light to 1 at distance 4 away from it.
+LightMap AlongLightMap(const Vec3& toward, double cell, int size) {
+    const Vec3 w = toward.normalized();
+    const Vec3 u = w.cross(Vec3::UnitZ()).normalized();
+    const Vec3 v = w.cross(u);
+    LightMap m;
+    m.width = size;
+    m.height = size;
+    m.matrix.setZero();
+    m.matrix.block<1, 3>(0, 0) = u.transpose() / cell;
+    m.matrix(0, 3) = size / 2.0;
+    m.matrix.block<1, 3>(1, 0) = v.transpose() / cell;
+    m.matrix(1, 3) = size / 2.0;
+    m.matrix.block<1, 3>(2, 0) = -w.transpose() / 8.0;
+    m.matrix(2, 3) = 0.5;
+    m.matrix(3, 3) = 1.0;
+    return m;
+}
+
+struct LightSpaceEdges {
+    std::vector<std::pair<Vec2, Vec2>> silhouette;  // light-facing on one side only
+    std::vector<std::pair<Vec2, Vec2>> interior;    // light-facing on both sides
+    double smallest_facing_margin = std::numeric_limits<double>::infinity();  // |cos| of n, l
+};
+
+// The edges of a closed mesh (vertices welded by equal positions, as adjacency.h does) between
+// two triangles, sorted by how their triangles face a directional light, in lixels.
+LightSpaceEdges ClassifyEdges(const Mesh& mesh, const Vec3& toward, const LightMap& map) {
+    std::map<std::array<float, 3>, int> weld;
+    std::vector<int> id(mesh.positions.size());
+    for (std::size_t k = 0; k < mesh.positions.size(); ++k) {
+        const auto& p = mesh.positions[k];
+        id[k] = weld.try_emplace({p.x(), p.y(), p.z()}, static_cast<int>(weld.size()))
+                    .first->second;
+    }
+    std::map<std::pair<int, int>, std::vector<bool>> faces_of_edge;
+    std::map<std::pair<int, int>, std::pair<Vec3, Vec3>> ends;
+    LightSpaceEdges out;
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+        Vec3 p[3];
+        int w[3];
+        for (int k = 0; k < 3; ++k) {
+            p[k] = mesh.positions[mesh.indices[t + k]].cast<double>();
+            w[k] = id[mesh.indices[t + k]];
+        }
+        const Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
+        const double cosine = n.dot(toward) / (n.norm() * toward.norm());
+        out.smallest_facing_margin = std::min(out.smallest_facing_margin, std::abs(cosine));
+        for (int k = 0; k < 3; ++k) {
+            const auto key = std::minmax(w[k], w[(k + 1) % 3]);
+            faces_of_edge[key].push_back(cosine > 0.0);
+            ends[key] = {p[k], p[(k + 1) % 3]};
+        }
+    }
+    for (const auto& [key, facing] : faces_of_edge) {
+        EXPECT_EQ(facing.size(), 2u) << "the mesh must be closed and manifold";
+        if (facing.size() != 2 || (!facing[0] && !facing[1])) continue;
+        const auto& [a, b] = ends[key];
+        const std::pair<Vec2, Vec2> e{LixelOf(map, Point(a)), LixelOf(map, Point(b))};
+        (facing[0] && facing[1] ? out.interior : out.silhouette).push_back(e);
+    }
+    return out;
+}
+
+// Whether segment a-b meets the square [lo, hi]^2 (Liang-Barsky clip).
+bool SegmentMeetsSquare(const Vec2& a, const Vec2& b, const Vec2& lo, const Vec2& hi) {
+    double t0 = 0.0;
+    double t1 = 1.0;
+    const Vec2 d = b - a;
+    for (int axis = 0; axis < 2; ++axis) {
+        for (const double bound : {lo[axis], hi[axis]}) {
+            const bool lower = bound == lo[axis];
+            const double p = lower ? -d[axis] : d[axis];
+            const double q = lower ? a[axis] - bound : bound - a[axis];
+            if (p == 0.0) {
+                if (q < 0.0) return false;
+                continue;
+            }
+            const double r = q / p;
+            if (p < 0.0) {
+                t0 = std::max(t0, r);
+            } else {
+                t1 = std::min(t1, r);
+            }
+        }
+    }
+    return t0 <= t1;
+}
+
+double NearestEdge(const Vec2& p, const std::vector<std::pair<Vec2, Vec2>>& edges) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& [a, b] : edges) best = std::min(best, SegmentDistance(p, a, b));
+    return best;
+}
+
+void ExpectPointsOnSilhouetteEdgesOnly(const char* name, const Mesh& mesh, const Vec3& toward) {
+    SCOPED_TRACE(name);
+    const LightMap map = AlongLightMap(toward, 1.0 / 20.0, 64);
+    const LightSpaceEdges edges = ClassifyEdges(mesh, toward, map);
+    // No triangle within about a degree of containing the light's direction: the GPU's float
+    // facing test then agrees with the CPU's.
+    ASSERT_GT(edges.smallest_facing_margin, 0.02);
+    ASSERT_GE(edges.silhouette.size(), 6u);
+    ASSERT_FALSE(edges.interior.empty());
+
+    TestScene s = testing::OpenSquareOverFloor(64);
+    s.meshes = {mesh};
+    s.light = Direction(toward);
+    auto points = ReadSilhouettePoints(testing::Context(), RenderSilhouettes(s, map));
+    ASSERT_TRUE(points.ok()) << points.error().Message();
+    int crossed = 0;
+    int far = 0;
+    int interior_only = 0;
+    int stored = 0;
+    double worst = 0.0;
+    for (int j = 0; j < map.height; ++j) {
+        for (int i = 0; i < map.width; ++i) {
+            const bool has = points->at(i, j, 0) != kNoSilhouettePoint;
+            const Vec2 centre(i + 0.5, j + 0.5);
+            const double to_silhouette = NearestEdge(centre, edges.silhouette);
+            bool crosses = false;
+            for (const auto& [a, b] : edges.silhouette) {
+                crosses = crosses || SegmentMeetsSquare(a, b, Vec2(i + 1e-3, j + 1e-3),
+                                                        Vec2(i + 1 - 1e-3, j + 1 - 1e-3));
+            }
+            if (crosses) {
+                ++crossed;
+                EXPECT_TRUE(has) << "silhouette crosses texel " << i << ", " << j;
+            }
+            if (to_silhouette > 1.5) {
+                ++far;
+                EXPECT_FALSE(has) << "texel " << i << ", " << j << " is " << to_silhouette
+                                  << " lixels from every silhouette edge";
+                if (NearestEdge(centre, edges.interior) < 0.5) ++interior_only;
+            }
+            if (has) {
+                ++stored;
+                const Vec2 p = Vec2(i, j) + Vec2(points->at(i, j, 0), points->at(i, j, 1));
+                worst = std::max(worst, NearestEdge(p, edges.silhouette));
+            }
+        }
+    }
+    std::printf("[ measured ] %s: %zu silhouette, %zu interior edges; %d texels crossed, %d "
+                "stored, %d far (%d on interior edges), worst point %.2e lixel off\n",
+                name, edges.silhouette.size(), edges.interior.size(), crossed, stored, far,
+                interior_only, worst);
+    EXPECT_GT(crossed, 40);
+    EXPECT_GT(interior_only, 10) << "interior edges must cross texels far from the silhouette";
+    // Float lixel coordinates and the corner margin's clamp (1/64 lixel) bound the offset.
+    EXPECT_LT(worst, 1.0 / 64.0 + 1e-3) << "lixels";
+}
+
+TEST(SilhouetteMap, ClosedBoxStoresItsSilhouetteEdgesOnly) {
+    // Lit from above, +x and +z: three faces toward the light, their shared edges and face
+    // diagonals interior, the hexagonal outline the silhouette.
+    const Mesh box = testing::BoxMesh("box", Vec3(-0.7, -0.6, -0.5), Vec3(0.6, 0.5, 0.8));
+    ExpectPointsOnSilhouetteEdgesOnly("box", box, Vec3(0.45, 1.0, 0.3));
+}
+
+TEST(SilhouetteMap, CoarseClosedSphereStoresItsSilhouetteEdgesOnly) {
+    // A zig-zag silhouette through the sphere's facets, interior edges on both sides of it.
+    const Mesh sphere = testing::SphereMesh("sphere", Vec3(0.05, -0.03, 0.02), 1.1, 11, 7);
+    ExpectPointsOnSilhouetteEdgesOnly("sphere", sphere, Vec3(0.31, 1.0, -0.23));
+}
+
+// --- the diagonal rule: a CPU reference -----------------------------------------------------
+
+// silhouette_map.frag's corner margin: an edge through a texel corner is kept by all four texels.
+constexpr double kCornerMargin = 1.0 / 64.0;
+
+struct RulePoint {
+    std::optional<Vec2> point;  // texel-local, clamped into [0, 1]^2
+    bool ambiguous = false;     // a decision within rounding of its threshold
+};
+
+// Paper 000 §3.1, Fig. 4, as lixel implements it (silhouette_map.frag): an endpoint inside the
+// texel square enlarged by the corner margin (a first); else the segment's intersections with
+// the texel's two diagonals that lie inside, their midpoint when both do; else nothing. `a`, `b`
+// are texel-local. Decisions within `eps` (lixels) of their threshold are flagged ambiguous.
+RulePoint DiagonalRule(const Vec2& a, const Vec2& b, double eps = 1e-5) {
+    RulePoint r;
+    const auto inside = [&](const Vec2& p) {
+        for (int k = 0; k < 2; ++k) {
+            if (std::abs(p[k] + kCornerMargin) < eps || std::abs(p[k] - 1.0 - kCornerMargin) < eps) {
+                r.ambiguous = true;
+            }
+        }
+        return p.x() >= -kCornerMargin && p.y() >= -kCornerMargin &&
+               p.x() <= 1.0 + kCornerMargin && p.y() <= 1.0 + kCornerMargin;
+    };
+    const auto intersect = [&](const Vec2& o, const Vec2& d) {
+        const Vec2 e = b - a;
+        const double den = e.x() * d.y() - e.y() * d.x();
+        if (std::abs(den) < 1e-12) return -1.0;
+        const Vec2 w = o - a;
+        return (w.x() * d.y() - w.y() * d.x()) / den;
+    };
+    const auto clamped = [](const Vec2& p) {
+        return Vec2(std::clamp(p.x(), 0.0, 1.0), std::clamp(p.y(), 0.0, 1.0));
+    };
+    if (inside(a)) {
+        r.point = clamped(a);
+        return r;
+    }
+    if (inside(b)) {
+        r.point = clamped(b);
+        return r;
+    }
+    const double length = (b - a).norm();
+    const auto on_segment = [&](double t) {
+        if (std::abs(t * length) < eps || std::abs((t - 1.0) * length) < eps) r.ambiguous = true;
+        return t >= 0.0 && t <= 1.0 && inside(a + t * (b - a));
+    };
+    const double t1 = intersect(Vec2(0, 0), Vec2(1, 1));
+    const double t2 = intersect(Vec2(0, 1), Vec2(1, -1));
+    const bool ok1 = on_segment(t1);
+    const bool ok2 = on_segment(t2);
+    if (ok1 && ok2) {
+        r.point = clamped(a + 0.5 * (t1 + t2) * (b - a));
+    } else if (ok1) {
+        r.point = clamped(a + t1 * (b - a));
+    } else if (ok2) {
+        r.point = clamped(a + t2 * (b - a));
+    }
+    return r;
+}
+
+TEST(SilhouetteMapReference, DiagonalRuleOnHandComputedSegments) {
+    const auto at = [](const Vec2& a, const Vec2& b) { return DiagonalRule(a, b).point; };
+    // Fig. 4(C): a horizontal line meets both diagonals, at x = 0.25 and 0.75.
+    EXPECT_TRUE(at(Vec2(-3, 0.25), Vec2(5, 0.25)).value().isApprox(Vec2(0.5, 0.25), 1e-12));
+    // A vertical one at x = 0.9 meets them at y = 0.9 and 0.1.
+    EXPECT_TRUE(at(Vec2(0.9, -2), Vec2(0.9, 3)).value().isApprox(Vec2(0.9, 0.5), 1e-12));
+    // Fig. 4(B): y = -x / 10 meets the diagonal y = x at the corner only.
+    EXPECT_LT(at(Vec2(-0.5, 0.05), Vec2(0.5, -0.05)).value().norm(), 1e-12);
+    // Parallel to one diagonal, cutting the other at (0.1, 0.1).
+    EXPECT_TRUE(at(Vec2(-0.5, 0.7), Vec2(0.7, -0.5)).value().isApprox(Vec2(0.1, 0.1), 1e-12));
+    // Fig. 4(A): an endpoint inside wins; one just outside the margin does not.
+    EXPECT_EQ(at(Vec2(0.3, 0.4), Vec2(5, 5)).value(), Vec2(0.3, 0.4));
+    EXPECT_EQ(at(Vec2(1.01, 0.5), Vec2(5, 0.5)).value(), Vec2(1.0, 0.5)) << "clamped into the texel";
+    EXPECT_FALSE(at(Vec2(1.02, 0.5), Vec2(5, 0.5)).has_value());
+    // Fig. 4(D): a segment that misses the texel.
+    EXPECT_FALSE(at(Vec2(2, 2), Vec2(3, 0.5)).has_value());
+    EXPECT_FALSE(at(Vec2(-0.5, 0.3), Vec2(0.3, -0.5)).has_value());
+}
+
+TEST(SilhouetteMap, StoredPointsFollowTheDiagonalRuleOnRandomTriangles) {
+    // Open triangles seen straight down: every edge is an outline. Vertices on a 1/256-lixel
+    // grid make the map's lixel coordinates exact in float, so the GPU and the reference differ
+    // only by the rounding of the intersections. Where two edges would store different points
+    // the draw order decides: those texels are skipped.
+    const double x0 = -2.0;
+    const double z0 = -2.0;
+    const double cell = 0.125;
+    const int size = 32;
+    const LightMap map = DownwardMap(x0, z0, cell, size);
+    std::mt19937 rng(12351);
+    std::uniform_int_distribution<int> coordinate(2 * 256, (size - 2) * 256);
+    std::vector<std::array<Vec2, 3>> triangles = {
+        // A horizontal edge at v = 10.25: texels it passes through keep (0.5, 0.25).
+        {Vec2(4.5, 10.25), Vec2(20.5, 10.25), Vec2(12.5, 20.75)}};
+    while (triangles.size() < 12) {
+        std::array<Vec2, 3> t;
+        for (Vec2& p : t) p = Vec2(coordinate(rng), coordinate(rng)) / 256.0;
+        const double area = (t[1] - t[0]).x() * (t[2] - t[0]).y() -
+                            (t[1] - t[0]).y() * (t[2] - t[0]).x();
+        bool long_edges = true;
+        for (int k = 0; k < 3; ++k) long_edges = long_edges && (t[k] - t[(k + 1) % 3]).norm() > 2.0;
+        if (std::abs(area) > 8.0 && long_edges) triangles.push_back(t);
+    }
+    int compared = 0;
+    int empty = 0;
+    int skipped = 0;
+    double worst = 0.0;
+    for (std::size_t n = 0; n < triangles.size(); ++n) {
+        const auto& tri = triangles[n];
+        Mesh mesh;
+        mesh.name = "triangle";
+        for (const Vec2& l : tri) {
+            mesh.positions.push_back(Vec3(x0 + cell * l.x(), 1.0, z0 + cell * l.y()).cast<float>());
+        }
+        mesh.indices = {0, 1, 2};
+        TestScene s = testing::OpenSquareOverFloor(64);
+        s.meshes = {mesh};
+        s.light = Direction(Vec3(0, 1, 0));
+        auto points = ReadSilhouettePoints(testing::Context(), RenderSilhouettes(s, map));
+        ASSERT_TRUE(points.ok()) << points.error().Message();
+        for (int j = 0; j < size; ++j) {
+            for (int i = 0; i < size; ++i) {
+                const Vec2 texel(i, j);
+                std::vector<Vec2> expected;
+                bool ambiguous = false;
+                for (int k = 0; k < 3; ++k) {
+                    const RulePoint r = DiagonalRule(tri[k] - texel, tri[(k + 1) % 3] - texel);
+                    ambiguous = ambiguous || r.ambiguous;
+                    if (r.point) expected.push_back(*r.point);
+                }
+                bool agree = true;
+                for (const Vec2& e : expected) agree = agree && (e - expected[0]).norm() < 1e-9;
+                if (ambiguous || !agree) {
+                    ++skipped;
+                    continue;
+                }
+                const bool has = points->at(i, j, 0) != kNoSilhouettePoint;
+                if (expected.empty()) {
+                    ++empty;
+                    EXPECT_FALSE(has) << "triangle " << n << ", texel " << i << ", " << j;
+                    continue;
+                }
+                ++compared;
+                EXPECT_TRUE(has) << "triangle " << n << ", texel " << i << ", " << j;
+                if (!has) continue;
+                const Vec2 got(points->at(i, j, 0), points->at(i, j, 1));
+                const double error = (got - expected[0]).norm();
+                worst = std::max(worst, error);
+                EXPECT_LT(error, 1e-4) << "triangle " << n << ", texel " << i << ", " << j
+                                       << ": stored (" << got.transpose() << "), reference ("
+                                       << expected[0].transpose() << ")";
+                if (n == 0 && j == 10 && i >= 6 && i <= 18) {
+                    EXPECT_LT((got - Vec2(0.5, 0.25)).norm(), 1e-6) << "texel " << i;
+                }
+            }
+        }
+    }
+    std::printf("[ measured ] diagonal rule: %d texels compared, %d empty as expected, %d skipped "
+                "(ambiguous or two edges), worst %.2e texel\n",
+                compared, empty, skipped, worst);
+    EXPECT_GT(compared, 300);
 }
 
 // Largest distance, in lixels, from a misclassified floor pixel's lixel to the true shadow
