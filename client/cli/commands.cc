@@ -35,9 +35,12 @@ void PrintMat4(const v1::Mat4& m) {
 
 void PrintDiagnostics(const v1::SolveDiagnostics& d) {
     std::printf("    residual %.2e lixels (double) %.2e (float); conditioning %.3g; horizon %s; "
-                "sign %+d; depth step %.2e\n",
+                "sign %+d; depth step %.2e (nearest receiver %.2e, farthest %.2e); "
+                "lixels per pixel %.6g .. %.6g\n",
                 d.residual_lixels(), d.residual_lixels_float(), d.conditioning(),
-                d.horizon_in_view() ? "in view" : "out of view", d.sign(), d.depth_resolution());
+                d.horizon_in_view() ? "in view" : "out of view", d.sign(), d.depth_resolution(),
+                d.depth_step_nearest(), d.depth_step_farthest(), d.lixels_per_pixel_min(),
+                d.lixels_per_pixel_max());
 }
 
 // Depth as grey for people: near light bright, far dark, empty (1) black.

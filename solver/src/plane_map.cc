@@ -8,6 +8,8 @@
 #include <lixel/solver/polygon.h>
 #include <lixel/solver/ray_cone.h>
 
+#include <Eigen/SVD>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -71,6 +73,9 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
     const Vec4& l = solved.light;
     const bool directional = l.w() == 0.0;
     double worst_reach = 0.0;
+    double nearest_along = std::numeric_limits<double>::infinity();
+    double farthest_along = -nearest_along;
+    d.lixels_per_pixel_min = std::numeric_limits<double>::infinity();
     for (const Vec3& s : SamplePolygon(polygon)) {
         const Vec4 x = Point(s);
         const Vec4 v = pixel * x;
@@ -102,17 +107,63 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
         const double q = r_w.dot(x);
         const double dz = (r_z.dot(dir) * q - r_z.dot(x) * r_w.dot(dir)) / (q * q);
         if (dz != 0.0 && std::isfinite(dz)) {
-            d.depth_resolution =
-                std::max(d.depth_resolution, FloatStep(r_z.dot(x) / q) / std::abs(dz));
+            const double step = FloatStep(r_z.dot(x) / q) / std::abs(dz);
+            d.depth_resolution = std::max(d.depth_resolution, step);
+            // Nearest and farthest along the light: depth grows with the distance from a point
+            // light, and with u = -l.X / q for a directional one.
+            const double along = directional ? -l.head<3>().dot(s) : (s - l.head<3>()).norm();
+            if (along < nearest_along) {
+                nearest_along = along;
+                d.depth_step_nearest = step;
+            }
+            if (along > farthest_along) {
+                farthest_along = along;
+                d.depth_step_farthest = step;
+            }
+        }
+        if (auto scale = LixelsPerPixel(request.input.viewer, request.input.viewport,
+                                        solved.plane, map, Vec2(v.x() / v.w(), v.y() / v.w()));
+            scale) {
+            d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
+            d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());
         }
         ++d.samples;
     }
+    if (!(d.lixels_per_pixel_max > 0.0)) d.lixels_per_pixel_min = 0.0;
     const double height = std::abs(solved.light_height);
     d.conditioning = directional ? 1.0 / height : worst_reach / height;
     return d;
 }
 
 }  // namespace
+
+Result<Vec2> LixelsPerPixel(const Mat4& viewer, const Viewport& viewport, const Vec4& plane,
+                            const LightMap& map, const Vec2& pixel) noexcept {
+    const Mat4 unproject = PixelMatrix(viewer, viewport).inverse();
+    // The plane point under a pixel: its ray a-b (near and far clip depth) meets P at
+    // (P.b) a - (P.a) b, a homogeneous point.
+    auto lixel_at = [&](const Vec2& at, Vec2& out) {
+        const Vec4 a = unproject * Vec4(at.x(), at.y(), kClipDepthNear, 1.0);
+        const Vec4 b = unproject * Vec4(at.x(), at.y(), kClipDepthFar, 1.0);
+        Vec4 x = plane.dot(b) * a - plane.dot(a) * b;
+        if (x.w() < 0.0) x = -x;
+        const Vec4 h = map.matrix * x;
+        if (!(h.w() > 0.0) || !h.allFinite()) return false;
+        out = Vec2(h.x() / h.w(), h.y() / h.w());
+        return out.allFinite();
+    };
+    constexpr double kStep = 0.5;  // pixels
+    Vec2 xp, xm, yp, ym;
+    if (!lixel_at(pixel + Vec2(kStep, 0.0), xp) || !lixel_at(pixel - Vec2(kStep, 0.0), xm) ||
+        !lixel_at(pixel + Vec2(0.0, kStep), yp) || !lixel_at(pixel - Vec2(0.0, kStep), ym)) {
+        return Error{"pixel", "its ray meets the plane nowhere the map holds"};
+    }
+    Eigen::Matrix2d jacobian;
+    jacobian.col(0) = (xp - xm) / (2.0 * kStep);
+    jacobian.col(1) = (yp - ym) / (2.0 * kStep);
+    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(jacobian);
+    return Vec2(svd.singularValues()(0), svd.singularValues()(1));
+}
 
 std::vector<Vec3> VisiblePlanePolygon(const Mat4& viewer, const Vec4& plane, const Aabb& bounds) {
     std::vector<Vec3> polygon = PlaneBoxPolygon(plane, bounds);

@@ -152,7 +152,13 @@ TEST_F(ServiceTest, SolveAnswersEveryTripleOfABatch) {
     EXPECT_EQ(solved->instance(), "test-a");
     for (const v1::SolveResult& r : solved->results()) {
         ASSERT_TRUE(r.has_map()) << r.error().field() << ": " << r.error().reason();
-        EXPECT_LT(r.map().diagnostics().residual_lixels(), 1e-6);
+        const v1::SolveDiagnostics& d = r.map().diagnostics();
+        EXPECT_LT(d.residual_lixels(), 1e-6);
+        // Unscaled maps: one lixel per pixel on the plane, measured apart from the crop.
+        EXPECT_NEAR(d.lixels_per_pixel_min(), 1.0, 1e-8);
+        EXPECT_NEAR(d.lixels_per_pixel_max(), 1.0, 1e-8);
+        EXPECT_GT(d.depth_step_nearest(), 0.0);
+        EXPECT_GT(d.depth_step_farthest(), 0.0);
         EXPECT_EQ(r.map().map().matrix().m_size(), 16);
     }
 }

@@ -4,6 +4,10 @@
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/polygon.h>
 
+#include <cmath>
+#include <cstdio>
+#include <random>
+
 #include "test_scenes.h"
 
 namespace lixel {
@@ -72,6 +76,66 @@ TEST(PlaneMap, BudgetBelowOnePerPixelGivesOneReportedScale) {
     EXPECT_LT(map->crop.scale, 1.0);
     // The residual is measured against A_l * pixel, so it stays exact at any scale.
     EXPECT_LE(map->diagnostics.residual_lixels, 1e-9);
+}
+
+TEST(PlaneMap, FootprintScaleIsMeasuredApartFromTheCropOverRandomViews) {
+    // The composite pixel -> plane point -> lixel is the affine A_l (paper 004 §2): both singular
+    // values of its Jacobian equal the crop's scale, up to the rounding of half-pixel central
+    // differences through the double matrices.
+    std::mt19937_64 rng(4417);
+    int solved = 0;
+    double worst = 0.0;
+    for (int i = 0; i < 500; ++i) {
+        const Configuration c = testing::RandomConfiguration(rng);
+        PlaneMapRequest request;
+        request.input = c.Input();
+        request.bounds = c.bounds;
+        request.crop.scale = i % 2 == 0 ? 1.0 : 0.37;
+        const auto map = SolvePlaneMap(request);
+        if (!map.ok()) continue;
+        ++solved;
+        const SolveDiagnostics& d = map->diagnostics;
+        const double scale = map->crop.scale;
+        const double error = std::max(std::abs(d.lixels_per_pixel_min - scale),
+                                      std::abs(d.lixels_per_pixel_max - scale)) /
+                             scale;
+        worst = std::max(worst, error);
+        EXPECT_LE(error, 1e-8) << "configuration " << i << ": " << d.lixels_per_pixel_min << " .. "
+                               << d.lixels_per_pixel_max << " for scale " << scale;
+        // The steps at the two ends are samples of the worst one.
+        EXPECT_GT(d.depth_step_nearest, 0.0) << "configuration " << i;
+        EXPECT_GT(d.depth_step_farthest, 0.0) << "configuration " << i;
+        EXPECT_LE(d.depth_step_nearest, d.depth_resolution) << "configuration " << i;
+        EXPECT_LE(d.depth_step_farthest, d.depth_resolution) << "configuration " << i;
+    }
+    std::printf("[ measured ] %d solves: lixels per pixel within %.2g of the scale (relative)\n",
+                solved, worst);
+    EXPECT_GT(solved, 400);
+}
+
+TEST(PlaneMap, AWrongScaleIsSeenByTheFootprint) {
+    const Configuration c = FloorWallConfiguration();
+    PlaneMapRequest request;
+    request.input = c.Input();
+    request.bounds = c.bounds;
+    const auto map = SolvePlaneMap(request);
+    ASSERT_TRUE(map.ok()) << map.error().Message();
+    // A map 1 % too fine: rows x and y scaled about the image origin.
+    LightMap wrong = map->crop.map;
+    wrong.matrix.row(0) *= 1.01;
+    wrong.matrix.row(1) *= 1.01;
+    const Vec2 centre(512.0, 300.0);
+    auto right = LixelsPerPixel(c.viewer, c.viewport, c.plane, map->crop.map, centre);
+    auto off = LixelsPerPixel(c.viewer, c.viewport, c.plane, wrong, centre);
+    ASSERT_TRUE(right.ok() && off.ok());
+    EXPECT_NEAR(right->x(), 1.0, 1e-9);
+    EXPECT_NEAR(right->y(), 1.0, 1e-9);
+    EXPECT_NEAR(off->x(), 1.01, 1e-9);
+    EXPECT_NEAR(off->y(), 1.01, 1e-9);
+    // Against the pixels above the horizon the ray meets the floor behind the viewer.
+    EXPECT_FALSE(LixelsPerPixel(c.viewer, c.viewport, c.plane, map->crop.map,
+                                Vec2(512.0, 1023.0))
+                     .ok());
 }
 
 }  // namespace

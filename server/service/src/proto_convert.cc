@@ -331,6 +331,10 @@ void EncodeDiagnostics(const SolveDiagnostics& d, v1::SolveDiagnostics* out) {
     out->set_horizon_in_view(d.horizon_in_view);
     out->set_sign(d.sign);
     out->set_depth_resolution(d.depth_resolution);
+    out->set_depth_step_nearest(d.depth_step_nearest);
+    out->set_depth_step_farthest(d.depth_step_farthest);
+    out->set_lixels_per_pixel_min(d.lixels_per_pixel_min);
+    out->set_lixels_per_pixel_max(d.lixels_per_pixel_max);
 }
 
 void EncodePlan(const Plan& plan, v1::PlanResponse* out) {

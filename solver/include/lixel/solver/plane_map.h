@@ -28,6 +28,16 @@ struct SolveDiagnostics {
     // Worst world-space distance along a light ray between adjacent float32 depth values, at the
     // sampled receivers on P (world units).
     double depth_resolution = 0.0;
+    // The same at the sampled receiver nearest to the light and at the farthest (world units):
+    // where float32 depth is finest and coarsest along the plane.
+    double depth_step_nearest = 0.0;
+    double depth_step_farthest = 0.0;
+    // Lixels per viewer pixel on P measured apart from the crop (LixelsPerPixel at the sampled
+    // points): the smallest and largest singular value of d lixel / d pixel. Both equal the
+    // crop's scale for a plane-optimal map (paper 004 §2: pixel -> lixel on P is the affine A_l);
+    // the residual cannot see a wrong scale, since it is measured against A_l itself.
+    double lixels_per_pixel_min = 0.0;
+    double lixels_per_pixel_max = 0.0;
     int samples = 0;  // needed plane points sampled for the figures above
 };
 
@@ -50,6 +60,14 @@ struct PlaneMap {
 };
 
 Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept;
+
+// Lixels per viewer pixel of `map` at the point of `plane` under viewer pixel `pixel` (pixel
+// coordinates, edges at integers): the singular values, larger first, of the Jacobian of
+// pixel -> plane point -> lixel, by central differences of half a pixel (exact up to rounding
+// where the composite is affine, as for a plane-optimal map). Errors ("pixel") when the pixel's
+// ray meets P nowhere in front of the viewer or behind the light.
+Result<Vec2> LixelsPerPixel(const Mat4& viewer, const Viewport& viewport, const Vec4& plane,
+                            const LightMap& map, const Vec2& pixel) noexcept;
 
 // Where a GL pass should put its coordinate origin for a plane map: the foot of the viewer's eye
 // on P (or the needed polygon's centroid for an orthographic viewer).
