@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/solver/scheduler.h>
 
 #include <algorithm>
@@ -14,14 +15,40 @@
 #include <utility>
 #include <vector>
 
-#include "builtin_scene_requests.h"
 #include "test_scenes.h"
 
 namespace lixel {
 namespace {
 
-using testing::BuiltinSceneRequest;
-using testing::BuiltinSceneRequests;
+struct BuiltinSceneRequest {
+    std::string name;
+    PlanRequest request;
+};
+
+// Every built-in scene as the service plans it (Scene::MakePlanRequest). The scenes live as long
+// as the program: the requests' objects point at their meshes.
+std::vector<BuiltinSceneRequest> BuiltinSceneRequests(std::int64_t budget) {
+    static const std::vector<scene::Scene> scenes = [] {
+        std::vector<scene::Scene> out;
+        for (const std::string& name : scene::BuiltinSceneNames()) {
+            auto built = scene::BuiltinScene(name);
+            EXPECT_TRUE(built.ok()) << name;
+            if (built.ok()) out.push_back(std::move(built.value()));
+        }
+        return out;
+    }();
+    std::vector<BuiltinSceneRequest> out;
+    for (const scene::Scene& s : scenes) out.push_back({s.name, s.MakePlanRequest(budget)});
+    return out;
+}
+
+SceneObject Box(const std::string& name, const Vec3& min, const Vec3& max) {
+    SceneObject o;
+    o.name = name;
+    o.bounds = Aabb{min, max};
+    return o;
+}
+
 using testing::Uniform;
 
 const LeftOut* FindLeftOut(const Plan& plan, const std::string& item) {
@@ -153,8 +180,7 @@ TEST(SchedulerFallback, KeptWhereCastersMayNeedItSayingWhatFor) {
             if (s.name == "floor_wall") {
                 BuiltinSceneRequest pole = s;
                 pole.name = "floor_wall with a pole";
-                pole.request.objects.push_back(
-                    testing::scenes::Box("pole", Vec3(-2.5, 0, 3), Vec3(-2.2, 4, 3.3)));
+                pole.request.objects.push_back(Box("pole", Vec3(-2.5, 0, 3), Vec3(-2.2, 4, 3.3)));
                 cases.push_back(pole);
                 // Lit from below, the floor has no map: nothing vouches for its mesh.
                 BuiltinSceneRequest below = s;
