@@ -3,6 +3,7 @@
 #include <lixel/render/image_io.h>
 #include <lixel/render/view_pass.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -80,6 +81,20 @@ TEST(ViewPassAnalytic, RefusesMissingPassesNamingTheMap) {
         *scene, *rendered, ViewSettings{s.viewer, s.viewport, s.light, ShadowMethod::kPcf, bad});
     ASSERT_FALSE(view.ok());
     EXPECT_EQ(view.error().field, "options.pcf_radius");
+    ShadowOptions negative;
+    negative.open_second_depth_bias = -1e-5f;
+    view = testing::TheRenderer().RenderView(
+        *scene, *rendered,
+        ViewSettings{s.viewer, s.viewport, s.light, ShadowMethod::kDepth, negative});
+    ASSERT_FALSE(view.ok());
+    EXPECT_EQ(view.error().field, "options.open_second_depth_bias");
+    ShadowOptions not_a_number;
+    not_a_number.slope_bias = std::nanf("");
+    view = testing::TheRenderer().RenderView(
+        *scene, *rendered,
+        ViewSettings{s.viewer, s.viewport, s.light, ShadowMethod::kDepth, not_a_number});
+    ASSERT_FALSE(view.ok());
+    EXPECT_EQ(view.error().field, "options.slope_bias");
     view = testing::TheRenderer().RenderView(
         *scene, {}, ViewSettings{s.viewer, s.viewport, s.light, ShadowMethod::kDepth, {}});
     ASSERT_FALSE(view.ok());

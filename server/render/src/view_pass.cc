@@ -4,6 +4,7 @@
 #include <lixel/render/view_pass.h>
 #include <lixel/solver/camera.h>
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -35,6 +36,18 @@ Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size, bool ne
                                  std::to_string(kMaxViewMaps)};
     }
     static_assert(kAtlasBorder >= 4, "the atlas border holds the widest filter's taps");
+    const std::pair<const char*, float> biases[] = {
+        {"options.depth_bias", r.options.depth_bias},
+        {"options.slope_bias", r.options.slope_bias},
+        {"options.max_bias", r.options.max_bias},
+        {"options.second_depth_bias", r.options.second_depth_bias},
+        {"options.open_second_depth_bias", r.options.open_second_depth_bias}};
+    for (const auto& [field, value] : biases) {
+        // A negative or NaN bias shadows every receiver by itself.
+        if (!(value >= 0.0f && std::isfinite(value))) {
+            return Error{field, std::to_string(value) + " is not a finite value >= 0"};
+        }
+    }
     if (r.options.pcf_radius < 1 || r.options.pcf_radius > 4) {
         return Error{"options.pcf_radius",
                      std::to_string(r.options.pcf_radius) + " outside [1, 4]"};
