@@ -33,9 +33,13 @@ Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light, std::span<con
         const double q = r_w.dot(x);
         if (std::isfinite(q)) q_max = std::max(q_max, q);
     }
-    // Receivers bound the range whatever the clamp: the nearest sets how far toward the light
-    // it must reach.
+    // Receivers bound the range whatever the clamp: their depths are in it, and the nearest sets
+    // how far toward the light it must reach.
     double q_receiver_min = std::numeric_limits<double>::infinity();
+    double u_min = std::numeric_limits<double>::infinity();
+    double u_max = -u_min;
+    bool have_probe = false;
+    Vec4 probe = Vec4::Zero();
     for (const Vec4& raw : receivers) {
         const Vec4 x = normalized(raw);
         const double q = r_w.dot(x);
@@ -43,8 +47,22 @@ Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light, std::span<con
             return Error{"receivers", "a receiver lies behind the light or at it (r_w . X = " +
                                           std::to_string(q) + ")"};
         }
+        // A point light's receiver at infinity has u = X_w / q = 0: the far end reaches it.
+        const bool at_infinity = !directional && x.w() == 0.0;
+        const double u = at_infinity ? 0.0 : z0.dot(x) / q;
+        if (!std::isfinite(u)) {
+            return Error{"receivers", "a receiver's depth is not finite"};
+        }
         q_max = std::max(q_max, q);
-        if (x.w() > 0.0 || directional) q_receiver_min = std::min(q_receiver_min, q);
+        u_min = std::min(u_min, u);
+        u_max = std::max(u_max, u);
+        if (!at_infinity) {
+            q_receiver_min = std::min(q_receiver_min, q);
+            if (!have_probe) {
+                probe = x;
+                have_probe = true;
+            }
+        }
     }
     if (!(q_max > 0.0)) {
         return Error{"depth_points", "no point lies in front of the light (r_w . X > 0)"};
@@ -55,26 +73,7 @@ Result<RowVec4> FitDepthRow(const RowVec4& r_w, const Vec4& light, std::span<con
     // Casters nearer than the floor are depth-clamped to 0 and still occlude; receivers are
     // never nearer than it.
     const double q_floor = std::min(q_max * kMinNearRatio, q_receiver_min);
-    double u_min = std::numeric_limits<double>::infinity();
-    double u_max = -u_min;
-    bool have_probe = false;
-    Vec4 probe = Vec4::Zero();
     bool clamped = false;
-    for (const Vec4& raw : receivers) {
-        const Vec4 x = normalized(raw);
-        const double q = r_w.dot(x);
-        // A point light's receiver at infinity has u = X_w / q = 0: the far end reaches it.
-        const double u = !directional && x.w() == 0.0 ? 0.0 : z0.dot(x) / q;
-        if (!std::isfinite(u)) {
-            return Error{"receivers", "a receiver's depth is not finite"};
-        }
-        u_min = std::min(u_min, u);
-        u_max = std::max(u_max, u);
-        if (!have_probe && (x.w() > 0.0 || directional)) {
-            probe = x;
-            have_probe = true;
-        }
-    }
     for (const Vec4& raw : points) {
         if (raw.w() < 0.0) continue;
         const Vec4 x = normalized(raw);
