@@ -102,19 +102,7 @@ int ExpectEveryVisiblePointLookedUp(const std::string& scene, const PlanRequest&
             const Vec3 direction = far.head<3>() / far.w() - origin;
             double best = 1.0;  // the far plane
             for (const SceneObject& o : r.objects) {
-                double t0 = 0.0, t1 = best;
-                for (int a = 0; a < 3 && t0 <= t1; ++a) {
-                    if (direction(a) == 0.0) {
-                        if (origin(a) < o.bounds.min(a) || origin(a) > o.bounds.max(a)) t0 = 2 * t1;
-                        continue;
-                    }
-                    double ta = (o.bounds.min(a) - origin(a)) / direction(a);
-                    double tb = (o.bounds.max(a) - origin(a)) / direction(a);
-                    if (ta > tb) std::swap(ta, tb);
-                    t0 = std::max(t0, ta);
-                    t1 = std::min(t1, tb);
-                }
-                if (t0 <= t1 && t0 < best) best = t0;
+                best = std::min(best, testing::BoxEntry(origin, direction, o.bounds, best));
             }
             if (best < 1.0) check(origin + best * direction, "pixel hit");
         }

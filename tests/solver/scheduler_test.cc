@@ -478,19 +478,8 @@ std::vector<double> ReferencePixels(const PlanRequest& r, const Plan& plan) {
                 if (inside) best = t;
             }
             for (const SceneObject& o : r.objects) {
-                double t0 = 0.0, t1 = best;
-                for (int a = 0; a < 3 && t0 <= t1; ++a) {
-                    if (direction(a) == 0.0) {
-                        if (origin(a) < o.bounds.min(a) || origin(a) > o.bounds.max(a)) t0 = 2 * t1;
-                        continue;
-                    }
-                    double ta = (o.bounds.min(a) - origin(a)) / direction(a);
-                    double tb = (o.bounds.max(a) - origin(a)) / direction(a);
-                    if (ta > tb) std::swap(ta, tb);
-                    t0 = std::max(t0, ta);
-                    t1 = std::min(t1, tb);
-                }
-                if (t0 <= t1 && t0 > 0.0 && t0 < best) best = t0;
+                const double t0 = testing::BoxEntry(origin, direction, o.bounds, best);
+                if (t0 > 0.0 && t0 < best) best = t0;
             }
             if (!std::isfinite(best)) continue;
             const Vec3 hit = origin + best * direction;

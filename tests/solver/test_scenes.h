@@ -7,10 +7,12 @@
 #include <lixel/solver/plane_optimal.h>
 #include <lixel/solver/types.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <random>
+#include <utility>
 
 namespace lixel::testing {
 
@@ -32,6 +34,25 @@ struct Configuration {
         return in;
     }
 };
+
+// Where the ray origin + t direction enters `box` (slab test), for t in [0, t_max]: the entry
+// parameter, 0 when the origin is inside, or infinity when the ray misses within t_max. The
+// scheduler's own tracing is not reachable from tests; this is the reference they compare with.
+inline double BoxEntry(const Vec3& origin, const Vec3& direction, const Aabb& box, double t_max) {
+    double t0 = 0.0, t1 = t_max;
+    for (int a = 0; a < 3 && t0 <= t1; ++a) {
+        if (direction(a) == 0.0) {
+            if (origin(a) < box.min(a) || origin(a) > box.max(a)) t0 = 2 * t1;
+            continue;
+        }
+        double ta = (box.min(a) - origin(a)) / direction(a);
+        double tb = (box.max(a) - origin(a)) / direction(a);
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+    }
+    return t0 <= t1 ? t0 : std::numeric_limits<double>::infinity();
+}
 
 inline double Uniform(std::mt19937_64& rng, double lo, double hi) {
     return std::uniform_real_distribution<double>(lo, hi)(rng);
