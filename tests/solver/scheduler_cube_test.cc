@@ -22,6 +22,7 @@
 namespace lixel {
 namespace {
 
+using testing::Box;
 using testing::Uniform;
 
 constexpr double kDegree = std::numbers::pi / 180.0;
@@ -109,13 +110,6 @@ void NeededTangentBounds(const PlanRequest& r, int face, Vec2& lo, Vec2& hi) {
             hi = hi.cwiseMax(t);
         }
     }
-}
-
-SceneObject Box(const std::string& name, const Vec3& min, const Vec3& max) {
-    SceneObject o;
-    o.name = name;
-    o.bounds = Aabb{min, max};
-    return o;
 }
 
 // A room without a ceiling, the light hanging inside it: nothing above the light, a floor

@@ -20,6 +20,9 @@
 namespace lixel {
 namespace {
 
+using testing::Box;
+using testing::Uniform;
+
 struct BuiltinSceneRequest {
     std::string name;
     PlanRequest request;
@@ -41,15 +44,6 @@ std::vector<BuiltinSceneRequest> BuiltinSceneRequests(std::int64_t budget) {
     for (const scene::Scene& s : scenes) out.push_back({s.name, s.MakePlanRequest(budget)});
     return out;
 }
-
-SceneObject Box(const std::string& name, const Vec3& min, const Vec3& max) {
-    SceneObject o;
-    o.name = name;
-    o.bounds = Aabb{min, max};
-    return o;
-}
-
-using testing::Uniform;
 
 const LeftOut* FindLeftOut(const Plan& plan, const std::string& item) {
     for (const LeftOut& l : plan.left_out) {

@@ -16,16 +16,10 @@
 namespace lixel {
 namespace {
 
+using testing::Box;
 using testing::Uniform;
 
 constexpr double kDegree = std::numbers::pi / 180.0;
-
-SceneObject Box(const std::string& name, const Vec3& min, const Vec3& max) {
-    SceneObject o;
-    o.name = name;
-    o.bounds = Aabb{min, max};
-    return o;
-}
 
 // The paper's room: floor y = 0, wall z = -5, boxes standing on the floor, one of them near the
 // viewer so its shadow falls outside the view, a light above and to the side.

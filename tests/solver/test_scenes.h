@@ -5,6 +5,7 @@
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/plane_optimal.h>
+#include <lixel/solver/scheduler.h>
 #include <lixel/solver/types.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <string>
 #include <utility>
 
 namespace lixel::testing {
@@ -34,6 +36,14 @@ struct Configuration {
         return in;
     }
 };
+
+// A scene object the scheduler knows by its box only (no mesh), closed.
+inline SceneObject Box(const std::string& name, const Vec3& min, const Vec3& max) {
+    SceneObject o;
+    o.name = name;
+    o.bounds = Aabb{min, max};
+    return o;
+}
 
 // Where the ray origin + t direction enters `box` (slab test), for t in [0, t_max]: the entry
 // parameter, 0 when the origin is inside, or infinity when the ray misses within t_max. The
