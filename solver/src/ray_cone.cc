@@ -3,6 +3,7 @@
 #include <lixel/solver/ray_cone.h>
 
 #include <cmath>
+#include <utility>
 
 namespace lixel {
 
@@ -80,6 +81,34 @@ std::vector<std::vector<Vec3>> Subtract(const std::vector<Vec3>& polygon, const 
         inside = ClipPolygon(inside, plane);
     }
     return pieces;
+}
+
+namespace {
+
+template <typename Piece>
+std::vector<Piece> SubtractEach(const Piece& whole, std::span<const RayCone> cones) {
+    std::vector<Piece> remaining = {whole};
+    for (const RayCone& cone : cones) {
+        if (remaining.empty()) break;
+        std::vector<Piece> next;
+        for (const Piece& piece : remaining) {
+            for (Piece& rest : Subtract(piece, cone)) next.push_back(std::move(rest));
+        }
+        remaining = std::move(next);
+    }
+    return remaining;
+}
+
+}  // namespace
+
+std::vector<ConvexPolytope> SubtractAll(const ConvexPolytope& region,
+                                        std::span<const RayCone> cones) {
+    return SubtractEach(region, cones);
+}
+
+std::vector<std::vector<Vec3>> SubtractAll(const std::vector<Vec3>& polygon,
+                                           std::span<const RayCone> cones) {
+    return SubtractEach(polygon, cones);
 }
 
 }  // namespace lixel

@@ -427,15 +427,7 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
     std::vector<RayCone> cones;
     for (const Candidate& cand : c.candidates) {
         // Covered by an earlier plane: nothing of the needed polygon survives their cones.
-        std::vector<std::vector<Vec3>> remaining = {cand.polygon};
-        for (const RayCone& cone : cones) {
-            std::vector<std::vector<Vec3>> next;
-            for (const auto& piece : remaining) {
-                for (auto& rest : Subtract(piece, cone)) next.push_back(std::move(rest));
-            }
-            remaining = std::move(next);
-        }
-        if (remaining.empty()) {
+        if (SubtractAll(cand.polygon, cones).empty()) {
             std::string names;
             for (const PlannedMap& m : maps) names += (names.empty() ? "" : ", ") + m.name;
             left_out.push_back({cand.name, "covered by an earlier plane: every needed ray is "
@@ -522,16 +514,7 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
 bool PlaneHeld(const Context& c, const std::vector<RayCone>& cones, int plane) {
     for (const Candidate& cand : c.candidates) {
         if (static_cast<int>(cand.index) != plane) continue;
-        std::vector<std::vector<Vec3>> remaining = {cand.polygon};
-        for (const RayCone& cone : cones) {
-            std::vector<std::vector<Vec3>> next;
-            for (const auto& piece : remaining) {
-                for (auto& rest : Subtract(piece, cone)) next.push_back(std::move(rest));
-            }
-            remaining = std::move(next);
-            if (remaining.empty()) return true;
-        }
-        return remaining.empty();
+        return SubtractAll(cand.polygon, cones).empty();
     }
     return false;
 }
@@ -557,15 +540,9 @@ std::vector<UncoveredPiece> Uncovered(const Context& c, const std::vector<Planne
             if (held < 0) held = PlaneHeld(c, cones, v.on_plane) ? 1 : 0;
             if (held == 1) continue;
         }
-        std::vector<ConvexPolytope> remaining = {v.region};
-        for (const RayCone& cone : cones) {
-            std::vector<ConvexPolytope> next;
-            for (const ConvexPolytope& piece : remaining) {
-                for (ConvexPolytope& rest : Subtract(piece, cone)) next.push_back(std::move(rest));
-            }
-            remaining = std::move(next);
+        for (ConvexPolytope& piece : SubtractAll(v.region, cones)) {
+            out.push_back({std::move(piece), v.object});
         }
-        for (ConvexPolytope& piece : remaining) out.push_back({std::move(piece), v.object});
     }
     return out;
 }

@@ -7,6 +7,7 @@
 #include <lixel/solver/light_map.h>
 #include <lixel/solver/types.h>
 
+#include <span>
 #include <vector>
 
 namespace lixel {
@@ -27,5 +28,12 @@ std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayCone
 
 // The same for a convex polygon (finite vertices in order); pieces without area are dropped.
 std::vector<std::vector<Vec3>> Subtract(const std::vector<Vec3>& polygon, const RayCone& cone);
+
+// What of `region` (or `polygon`) lies outside every cone: Subtract applied cone after cone, as
+// convex pieces; empty as soon as the cones together accept all of it.
+std::vector<ConvexPolytope> SubtractAll(const ConvexPolytope& region,
+                                        std::span<const RayCone> cones);
+std::vector<std::vector<Vec3>> SubtractAll(const std::vector<Vec3>& polygon,
+                                           std::span<const RayCone> cones);
 
 }  // namespace lixel
