@@ -60,11 +60,41 @@ double FloatStep(double z) {
     return static_cast<double>(up) - static_cast<double>(f);
 }
 
+// LixelsPerPixel with the viewer's pixel matrix already inverted (`unproject`), so Diagnose
+// inverts it once for all its samples.
+Result<Vec2> FootprintAt(const Mat4& unproject, const Vec4& plane, const LightMap& map,
+                         const Vec2& pixel) {
+    // The plane point under a pixel: its ray a-b (near and far clip depth) meets P at
+    // (P.b) a - (P.a) b, a homogeneous point.
+    auto lixel_at = [&](const Vec2& at, Vec2& out) {
+        const Vec4 a = unproject * Vec4(at.x(), at.y(), kClipDepthNear, 1.0);
+        const Vec4 b = unproject * Vec4(at.x(), at.y(), kClipDepthFar, 1.0);
+        Vec4 x = plane.dot(b) * a - plane.dot(a) * b;
+        if (x.w() < 0.0) x = -x;
+        const Vec4 h = map.matrix * x;
+        if (!(h.w() > 0.0) || !h.allFinite()) return false;
+        out = Vec2(h.x() / h.w(), h.y() / h.w());
+        return out.allFinite();
+    };
+    constexpr double kStep = 0.5;  // pixels
+    Vec2 xp, xm, yp, ym;
+    if (!lixel_at(pixel + Vec2(kStep, 0.0), xp) || !lixel_at(pixel - Vec2(kStep, 0.0), xm) ||
+        !lixel_at(pixel + Vec2(0.0, kStep), yp) || !lixel_at(pixel - Vec2(0.0, kStep), ym)) {
+        return Error{"pixel", "its ray meets the plane nowhere the map holds"};
+    }
+    Eigen::Matrix2d jacobian;
+    jacobian.col(0) = (xp - xm) / (2.0 * kStep);
+    jacobian.col(1) = (yp - ym) / (2.0 * kStep);
+    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(jacobian);
+    return Vec2(svd.singularValues()(0), svd.singularValues()(1));
+}
+
 SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatrix& solved,
                           const CropResult& crop, const std::vector<Vec3>& polygon) {
     SolveDiagnostics d;
     d.sign = solved.sign;
     const Mat4 pixel = PixelMatrix(request.input.viewer, request.input.viewport);
+    const Mat4 unproject = pixel.inverse();
     d.horizon_in_view = HorizonInView(pixel, solved.plane, request.input.viewport);
 
     const LightMap& map = crop.map;
@@ -121,8 +151,8 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
                 d.depth_step_farthest = step;
             }
         }
-        if (auto scale = LixelsPerPixel(request.input.viewer, request.input.viewport,
-                                        solved.plane, map, Vec2(v.x() / v.w(), v.y() / v.w()));
+        if (auto scale =
+                FootprintAt(unproject, solved.plane, map, Vec2(v.x() / v.w(), v.y() / v.w()));
             scale) {
             d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
             d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());
@@ -139,30 +169,7 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
 
 Result<Vec2> LixelsPerPixel(const Mat4& viewer, const Viewport& viewport, const Vec4& plane,
                             const LightMap& map, const Vec2& pixel) noexcept {
-    const Mat4 unproject = PixelMatrix(viewer, viewport).inverse();
-    // The plane point under a pixel: its ray a-b (near and far clip depth) meets P at
-    // (P.b) a - (P.a) b, a homogeneous point.
-    auto lixel_at = [&](const Vec2& at, Vec2& out) {
-        const Vec4 a = unproject * Vec4(at.x(), at.y(), kClipDepthNear, 1.0);
-        const Vec4 b = unproject * Vec4(at.x(), at.y(), kClipDepthFar, 1.0);
-        Vec4 x = plane.dot(b) * a - plane.dot(a) * b;
-        if (x.w() < 0.0) x = -x;
-        const Vec4 h = map.matrix * x;
-        if (!(h.w() > 0.0) || !h.allFinite()) return false;
-        out = Vec2(h.x() / h.w(), h.y() / h.w());
-        return out.allFinite();
-    };
-    constexpr double kStep = 0.5;  // pixels
-    Vec2 xp, xm, yp, ym;
-    if (!lixel_at(pixel + Vec2(kStep, 0.0), xp) || !lixel_at(pixel - Vec2(kStep, 0.0), xm) ||
-        !lixel_at(pixel + Vec2(0.0, kStep), yp) || !lixel_at(pixel - Vec2(0.0, kStep), ym)) {
-        return Error{"pixel", "its ray meets the plane nowhere the map holds"};
-    }
-    Eigen::Matrix2d jacobian;
-    jacobian.col(0) = (xp - xm) / (2.0 * kStep);
-    jacobian.col(1) = (yp - ym) / (2.0 * kStep);
-    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(jacobian);
-    return Vec2(svd.singularValues()(0), svd.singularValues()(1));
+    return FootprintAt(PixelMatrix(viewer, viewport).inverse(), plane, map, pixel);
 }
 
 std::vector<Vec3> VisiblePlanePolygon(const Mat4& viewer, const Vec4& plane, const Aabb& bounds) {
@@ -187,8 +194,9 @@ Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept {
     if (out.needed_polygon.empty()) {
         out.needed_polygon = VisiblePlanePolygon(input.viewer, input.plane, request.bounds);
         if (out.needed_polygon.empty()) {
-            return Error{"plane", "is not in view: it does not meet the view frustum inside the "
-                                  "scene bounds"};
+            return Error{"plane",
+                         "is not in view: it does not meet the view frustum inside the "
+                         "scene bounds"};
         }
     }
     for (size_t i = 0; i < out.needed_polygon.size(); ++i) {
@@ -235,8 +243,9 @@ Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept {
     }
     // Found by fuzz/fuzz_solver: a map whose receivers a float GL pass cannot project.
     if (!std::isfinite(d.residual_lixels_float)) {
-        return Error{"needed_polygon", "outside what a float GL pass can draw: its float "
-                                       "projection overflows (world coordinates near 1e38)"};
+        return Error{"needed_polygon",
+                     "outside what a float GL pass can draw: its float "
+                     "projection overflows (world coordinates near 1e38)"};
     }
     return out;
 }
