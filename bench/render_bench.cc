@@ -153,13 +153,14 @@ class BareDraw {
     void operator()() const {
         Fixture& f = Get();
         const GlApi& gl = f.context->gl();
-        const float far = 1.0f;
+        // The depth pass's convention (reversed-Z, light_map.h).
+        const float far = static_cast<float>(kStoredDepthFar);
         gl.NamedFramebufferTexture(f.framebuffer.id(), GL_DEPTH_ATTACHMENT, texture_, 0);
         gl.NamedFramebufferDrawBuffer(f.framebuffer.id(), GL_NONE);
         gl.BindFramebuffer(GL_FRAMEBUFFER, f.framebuffer.id());
         gl.Viewport(0, 0, side_, side_);
         gl.Enable(GL_DEPTH_TEST);
-        gl.DepthFunc(GL_LESS);
+        gl.DepthFunc(GL_GREATER);
         gl.ClearNamedFramebufferfv(f.framebuffer.id(), GL_DEPTH, 0, &far);
         gl.UseProgram(f.bare.id());
         gl.ProgramUniformMatrix4fv(f.bare.id(), f.bare.Uniform("u_clip"), 1, GL_FALSE,

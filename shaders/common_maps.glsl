@@ -4,7 +4,8 @@
 // Expects LIXEL_MAX_MAPS and LIXEL_MAX_HALF_PLANES from the program's defines.
 
 uniform int u_map_count;
-// Relative world position -> (x q, y q, z q, q): x, y in lixels, z in [0, 1].
+// Relative world position -> (x q, y q, d q, q): x, y in lixels, d the stored depth (reversed-Z,
+// 1 at the light's near end, 0 at the far end; lixel/solver/light_map.h).
 uniform mat4 u_map_lixel[LIXEL_MAX_MAPS];
 // ((u_map_lixel)^-1)^T: carries a world plane into light-screen coordinates (paper 003 §3.4).
 uniform mat4 u_map_plane[LIXEL_MAX_MAPS];

@@ -1,13 +1,15 @@
 // The shadow tests of the view pass, one small function each (STYLE.md): hard_shadow, pcf,
 // second_depth_test, silhouette_test. `s` is (x, y, depth) in the chosen map's light screen: x, y
-// in lixels with texel edges at integers, depth z/q in [0, 1] growing away from the light.
-// Each returns the lit fraction in [0, 1]. Needs common_maps.glsl and common_textures.glsl.
+// in lixels with texel edges at integers, depth the stored 1 - z/q in [0, 1], shrinking away
+// from the light (reversed-Z, light_map.h): a point is lit when its depth is at least the map's.
+// `bias` moves the point toward the light. Each returns the lit fraction in [0, 1]. Needs
+// common_maps.glsl and common_textures.glsl.
 
 float lit_if(bool lit) { return lit ? 1.0 : 0.0; }
 
 // Williams' test with a bias: the nearest texel's depth.
 float hard_shadow(int map, vec3 s, float bias) {
-    return lit_if(s.z <= fetch_a(map, ivec2(floor(s.xy))).r + bias);
+    return lit_if(s.z + bias >= fetch_a(map, ivec2(floor(s.xy))).r);
 }
 
 // Weight of tap i (of 2r along an axis) in the tent filter: the mean of (2r - 1)^2 bilinear
@@ -38,7 +40,7 @@ float pcf(int map, vec3 s, float bias, int r) {
     for (int bj = 0; bj < r; ++bj) {
         for (int bi = 0; bi < r; ++bi) {
             vec4 z = gather_a(map, base + 2 * ivec2(bi, bj));
-            vec4 lit = vec4(lessThanEqual(vec4(s.z), z + bias));
+            vec4 lit = vec4(greaterThanEqual(vec4(s.z + bias), z));
             sum += dot(block_weights(bi, bj, r, f), lit);
         }
     }
@@ -48,26 +50,36 @@ float pcf(int map, vec3 s, float bias, int r) {
 // Paper 003 Fig. 10 against a second-depth map. `plane` is the pixel's tangent plane carried
 // into light-screen coordinates, T_L = ((M_PL M_L)^-1)^T T_W (§3.4), so a x + b y + c z + d = 0.
 // Trivial accept/reject when all nearby comparisons agree; virtual samples on the tangent plane,
-// filtered like PCF, only when they are mixed. The comparison is <= (§3.3: two-sided planar
-// surfaces then compare equal to themselves); `bias` defaults to 0. Without `virtual_samples`
+// filtered like PCF, only when they are mixed. The comparison is >= on stored depth, the paper's
+// <= (§3.3: two-sided planar surfaces then compare equal to themselves); `bias` defaults to 0. Without `virtual_samples`
 // mixed comparisons are filtered as they are (for comparison with §3.2's gain).
 float second_depth_test(int map, vec3 s, vec4 plane, float bias, int r, bool virtual_samples) {
     vec2 g = s.xy - 0.5;
     ivec2 base = ivec2(floor(g)) - (r - 1);
     vec2 f = g - floor(g);
-    float illuminated = 0.0;
+    // The tangent plane's depth at every tap centre lies within `reach` of the point's own (the
+    // centres are within r lixels per axis): a tap whose stored depth is beyond that band is
+    // decided as its virtual sample would be. Plain comparisons alone would reject an open
+    // receiver whose taps are its own surface tilted toward the light, and accept one whose
+    // taps are tilted away. Without virtual samples, the paper's plain comparisons (reach 0).
+    vec2 slope = -plane.xy / plane.z;
+    float reach = virtual_samples ? float(r) * (abs(slope.x) + abs(slope.y)) : 0.0;
+    if (!(reach < 1e30)) reach = 1e30;  // c ~ 0 (or NaN): nothing is decided early
+    float sure_lit = 0.0;
+    float sure_shadowed = 0.0;
     float filtered = 0.0;
     for (int bj = 0; bj < r; ++bj) {
         for (int bi = 0; bi < r; ++bi) {
             vec4 z = gather_a(map, base + 2 * ivec2(bi, bj));
-            vec4 lit = vec4(lessThanEqual(vec4(s.z), z + bias));
-            illuminated += dot(lit, vec4(1.0));
+            vec4 lit = vec4(greaterThanEqual(vec4(s.z + bias), z));
             filtered += dot(block_weights(bi, bj, r, f), lit);
+            sure_lit += dot(vec4(greaterThanEqual(vec4(s.z + bias - reach), z)), vec4(1.0));
+            sure_shadowed += dot(vec4(lessThan(vec4(s.z + bias + reach), z)), vec4(1.0));
         }
     }
     float norm = 1.0 / float((2 * r - 1) * (2 * r - 1));
-    if (illuminated == 0.0) return 0.0;
-    if (illuminated == float(4 * r * r)) return 1.0;
+    if (sure_shadowed == float(4 * r * r)) return 0.0;
+    if (sure_lit == float(4 * r * r)) return 1.0;
     // A tangent plane that contains the light rays (c ~ 0) has no depth to resample (Fig. 9):
     // keep the ordinary comparisons.
     if (!virtual_samples ||
@@ -82,8 +94,11 @@ float second_depth_test(int map, vec3 s, vec4 plane, float bias, int r, bool vir
             // Tap centres in gather order.
             vec4 cx = vec4(t.x, t.x + 1, t.x + 1, t.x) + 0.5;
             vec4 cy = vec4(t.y + 1, t.y + 1, t.y, t.y) + 0.5;
-            vec4 z_virtual = -(plane.x * cx + plane.y * cy + plane.w) / plane.z;
-            vec4 lit = vec4(lessThanEqual(z_virtual, z_second + bias));
+            // The tangent plane's depth at the tap centres, as the point's own depth plus the
+            // slope over at most r lixels per axis: -(a x + b y + w) / c evaluated at the
+            // centres cancels to a small d near a reversed-Z map's far end and loses it.
+            vec4 z_virtual = s.z + slope.x * (cx - s.x) + slope.y * (cy - s.y);
+            vec4 lit = vec4(greaterThanEqual(z_virtual + bias, z_second));
             virtual_lit += dot(block_weights(bi, bj, r, f), lit);
         }
     }
@@ -114,7 +129,7 @@ float silhouette_test(int map, vec3 s, float bias) {
     // Corners counter-clockwise from the lower-left.
     const ivec2 corner[4] = ivec2[4](ivec2(0, 0), ivec2(1, 0), ivec2(1, 1), ivec2(0, 1));
     float lit[4];
-    for (int k = 0; k < 4; ++k) lit[k] = lit_if(s.z <= fetch_a(map, t + corner[k]).r + bias);
+    for (int k = 0; k < 4; ++k) lit[k] = lit_if(s.z + bias >= fetch_a(map, t + corner[k]).r);
     if (lit[0] == lit[1] && lit[1] == lit[2] && lit[2] == lit[3]) return lit[0];
 
     // Neighbour across side k (between corner k and k + 1): below, right, above, left.

@@ -5,13 +5,14 @@
 // when both are inside; no point, no write. The square is enlarged by kCornerMargin so an edge
 // through a corner is stored in all four texels around it, and the point is clamped back in.
 // Edges hidden from the light are dropped: farther than all four corner depths (the depth map
-// offset by half a texel).
+// offset by half a texel; stored depth, reversed-Z: farther is smaller).
 
 flat in vec4 f_segment;
-flat in vec2 f_depth;
+flat in vec4 f_depth;  // (d q, q) of both endpoints, unclamped
+flat in float f_slack;  // rounding bound of the edge's depth (silhouette_map.geom)
 
 uniform sampler2D u_corner_depth;  // (W + 1) x (H + 1): corner (i, j) of texel (i, j) at (i, j)
-uniform float u_bias;              // clip-depth units
+uniform float u_bias;              // extra stored-depth slack (SilhouetteOptions), default 0
 
 layout(location = 0) out vec2 o_point;
 
@@ -56,15 +57,21 @@ void main() {
         }
     }
     vec2 point = clamp(mix(a, b, t), vec2(0.0), vec2(1.0));
-    // Depth z/q is affine along a projected line in window space.
-    float depth = mix(f_depth.x, f_depth.y, t);
-    float farthest_corner = 0.0;
+    // Window-space parameter t -> homogeneous parameter u on h0-h1 (t = u q1 / ((1-u) q0 + u q1)),
+    // then d = mix(dq) / mix(q): exact at both ends even when one endpoint was clipped near
+    // q = 0 and its d is huge, where mixing d itself would cancel. Clamped as the corner map is.
+    float q0 = f_depth.y;
+    float q1 = f_depth.w;
+    float u = t * q0 / ((1.0 - t) * q1 + t * q0);
+    float depth = clamp(mix(f_depth.x, f_depth.z, u) / mix(q0, q1, u), 0.0, 1.0);
+    float farthest_corner = 1.0;
     for (int j = 0; j < 2; ++j) {
         for (int i = 0; i < 2; ++i) {
-            farthest_corner = max(farthest_corner,
+            farthest_corner = min(farthest_corner,
                                   texelFetch(u_corner_depth, texel + ivec2(i, j), 0).r);
         }
     }
-    if (depth > farthest_corner + u_bias) discard;  // behind every corner: hidden from the light
+    // Behind every corner by more than the rounding: hidden from the light.
+    if (depth + f_slack + u_bias < farthest_corner) discard;
     o_point = point;
 }

@@ -7,12 +7,14 @@
 // vertex opposite edges 0-2, 2-4, 4-0 in the neighbouring triangle, or a copy of the triangle's
 // own opposite vertex at an open boundary.
 
+#include "common_depth.glsl"
+
 layout(triangles_adjacency) in;
 layout(triangle_strip, max_vertices = 12) out;
 
 in vec3 v_position[];
 
-uniform mat4 u_lixel;   // relative position -> (x q, y q, z q, q)
+uniform mat4 u_lixel;   // relative position -> (x q, y q, d q, q), d the stored depth
 uniform vec4 u_light;   // relative to the origin: (l_xyz - l_w origin, l_w)
 uniform vec2 u_size;    // map width, height in lixels
 
@@ -20,7 +22,11 @@ uniform vec2 u_size;    // map width, height in lixels
 const float kHalfWidth = 0.75;
 
 flat out vec4 f_segment;  // the clipped edge's endpoints in lixels: (a.x, a.y, b.x, b.y)
-flat out vec2 f_depth;    // their depths, z/q
+// Their homogeneous stored depths (d q, q, d q, q), unclamped: depth is interpolated in
+// homogeneous form and clamped per fragment, as GL_DEPTH_CLAMP clamps the corner map's.
+flat out vec4 f_depth;
+// Rounding bound of the edge's stored depth, stored-depth units (visibility_slack).
+flat out float f_slack;
 
 bool faces_light(vec3 a, vec3 b, vec3 c) {
     vec3 n = cross(b - a, c - a);
@@ -28,7 +34,8 @@ bool faces_light(vec3 a, vec3 b, vec3 c) {
 }
 
 // Clips the homogeneous segment h0-h1 to q > 0 (in front of the light). Depth is not clipped:
-// the depth passes clamp it (GL_DEPTH_CLAMP, depth_row.h), and so does f_depth.
+// the depth passes clamp it (GL_DEPTH_CLAMP, depth_row.h), and the fragment stage clamps the
+// edge's depth the same way, per fragment.
 bool clip_front(inout vec4 h0, inout vec4 h1) {
     float eps = 1e-6 * max(abs(h0.w), abs(h1.w));
     float d0 = h0.w - eps;
@@ -39,10 +46,16 @@ bool clip_front(inout vec4 h0, inout vec4 h1) {
     return true;
 }
 
+// How far the edge's depth may be from the corner map's and still count as the same surface: the
+// rounding of the vertex's stored depth (common_depth.glsl) on both sides, with room for the
+// rasteriser's interpolation of the corner map.
+float visibility_slack(vec3 p) { return 32.0 * stored_depth_rounding(u_lixel, p); }
+
 // Outputs are undefined after EmitVertex, so the flat ones are written with every vertex.
-void emit_corner(vec2 lixel, vec4 segment, vec2 depth) {
+void emit_corner(vec2 lixel, vec4 segment, vec4 depth, float slack) {
     f_segment = segment;
     f_depth = depth;
+    f_slack = slack;
     gl_Position = vec4(lixel / u_size * 2.0 - 1.0, 0.5, 1.0);
     EmitVertex();
 }
@@ -59,11 +72,14 @@ void emit_edge(vec3 p0, vec3 p1) {
     vec2 perp = vec2(-dir.y, dir.x) * kHalfWidth;
     vec2 ext = dir * kHalfWidth;
     vec4 segment = vec4(a, b);
-    vec2 depth = clamp(vec2(h0.z / h0.w, h1.z / h1.w), 0.0, 1.0);
-    emit_corner(a - ext - perp, segment, depth);
-    emit_corner(a - ext + perp, segment, depth);
-    emit_corner(b + ext - perp, segment, depth);
-    emit_corner(b + ext + perp, segment, depth);
+    vec4 depth = vec4(h0.zw, h1.zw);
+    // The clipped endpoints lie on the edge between p0 and p1; their rounding is that of the
+    // original vertices, and only grows near q = 0, where the clamp decides anyway.
+    float slack = max(visibility_slack(p0), visibility_slack(p1));
+    emit_corner(a - ext - perp, segment, depth, slack);
+    emit_corner(a - ext + perp, segment, depth, slack);
+    emit_corner(b + ext - perp, segment, depth, slack);
+    emit_corner(b + ext + perp, segment, depth, slack);
     EndPrimitive();
 }
 

@@ -1,6 +1,7 @@
 #version 450 core
 // View pass: per viewer pixel, the map chosen by the plan's lookup rule and the shadow test of
 // the method asked for. Outputs the lit fraction (the mask), a shaded preview and the map used.
+#include "common_depth.glsl"
 #include "common_maps.glsl"
 #include "common_textures.glsl"
 #include "common_shadow.glsl"
@@ -22,7 +23,7 @@ uniform float u_depth_bias;   // clip-depth units
 uniform float u_slope_bias;   // multiple of the tangent plane's depth change over the reach
 uniform float u_max_bias;     // clip-depth units; caps the slope term near grazing
 uniform float u_second_depth_bias;       // paper 003 §3.3: closed solids, 0 by default
-uniform float u_open_second_depth_bias;  // open, two-sided surfaces: rounding only
+uniform float u_open_second_depth_bias;  // open surfaces: multiple of the depth's rounding
 uniform int u_receiver_open;             // the drawn surface is open (GpuMeshRange::closed)
 uniform int u_pcf_radius;
 uniform int u_virtual_samples;
@@ -82,7 +83,11 @@ void main() {
             lit = pcf(map, s, biased(slope_len, kReachPerRadius * float(u_pcf_radius)),
                       u_pcf_radius);
         } else if (kMethod == kMethodSecondDepth) {
-            float bias = u_receiver_open != 0 ? u_open_second_depth_bias : u_second_depth_bias;
+            // An open surface is its own second surface: the bias covers the rounding of its
+            // stored depth at this point, in multiples of the bound (common_depth.glsl).
+            float bias = u_receiver_open != 0
+                             ? u_open_second_depth_bias * stored_depth_rounding(u_map_lixel[map], p)
+                             : u_second_depth_bias;
             lit = second_depth_test(map, s, plane, bias, u_pcf_radius, u_virtual_samples != 0);
         } else {
             lit = silhouette_test(map, s, biased(slope_len, kReachCorners));

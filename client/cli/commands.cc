@@ -43,24 +43,25 @@ void PrintDiagnostics(const v1::SolveDiagnostics& d) {
                 d.lixels_per_pixel_max());
 }
 
-// Depth as grey for people: near light bright, far dark, empty (1) black.
+// Stored depth (reversed-Z: 1 nearest the light, 0 where nothing was drawn) as grey for people:
+// near the light bright, far dark, empty black.
 render::Rgb8Image DepthPreview(const render::FloatImage& depth) {
     render::Rgb8Image out{depth.width, depth.height, {}};
     out.pixels.resize(static_cast<std::size_t>(depth.width) * depth.height * 3);
     float lo = 1.0f;
     float hi = 0.0f;
     for (int i = 0; i < depth.width * depth.height; ++i) {
-        const float z = depth.pixels[static_cast<std::size_t>(i) * depth.channels];
-        if (z < 1.0f) {
-            lo = std::min(lo, z);
-            hi = std::max(hi, z);
+        const float d = depth.pixels[static_cast<std::size_t>(i) * depth.channels];
+        if (d > 0.0f) {
+            lo = std::min(lo, d);
+            hi = std::max(hi, d);
         }
     }
     for (int i = 0; i < depth.width * depth.height; ++i) {
-        const float z = depth.pixels[static_cast<std::size_t>(i) * depth.channels];
-        const float t = z >= 1.0f || hi <= lo ? 0.0f : 1.0f - (z - lo) / (hi - lo);
+        const float d = depth.pixels[static_cast<std::size_t>(i) * depth.channels];
+        const float t = d <= 0.0f || hi <= lo ? 0.0f : (d - lo) / (hi - lo);
         const auto v = static_cast<std::uint8_t>(40.0f + 215.0f * t);
-        for (int c = 0; c < 3; ++c) out.pixels[static_cast<std::size_t>(i) * 3 + c] = z >= 1.0f ? 0 : v;
+        for (int c = 0; c < 3; ++c) out.pixels[static_cast<std::size_t>(i) * 3 + c] = d <= 0.0f ? 0 : v;
     }
     return out;
 }

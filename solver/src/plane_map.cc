@@ -53,11 +53,18 @@ Vec3 GlOrigin(const Mat4& viewer, const Vec4& plane, const std::vector<Vec3>& ne
 
 namespace {
 
-// Distance between adjacent float32 values at z (the depth texture's storage format).
-double FloatStep(double z) {
-    const float f = static_cast<float>(std::clamp(z, 0.0, 1.0));
-    const float up = std::nextafter(f, 2.0f);
-    return static_cast<double>(up) - static_cast<double>(f);
+// Smallest stored-depth difference a GL pass resolves at a receiver: the larger of the float32
+// storage step at d (the depth texture's format) and the rounding of the float dot product that
+// computes d's numerator, half a float ulp per term of sum_i |c_i x_i| for the stored depth row c
+// and the relative vertex x, over q. Near d = 0 the second term keeps the figure honest where
+// float32 itself is finer than any computed depth can be.
+double DepthStep(const Eigen::Vector4f& stored_row, const Eigen::Vector4f& local, float q) {
+    const float d = std::clamp(stored_row.dot(local) / q, 0.0f, 1.0f);
+    const double storage =
+        static_cast<double>(std::nextafter(d, 2.0f)) - static_cast<double>(d);
+    const double terms = stored_row.cwiseProduct(local).cwiseAbs().cast<double>().sum();
+    const double computed = 0.5 * std::numeric_limits<float>::epsilon() * terms / std::abs(q);
+    return std::max(storage, computed);
 }
 
 // LixelsPerPixel with the viewer's pixel matrix already inverted (`unproject`), so Diagnose
@@ -129,7 +136,8 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
                                              : float_error);
 
         worst_reach = std::max(worst_reach, (s - l.head<3>()).norm());
-        // Depth step along the light ray at this receiver: ulp(z) / |dz/ds|.
+        // Depth step along the light ray at this receiver: DepthStep / |dd/ds| for the stored
+        // depth d = 1 - z (light_map.h), with |dd/ds| = |dz/ds|.
         const Vec3 dir3 = directional ? Vec3(-l.head<3>()) : Vec3((s - l.head<3>()).normalized());
         const Vec4 dir(dir3.x(), dir3.y(), dir3.z(), 0.0);
         const RowVec4 r_z = map.matrix.row(2);
@@ -137,7 +145,9 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
         const double q = r_w.dot(x);
         const double dz = (r_z.dot(dir) * q - r_z.dot(x) * r_w.dot(dir)) / (q * q);
         if (dz != 0.0 && std::isfinite(dz)) {
-            const double step = FloatStep(r_z.dot(x) / q) / std::abs(dz);
+            const Eigen::Vector4f local4(local.x(), local.y(), local.z(), 1.0f);
+            const double step =
+                DepthStep(gl.projection.row(2).transpose(), local4, clip.w()) / std::abs(dz);
             d.depth_resolution = std::max(d.depth_resolution, step);
             // Nearest and farthest along the light: depth grows with the distance from a point
             // light, and with u = -l.X / q for a directional one.

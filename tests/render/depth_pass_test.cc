@@ -12,8 +12,9 @@ namespace {
 
 using testing::TestScene;
 
-// Depth the map must hold at texel (i, j) for the plane P: the point of P on the light ray
-// through the texel centre, as the meet of P with the planes lixel x = u and lixel y = v.
+// Stored depth (1 - z, light_map.h) the map must hold at texel (i, j) for the plane P: the point
+// of P on the light ray through the texel centre, as the meet of P with the planes lixel x = u
+// and lixel y = v.
 double PlaneDepthAt(const LightMap& map, const Vec4& plane, int i, int j) {
     const RowVec4 rx = map.matrix.row(0);
     const RowVec4 ry = map.matrix.row(1);
@@ -21,7 +22,7 @@ double PlaneDepthAt(const LightMap& map, const Vec4& plane, int i, int j) {
     const double u = i + kPixelCentreOffset;
     const double v = j + kPixelCentreOffset;
     const Vec4 x = Cross4((rx - u * rw).transpose(), (ry - v * rw).transpose(), plane);
-    return map.matrix.row(2).dot(x) / rw.dot(x);
+    return StoredDepthOf(map, x);
 }
 
 DepthMap Render(const TestScene& s, const LightMap& map, FaceSelection faces) {
@@ -44,13 +45,44 @@ TEST(DepthPass, FloorDepthMatchesTheClosedFormPerTexel) {
     for (int j = 0; j < map.height; ++j) {
         for (int i = 0; i < map.width; ++i) {
             const float d = image->at(i, j);
-            if (d >= 1.0f) continue;  // off the floor
+            if (d <= 0.0f) continue;  // off the floor
             worst = std::max(worst, std::abs(d - PlaneDepthAt(map, Vec4(0, 1, 0, 0), i, j)));
             ++checked;
         }
     }
     EXPECT_GT(checked, map.width * map.height / 4);
-    EXPECT_LT(worst, 1e-5) << "clip-depth units";
+    EXPECT_LT(worst, 1e-5) << "stored-depth units";
+}
+
+// Reversed-Z (light_map.h) where it matters: a 6 m point light over a ground plane, its map
+// fitted to 100 m bounds, puts the floor 90 m away at z = 0.99984, where float32 steps are 6e-8
+// and a plate 3 mm above the floor is two steps from it. Stored as 1 - z = 1.6e-4, the texel
+// under the plate holds the plate's depth within a tenth of the plate-floor gap. Measured: with
+// z stored, 0.91 gaps off; with 1 - z, 5e-4 gaps.
+TEST(DepthPass, ReversedDepthKeepsMillimetresApartFarFromAPointLight) {
+    TestScene s = testing::OpenSquareOverFloor(512);
+    constexpr double kHalf = 100.0;
+    const Vec3 plate(0.0, 0.003, -90.0);
+    s.meshes = {testing::HorizontalSquare("floor", 0, 0, kHalf, 0.0),
+                testing::HorizontalSquare("plate", plate.x(), plate.z(), 2.0, plate.y())};
+    s.viewer = testing::Viewer(Vec3(0.0, 2.0, -70.0), Vec3(0.0, 0.0, -90.0), 30.0, 1.0);
+    s.light = Point(Vec3(0.0, 6.0, 0.0));
+    s.bounds = {Vec3(-kHalf, -0.5, -kHalf), Vec3(kHalf, 2.0, kHalf)};
+    s.origin = Vec3(0.0, 0.0, -80.0);
+    const LightMap map = testing::FloorMap(s, 512 * 512);
+    const Vec2 at = LixelOf(map, Point(plate));
+    ASSERT_TRUE(at.x() >= 0 && at.y() >= 0 && at.x() < map.width && at.y() < map.height)
+        << "plate at lixel " << at.transpose() << " of " << map.width << " x " << map.height;
+    const int i = static_cast<int>(at.x());
+    const int j = static_cast<int>(at.y());
+    const double plate_depth = PlaneDepthAt(map, Vec4(0, 1, 0, -plate.y()), i, j);
+    const double floor_depth = PlaneDepthAt(map, Vec4(0, 1, 0, 0), i, j);
+    const double gap = plate_depth - floor_depth;
+    ASSERT_GT(gap, 0.0) << "the plate is nearer the light";
+    const double stored = ReadDepth(testing::Context(), Render(s, map, FaceSelection::kBoth))
+                              ->at(i, j);
+    EXPECT_LT(std::abs(stored - plate_depth), 0.1 * gap)
+        << "stored " << stored << ", plate " << plate_depth << ", floor " << floor_depth;
 }
 
 // A box floating over the floor: which of its faces each selection keeps, read at the texel the
@@ -77,9 +109,9 @@ TEST(DepthPass, FaceSelectionKeepsTheFacesAsked) {
     const TestScene s = testing::SquareOverFloor(64);
     const LightMap map = testing::UniformMap(s, 64 * 64);
     const FaceDepths d = BoxDepths(map);
-    EXPECT_LT(d.both, 1.0f);
+    EXPECT_GT(d.both, 0.0f);
     EXPECT_EQ(d.light_facing, d.both) << "the top face is nearest and faces the light";
-    EXPECT_GT(d.away_facing, d.light_facing) << "the bottom face is behind the top";
+    EXPECT_LT(d.away_facing, d.light_facing) << "the bottom face is behind the top";
     EXPECT_EQ(d.second, d.away_facing) << "closed: second depth is the away-facing surface";
 }
 
@@ -94,7 +126,7 @@ TEST(DepthPass, WindingRuleFollowsMirroredMaps) {
     const FaceDepths b = BoxDepths(mirrored);
     EXPECT_FLOAT_EQ(a.light_facing, b.light_facing);
     EXPECT_FLOAT_EQ(a.away_facing, b.away_facing);
-    EXPECT_GT(b.away_facing, b.light_facing);
+    EXPECT_LT(b.away_facing, b.light_facing);
 }
 
 TEST(DepthPass, SecondDepthDrawsOpenSurfacesWhole) {

@@ -77,12 +77,13 @@ Result<bool> DepthPass::Render(const GpuScene& scene, const LightMap& map, FaceS
     gl.Viewport(0, 0, map.width, map.height);
     gl.Enable(GL_DEPTH_TEST);
     // depth_row.h: geometry nearer the light than the depth row's kMinNearRatio floor is kept
-    // as an occluder at depth kClipDepthNear rather than clipped away.
+    // as an occluder at stored depth kStoredDepthNear rather than clipped away.
     gl.Enable(GL_DEPTH_CLAMP);
-    gl.DepthFunc(GL_LESS);
+    // Reversed-Z (light_map.h): the nearest surface has the greatest stored depth.
+    gl.DepthFunc(GL_GREATER);
     gl.DepthMask(GL_TRUE);
     gl.Disable(GL_BLEND);
-    const float far = static_cast<float>(kClipDepthFar);
+    const float far = static_cast<float>(kStoredDepthFar);
     gl.ClearNamedFramebufferfv(framebuffer_.id(), GL_DEPTH, 0, &far);
     gl.UseProgram(program_.id());
     gl.ProgramUniformMatrix4fv(program_.id(), clip_location_, 1, GL_FALSE, transform.clip.data());

@@ -17,7 +17,7 @@ Mat4 Translate(const Vec3& origin) {
 MapTransform MakeMapTransform(const LightMap& map, const Vec3& origin) {
     MapTransform t;
     t.clip = ToGl(map, origin).projection;
-    const Mat4 relative = map.matrix * Translate(origin);
+    const Mat4 relative = StoredDepthMatrix(map.matrix) * Translate(origin);
     t.lixel = relative.cast<float>();
     t.plane = relative.inverse().transpose().cast<float>();
     t.light_facing_winding = LightFacingWinding(map.matrix);

@@ -25,8 +25,9 @@ struct SolveDiagnostics {
     double conditioning = 1.0;
     bool horizon_in_view = false;  // the plane's vanishing line crosses the viewport
     int sign = 1;                  // factor applied to the closed form so needed points have q > 0
-    // Worst world-space distance along a light ray between adjacent float32 depth values, at the
-    // sampled receivers on P (world units).
+    // Worst world-space distance along a light ray between depths a GL pass tells apart, at the
+    // sampled receivers on P (world units): the float32 step of the stored depth 1 - z
+    // (light_map.h), or the rounding of the float depth the pass computes where that is larger.
     double depth_resolution = 0.0;
     // The same at the sampled receiver nearest to the light and at the farthest (world units):
     // where float32 depth is finest and coarsest along the plane.

@@ -22,9 +22,9 @@ enum class FaceSelection {
 
 const char* FaceSelectionName(FaceSelection faces) noexcept;
 
-// A width x height GL_DEPTH_COMPONENT32F texture: z/q in [kClipDepthNear, kClipDepthFar] per
-// lixel, cleared to kClipDepthFar where nothing was drawn; texel (i, j) covers lixels
-// [i, i+1) x [j, j+1).
+// A width x height GL_DEPTH_COMPONENT32F texture: the stored depth 1 - z/q of the surface nearest
+// the light per lixel (reversed-Z, light_map.h: kStoredDepthNear = 1 at the light's near end),
+// kStoredDepthFar = 0 where nothing was drawn; texel (i, j) covers lixels [i, i+1) x [j, j+1).
 struct DepthMap {
     GlTexture texture;
     LightMap map;  // the matrix and size it was rendered with

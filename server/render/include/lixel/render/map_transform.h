@@ -9,7 +9,7 @@ namespace lixel::render {
 
 struct MapTransform {
     Mat4f clip;   // relative position -> GL clip for glViewport(0, 0, width, height)
-    Mat4f lixel;  // relative position -> (x q, y q, z q, q), lixels
+    Mat4f lixel;  // relative position -> (x q, y q, d q, q), lixels and stored depth d = 1 - z
     // ((lixel)^-1)^T in double, then float: carries a relative-world plane into light-screen
     // coordinates (paper 003 §3.4, T_L = ((M_PL M_L)^-1)^T T_W).
     Mat4f plane;

@@ -29,9 +29,10 @@ struct SilhouetteMap {
 };
 
 struct SilhouetteOptions {
-    // Clip-depth slack of the visibility test: an edge point is hidden when it is farther than
-    // all four corner depths by more than this. [0, 1), default 1e-3 of the map's depth range.
-    float visibility_bias = 1e-3f;
+    // Stored-depth slack of the visibility test beyond the rounding bound the pass computes per
+    // edge (silhouette_map.geom, visibility_slack): an edge point is hidden when it is farther
+    // than all four corner depths by more than both. [0, 1), default 0.
+    float visibility_bias = 0.0f;
     // Draw only the triangles that may emit an edge for this light (silhouette_candidates.h),
     // picked on the CPU per render. The map is the same texel for texel either way; false sends
     // every triangle through the geometry shader, the reference the culled draw is tested

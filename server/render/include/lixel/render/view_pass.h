@@ -55,13 +55,15 @@ struct ShadowOptions {
     float depth_bias = 0.0f;
     float slope_bias = 1.5f;
     float max_bias = 1.0f;
-    // Second depth (paper 003 §3.3), clip-depth units, >= 0, by the receiver's own surface
-    // (GpuMeshRange::closed). A closed solid's second surface is its back, so it compares
-    // bias-free. An open, two-sided surface is its own second surface and compares equal to
-    // itself in exact arithmetic; rasterised and resampled depth differ by rounding, which the
-    // default (about 80 float steps at depth 1) absorbs.
+    // Second depth (paper 003 §3.3), >= 0, by the receiver's own surface (GpuMeshRange::closed).
+    // A closed solid's second surface is its back, so it compares bias-free (stored-depth units).
+    // An open, two-sided surface is its own second surface and compares equal to itself in exact
+    // arithmetic; rasterised and resampled depth differ by rounding, so its bias is a multiple of
+    // the rounding bound of its stored depth at the point (common_depth.glsl), which scales with
+    // the depth row where a constant would not: 4 is the least that leaves no acne on the open
+    // floor and plate of view_second_depth_test, the default 16 leaves room.
     float second_depth_bias = 0.0f;
-    float open_second_depth_bias = 1e-5f;
+    float open_second_depth_bias = 16.0f;
     // Second depth: virtual samples on the tangent plane where comparisons are mixed (§3.2, Fig.
     // 10). Off only to measure what they buy.
     bool virtual_samples = true;
