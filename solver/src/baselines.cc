@@ -1,14 +1,17 @@
 // Uniform, PSM and LiSPSM maps from one extent hull. Each method builds a preliminary matrix
-// whose rows x, y, w are planes through the world light, and FitImageRectangle maps H's image
-// onto the map and fits the depth row in world space, so all three share the rectangle fit,
-// the budget rule and the depth convention.
+// whose rows x, y, w are planes through the world light, and FitImageRectangle maps the held
+// points' image onto a square map and fits the depth row in world space, so all three share the
+// rectangle fit, the budget rule and the depth convention. All three hold the same points (the
+// focus below), so they differ only in how they spread the map's lixels over them.
 #include <lixel/solver/baselines.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/depth_row.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/light_frustum.h>
+#include <lixel/solver/polygon.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -25,8 +28,19 @@ constexpr double kSameLightTolerance = 1e-9;
 // light as directional there (the formulas need no special case).
 constexpr double kDirectionalRelative = 1e-12;
 
-// Smallest q_min / q_max over H a PSM or LiSPSM warp may produce: ten times FitDepthRow's floor,
-// so every vertex of H keeps a depth in [0, 1].
+// Vertices of H's part in the receivers' rays nearer a point light than this, relative to
+// that part's size, are left out of what a map holds (see HullInReceiverRays).
+constexpr double kNearLightRelative = 1e-6;
+
+// Ogre's LiSPSM blend toward uniform near parallel view and light: n_opt times
+// 1 + kLispsmBlendGain (|cos gamma| - kLispsmBlendCosGamma) / (1 - kLispsmBlendCosGamma) beyond
+// kLispsmBlendCosGamma (its mCosCamLightDirThreshold, 0.9, about 26 degrees; 21 times at
+// parallel).
+constexpr double kLispsmBlendCosGamma = 0.9;
+constexpr double kLispsmBlendGain = 20.0;
+
+// Smallest q_min(receivers) / q_max(held points) a PSM or LiSPSM warp may produce: ten times
+// FitDepthRow's floor, so the receivers' depths keep their precision.
 constexpr double kWarpMinNearRatio = 10.0 * kMinNearRatio;
 
 Vec4 NormalizedLight(const Vec4& light) {
@@ -45,6 +59,15 @@ Result<bool> ValidateInput(const BaselineInput& input, const ExtentHull& hull) {
     if (input.lixel_budget < 1) {
         return Error{"lixel_budget", "must be >= 1, got " + std::to_string(input.lixel_budget)};
     }
+    for (size_t i = 0; i < input.receivers.size(); ++i) {
+        const Aabb& box = input.receivers[i];
+        if (!box.min.allFinite() || !box.max.allFinite()) {
+            return Error{"receivers[" + std::to_string(i) + "]", "is not finite"};
+        }
+        if (!(box.min.array() <= box.max.array()).all()) {
+            return Error{"receivers[" + std::to_string(i) + "]", "has min > max on some axis"};
+        }
+    }
     const Vec4 l = NormalizedLight(input.light);
     if (!l.allFinite() || (l.w() == 0.0) != (hull.light.w() == 0.0) ||
         !((l - hull.light).norm() <= kSameLightTolerance * std::max(1.0, l.norm()))) {
@@ -59,36 +82,150 @@ Result<bool> ValidateInput(const BaselineInput& input, const ExtentHull& hull) {
     return true;
 }
 
-BaselineInfo Info(BaselineMethod method) {
+// What a map holds. `receivers` are the vertices of R, the visible part of the receiver boxes
+// (every box ∩ V is convex, so these bound any linear or linear-fractional function over R:
+// view depth, light-image position); `points` are what the map must hold and its depth row is
+// fitted to: R and the part of H in R's light rays (the casters that can shadow R), or, without
+// receivers, H's vertices (R = V, and the map holds C_tot).
+struct Focus {
+    std::vector<Vec4> receivers;
+    std::vector<Vec4> points;
+    bool on_receivers = false;
+};
+
+// The vertices of box ∩ V, appended to `out`: the box's faces clipped to V, and V's vertices
+// inside the box. A flat box (a floor quad's bounds) has coinciding faces and still clips to
+// its polygon. V's faces are widened by its tolerance, so a receiver lying on one of them (a
+// floor on the bounds' bottom face) is kept.
+void AppendBoxInView(const Aabb& box, const ConvexPolytope& view,
+                     const std::vector<Vec3>& view_vertices, std::vector<Vec4>& out) {
+    const double slack = view.Tolerance();
+    for (int axis = 0; axis < 3; ++axis) {
+        const int b = (axis + 1) % 3;
+        const int c = (axis + 2) % 3;
+        for (const double side : {box.min(axis), box.max(axis)}) {
+            std::vector<Vec3> face(4);
+            const double corner_b[4] = {box.min(b), box.max(b), box.max(b), box.min(b)};
+            const double corner_c[4] = {box.min(c), box.min(c), box.max(c), box.max(c)};
+            for (int k = 0; k < 4; ++k) {
+                face[k](axis) = side;
+                face[k](b) = corner_b[k];
+                face[k](c) = corner_c[k];
+            }
+            for (const PolytopeFace& f : view.faces()) {
+                if (face.empty()) break;
+                face = ClipPolygon(face, Vec4(-f.outward_plane + Vec4(0.0, 0.0, 0.0, slack)));
+            }
+            for (const Vec3& p : face) out.push_back(Point(p));
+        }
+    }
+    for (const Vec3& v : view_vertices) {
+        if ((v.array() >= box.min.array() - slack).all() &&
+            (v.array() <= box.max.array() + slack).all()) {
+            out.push_back(Point(v));
+        }
+    }
+}
+
+// H ∩ (the rays from the light through R), as vertices with R's own appended, or empty where
+// the rays through R have no volume (R seen edge-on from the light) or the clip fails. The rays
+// through R are a convex cone (a prism for a directional light) bounded by the planes through
+// the light and the edges of R's image's convex hull in a light frustum around R. (The casters
+// in them lie between R and the light; H's part beyond R, if any, is held too and costs only
+// depth range.)
+std::vector<Vec4> HullInReceiverRays(const ExtentHull& hull, const std::vector<Vec4>& receivers) {
+    Result<Mat4> basis = LightFrustumBasis(hull.light, receivers);
+    if (!basis) return {};
+    std::vector<Vec2> images;
+    images.reserve(receivers.size());
+    for (const Vec4& r : receivers) {
+        const Vec4 p = *basis * r;
+        if (!(p.w() > 0.0)) return {};
+        images.emplace_back(p.x() / p.w(), p.y() / p.w());
+    }
+    const std::vector<Vec2> outline = ConvexHull2d(std::move(images));
+    if (outline.size() < 3) return {};
+    ConvexPolytope part = hull.hull;
+    auto clip = [&](const RowVec4& plane) {
+        const double n = plane.head<3>().norm();
+        if (n > 0.0) part.Clip(Vec4(plane.transpose() / n));
+    };
+    for (size_t i = 0; i < outline.size() && !part.empty(); ++i) {
+        const Vec2 a = outline[i];
+        const Vec2 edge = outline[(i + 1) % outline.size()] - a;
+        // Counter-clockwise outline: the inside is to the left, n . (x - a) >= 0, times q > 0.
+        const Vec2 n(-edge.y(), edge.x());
+        clip(n.x() * basis->row(0) + n.y() * basis->row(1) - n.dot(a) * basis->row(3));
+    }
+    if (hull.light.w() != 0.0) clip(basis->row(3));  // in front of the light, not its mirror
+    if (part.empty()) return {};
+    // The cone's apex, the light, is a vertex when the light is in the bounds, and rounding may
+    // leave others a hair from it where no map's q has a sign to trust: casters that near the
+    // light are depth-clamped anyway (FitDepthRow's floor is 1e-4 of the range). R's own
+    // vertices go in whole, so the rounding of the clip never loses a receiver.
+    std::vector<Vec4> points;
+    const Vec3 light = hull.light.head<3>() / (hull.light.w() != 0.0 ? hull.light.w() : 1.0);
+    const double near_light = std::max(part.Tolerance(), kNearLightRelative * part.Size());
+    for (const Vec3& p : part.vertices()) {
+        if (hull.light.w() == 0.0 || (p - light).norm() > near_light) points.push_back(Point(p));
+    }
+    points.insert(points.end(), receivers.begin(), receivers.end());
+    return points;
+}
+
+Focus FocusOf(const BaselineInput& input, const ExtentHull& hull) {
+    Focus focus;
+    const std::vector<Vec3> view_vertices = hull.view_volume.vertices();
+    for (const Aabb& box : input.receivers) {
+        AppendBoxInView(box, hull.view_volume, view_vertices, focus.receivers);
+    }
+    if (!focus.receivers.empty()) {
+        focus.points = HullInReceiverRays(hull, focus.receivers);
+        focus.on_receivers = !focus.points.empty();
+    }
+    if (!focus.on_receivers) {
+        focus.receivers.clear();
+        for (const Vec3& v : view_vertices) focus.receivers.push_back(Point(v));
+        focus.points = hull.ray_points;
+    }
+    return focus;
+}
+
+BaselineInfo Info(BaselineMethod method, const Focus& focus) {
     BaselineInfo info;
     info.requested = method;
     info.used = method;
+    info.focused_on_receivers = focus.on_receivers;
     return info;
 }
 
-Result<BaselineMap> Uniform(const BaselineInput& input, const ExtentHull& hull, BaselineInfo info) {
+MapSize SquareMap(const BaselineInput& input) {
+    return MapSize{0, 0, input.lixel_budget, /*square=*/true};
+}
+
+Result<BaselineMap> Uniform(const BaselineInput& input, const ExtentHull& hull, const Focus& focus,
+                            BaselineInfo info) {
     Result<LightMap> map =
-        FitFrustum(hull.light, hull.ray_points, MapSize{0, 0, input.lixel_budget});
+        FitFrustum(hull.light, focus.points, SquareMap(input), Vec3::Zero(), focus.receivers);
     if (!map) return map.error();
     return BaselineMap{*map, std::move(info)};
 }
 
-Result<BaselineMap> FallBack(const BaselineInput& input, const ExtentHull& hull, BaselineInfo info,
-                             std::string reason) {
+Result<BaselineMap> FallBack(const BaselineInput& input, const ExtentHull& hull, const Focus& focus,
+                             BaselineInfo info, std::string reason) {
     info.used = BaselineMethod::kUniform;
     info.fallback_reason = std::move(reason);
-    return Uniform(input, hull, std::move(info));
+    return Uniform(input, hull, focus, std::move(info));
 }
 
-// q_min / q_max of a preliminary matrix over finite points (w = 1).
-double QRatio(const Mat4& m, const std::vector<Vec4>& points) {
+// The smallest q over the receivers over the largest over the held points (finite, w = 1) for
+// a preliminary matrix: below kMinNearRatio FitDepthRow's range would start clamping receivers.
+double QRatio(const Mat4& m, const Focus& focus) {
     double lo = std::numeric_limits<double>::infinity();
     double hi = 0.0;
-    for (const Vec4& p : points) {
-        const double q = m.row(3).dot(p);
-        lo = std::min(lo, q);
-        hi = std::max(hi, q);
-    }
+    for (const Vec4& p : focus.receivers) lo = std::min(lo, m.row(3).dot(p));
+    for (const Vec4& p : focus.points) hi = std::max(hi, m.row(3).dot(p));
+    for (const Vec4& p : focus.receivers) hi = std::max(hi, m.row(3).dot(p));
     return lo / hi;
 }
 
@@ -103,6 +240,18 @@ bool ViewerAxis(const Mat4& viewer, Vec3& eye, Vec3& forward, double& scale) {
     if (!(scale > 0.0)) return false;
     forward = r_w.head<3>().transpose() / scale;
     return eye.allFinite();
+}
+
+// The receivers' nearest and farthest view depths along the view direction (world units).
+void ViewDepths(const Focus& focus, const Vec3& eye, const Vec3& forward, double& z_near,
+                double& z_far) {
+    z_near = std::numeric_limits<double>::infinity();
+    z_far = -z_near;
+    for (const Vec4& r : focus.receivers) {
+        const double t = forward.dot(r.head<3>() - eye);
+        z_near = std::min(z_near, t);
+        z_far = std::max(z_far, t);
+    }
 }
 
 }  // namespace
@@ -121,44 +270,47 @@ const char* BaselineName(BaselineMethod method) noexcept {
 
 Result<BaselineMap> FitUniformMap(const BaselineInput& input, const ExtentHull& hull) noexcept {
     if (Result<bool> ok = ValidateInput(input, hull); !ok) return ok.error();
-    return Uniform(input, hull, Info(BaselineMethod::kUniform));
+    const Focus focus = FocusOf(input, hull);
+    BaselineInfo info = Info(BaselineMethod::kUniform, focus);
+    Vec3 eye, forward;
+    double scale = 1.0;
+    if (ViewerAxis(input.viewer, eye, forward, scale)) {
+        ViewDepths(focus, eye, forward, info.z_near, info.z_far);
+    }
+    return Uniform(input, hull, focus, std::move(info));
 }
 
 Result<BaselineMap> FitPsmMap(const BaselineInput& input, const ExtentHull& hull) noexcept {
     if (Result<bool> ok = ValidateInput(input, hull); !ok) return ok.error();
-    BaselineInfo info = Info(BaselineMethod::kPsm);
+    const Focus focus = FocusOf(input, hull);
+    BaselineInfo info = Info(BaselineMethod::kPsm, focus);
 
-    // The virtual camera Mv' (SD02 §4-5): Mv slid back by delta along its view direction so
-    // every point of H is in front of it, with its near plane pushed to H's nearest point and
-    // its far plane to H's farthest (the distribution in post-perspective z depends on their
-    // ratio). An orthographic viewer's post-perspective space is an affine image of the world:
-    // there PSM is a uniform map in that space, and Mv is used as it is.
+    // The virtual camera Mv' (SD02 §4-5; Kozlov, GPU Gems 2004, ch. 14): Mv slid back by delta
+    // along its view direction, its near and far planes at the visible receivers' nearest and
+    // farthest view depths (z_n + delta, z_f + delta), not the camera's: the post-perspective
+    // distribution depends on their ratio, and with the camera's near plane (0.1 in a room
+    // whose nearest visible floor is 3.7 away) the receivers get a sliver of it. Only the
+    // receivers' rays are fitted in post-perspective space, all in front of both eyes; the
+    // casters in those rays need not be (the composed world matrix is used, and its q is
+    // positive along every ray from the light through a receiver), so the slide-back serves
+    // only kPsmMinInfinityZ. An orthographic viewer's post-perspective space is an affine image
+    // of the world: there PSM is a uniform map in that space, and Mv is used as it is.
     Vec3 eye, forward;
     double scale = 1.0;
     const bool perspective = ViewerAxis(input.viewer, eye, forward, scale);
-    double t_min = std::numeric_limits<double>::infinity();
-    double t_max = -t_min;
-    double v_near = std::numeric_limits<double>::infinity();
+    double z_n = 0.0, z_f = 0.0;
     if (perspective) {
-        // All of H, the light too when it is one of H's vertices: its neighbourhood casts.
-        for (const Vec4& h : hull.vertices) {
-            const double t = forward.dot(h.head<3>() - eye);
-            t_min = std::min(t_min, t);
-            t_max = std::max(t_max, t);
-        }
-        for (const Vec3& v : hull.view_volume.vertices()) {
-            v_near = std::min(v_near, forward.dot(v - eye));
-        }
+        ViewDepths(focus, eye, forward, z_n, z_f);
+        info.z_near = z_n;
+        info.z_far = z_f;
+        z_n = std::max(z_n, 1e-9 * std::abs(z_f));
+        if (!(z_f > z_n * (1.0 + 1e-9))) z_f = 2.0 * z_n;
     }
-    // The virtual camera slid back by delta, and the post-perspective light frustum fitted in
-    // it, composed back to world (rows x, y, w only).
     auto virtual_camera = [&](double delta) {
         Mat4 virtual_viewer = input.viewer;
         if (!perspective) return virtual_viewer;
-        double near = t_min + delta;
-        double far = t_max + delta;
-        if (!(near > 0.0)) near = std::max(v_near, 1e-9 * std::abs(far));
-        if (!(far > near * (1.0 + 1e-9))) far = 2.0 * near;
+        const double near = z_n + delta;
+        const double far = z_f + delta;
         Mat4 shift = Mat4::Identity();  // T(delta f): X -> X + delta f
         shift.block<3, 1>(0, 3) = delta * forward;
         const Mat4 moved = input.viewer * shift / scale;
@@ -174,20 +326,20 @@ Result<BaselineMap> FitPsmMap(const BaselineInput& input, const ExtentHull& hull
         if (!AllFinite(virtual_viewer)) {
             return Error{"viewer", "PSM virtual camera is not finite"};
         }
-        std::vector<Vec4> hull_post;
-        hull_post.reserve(hull.ray_points.size());
-        for (const Vec4& h : hull.ray_points) {
-            const Vec4 p = virtual_viewer * h;
+        std::vector<Vec4> receivers_post;
+        receivers_post.reserve(focus.receivers.size());
+        for (const Vec4& r : focus.receivers) {
+            const Vec4 p = virtual_viewer * r;
             if (!(p.w() > 0.0)) {
-                return Error{"hull", "PSM: a hull vertex is not in front of the virtual camera"};
+                return Error{"hull", "PSM: a receiver is not in front of the virtual camera"};
             }
-            hull_post.push_back(p / p.w());
+            receivers_post.push_back(p / p.w());
         }
         // The oriented frustum formulas take the light as it lands: a point of either w sign
-        // (an inverted light has w < 0 and its rays converge) or, on the eye plane, a
-        // direction.
+        // (an inverted light has w < 0 and its rays converge, as Kozlov's inverse projection) or,
+        // on the eye plane, a direction.
         const Vec4 light_post = virtual_viewer * hull.light;
-        Result<Mat4> basis = LightFrustumBasis(light_post / light_post.norm(), hull_post);
+        Result<Mat4> basis = LightFrustumBasis(light_post / light_post.norm(), receivers_post);
         if (!basis) {
             return Error{"hull", "PSM: in the viewer's post-perspective space " +
                                      basis.error().field + " " + basis.error().reason};
@@ -195,22 +347,22 @@ Result<BaselineMap> FitPsmMap(const BaselineInput& input, const ExtentHull& hull
         return Mat4(*basis * virtual_viewer);
     };
 
-    // Slide back until H's nearest point is as far from the virtual eye as V's nearest is from
-    // the real one (SD02's condition that all casters lie in front). Where the warp would then
-    // squeeze H's q range past the depth row's near/far limit, slide further (doubling): the
-    // warp weakens toward the uniform map.
-    double delta = perspective ? std::max(0.0, v_near - t_min) : 0.0;
+    // Kozlov's slide-back as the PracticalPSM sample sizes it: z_inf = (z_f + delta) / (z_f -
+    // z_n) >= kPsmMinInfinityZ. Where the warp would still squeeze the receivers' q range past
+    // the depth row's near/far limit, slide further (doubling): the warp weakens toward the
+    // uniform map.
+    double delta = perspective ? std::max(0.0, kPsmMinInfinityZ * (z_f - z_n) - z_f) : 0.0;
     Mat4 virtual_viewer = virtual_camera(delta);
     Result<Mat4> prelim = fit_in_post_perspective(virtual_viewer);
     if (!prelim) return prelim.error();
-    double ratio = QRatio(*prelim, hull.ray_points);
-    double step = std::max(delta, v_near);
+    double ratio = QRatio(*prelim, focus);
+    double step = std::max(delta, z_n);
     for (int doubling = 0; perspective && doubling < 64 && !(ratio >= kWarpMinNearRatio);
          ++doubling) {
         const Mat4 further_viewer = virtual_camera(delta + step);
         Result<Mat4> further = fit_in_post_perspective(further_viewer);
         if (!further) break;
-        const double further_ratio = QRatio(*further, hull.ray_points);
+        const double further_ratio = QRatio(*further, focus);
         if (!(further_ratio > ratio)) break;
         delta += step;
         step *= 2.0;
@@ -226,107 +378,144 @@ Result<BaselineMap> FitPsmMap(const BaselineInput& input, const ExtentHull& hull
     info.light_inverted_in_post_perspective =
         !info.light_directional_in_post_perspective && light_post.w() < 0.0;
     Result<LightMap> map =
-        FitImageRectangle(*prelim, hull.light, hull.ray_points, MapSize{0, 0, input.lixel_budget});
+        FitImageRectangle(*prelim, hull.light, focus.points, SquareMap(input), focus.receivers);
     if (!map) return map.error();
     return BaselineMap{*map, std::move(info)};
 }
 
 Result<BaselineMap> FitLispsmMap(const BaselineInput& input, const ExtentHull& hull) noexcept {
     if (Result<bool> ok = ValidateInput(input, hull); !ok) return ok.error();
-    BaselineInfo info = Info(BaselineMethod::kLispsm);
+    const Focus focus = FocusOf(input, hull);
+    BaselineInfo info = Info(BaselineMethod::kLispsm, focus);
 
     Vec3 eye, forward;
     double scale = 1.0;
     if (!ViewerAxis(input.viewer, eye, forward, scale)) {
-        return FallBack(input, hull, std::move(info),
+        return FallBack(input, hull, focus, std::move(info),
                         "orthographic viewer: no perspective aliasing for LiSPSM to undo");
     }
-    const std::vector<Vec3> view_corners = hull.view_volume.vertices();
-
-    // The space the warp is built in (Wimmer et al. §6): the world for a directional light; for
-    // a point light the post-perspective space of a uniform light frustum T, where the light is
-    // the direction +z. Everything below is in that space.
-    const bool point_light = hull.light.w() != 0.0;
-    Mat4 space = Mat4::Identity();
-    if (point_light) {
-        Result<Mat4> basis = LightFrustumBasis(hull.light, hull.ray_points);
-        if (!basis) return basis.error();
-        space = *basis;
-    }
-    const Vec4 light_s = space * hull.light;
-    const Vec3 toward_light = light_s.head<3>().normalized();
-    const Vec3 propagation = -toward_light;
-    Vec3 eye_s = eye;
-    Vec3 forward_s = forward;
-    std::vector<Vec3> view_s;
-    view_s.reserve(view_corners.size());
-    Vec3 centroid = Vec3::Zero();
-    for (const Vec3& v : view_corners) centroid += v / static_cast<double>(view_corners.size());
-    if (point_light) {
-        const Vec4 e = space * Point(eye);
-        if (!(e.w() > 1e-12 * e.norm())) {
-            return FallBack(input, hull, std::move(info),
-                            "point light: the eye is not in front of the light's image plane, "
-                            "so the light's post-perspective space has no view direction");
-        }
-        eye_s = e.head<3>() / e.w();
-        const Vec4 c = space * Point(centroid);
-        forward_s = (c.head<3>() / c.w() - eye_s).normalized();
-        for (const Vec3& v : view_corners) {
-            const Vec4 p = space * Point(v);
-            view_s.push_back(p.head<3>() / p.w());
-        }
-    } else {
-        view_s = view_corners;
-    }
-    if (!eye_s.allFinite() || !forward_s.allFinite()) {
-        return FallBack(input, hull, std::move(info),
-                        "view direction is undefined in the light's post-perspective space");
-    }
-
-    info.sin_gamma = forward_s.cross(toward_light).norm();
-    if (!(info.sin_gamma >= kLispsmMinSinGamma)) {
-        return FallBack(input, hull, std::move(info),
-                        "view direction nearly parallel to the light (sin gamma = " +
-                            std::to_string(info.sin_gamma) + ")");
-    }
-    // View depths of V: the part of the frustum the map serves (Filament likewise clips the
-    // camera's near/far to the shadow receivers).
-    double z_near = std::numeric_limits<double>::infinity();
-    double z_far = -z_near;
-    for (const Vec3& v : view_s) {
-        const double t = forward_s.dot(v - eye_s);
-        z_near = std::min(z_near, t);
-        z_far = std::max(z_far, t);
-    }
+    // z_n, z_f: the visible receivers' view depths, metric (Wimmer et al. 2004 take the
+    // view frustum's near and far; Filament and Ogre clip those to the receivers in view, as
+    // here).
+    double z_near = 0.0, z_far = 0.0;
+    ViewDepths(focus, eye, forward, z_near, z_far);
     if (!(z_far > 0.0)) {
-        return FallBack(input, hull, std::move(info),
-                        "the view volume is not in front of the eye in the warp's space");
+        return FallBack(input, hull, focus, std::move(info),
+                        "the receivers are not in front of the eye");
     }
     z_near = std::max(z_near, 1e-6 * z_far);
     info.z_near = z_near;
     info.z_far = z_far;
-    // Wimmer et al. 2004, eq. for the general case: n_opt = (z_n + sqrt(z_n z_f)) / sin(gamma).
-    info.n_opt = (z_near + std::sqrt(z_near * z_far)) / info.sin_gamma;
 
-    // Light space: z along the light's propagation, y the view direction projected
-    // perpendicular to it, x = z cross y so (x, y) is not mirrored for a camera looking along z.
-    const Vec3 z_axis = propagation;
-    const Vec3 y_axis = (forward_s - forward_s.dot(z_axis) * z_axis).normalized();
+    // gamma, metric: between the view direction and the direction toward the light, for a
+    // point light the one from the receivers' centroid (the light's rays over R differ by the
+    // angle R subtends; the warp takes one direction, as a directional approximation would).
+    const bool point_light = hull.light.w() != 0.0;
+    Vec3 centroid = Vec3::Zero();
+    for (const Vec4& r : focus.receivers) {
+        centroid += r.head<3>() / static_cast<double>(focus.receivers.size());
+    }
+    const Vec3 toward_light = point_light ? Vec3(hull.light.head<3>() / hull.light.w() - centroid)
+                                          : Vec3(hull.light.head<3>());
+    const Vec3 toward = toward_light.normalized();
+    info.sin_gamma = forward.cross(toward).norm();
+    if (!(info.sin_gamma >= kLispsmMinSinGamma)) {
+        return FallBack(input, hull, focus, std::move(info),
+                        "view direction nearly parallel to the light (sin gamma = " +
+                            std::to_string(info.sin_gamma) + ")");
+    }
+    // Wimmer et al. 2004, eq. for the general case: n_opt = (z_n + sqrt(z_n z_f)) / sin(gamma),
+    // the distance from the warp's centre of projection to the near face of the receivers'
+    // light-space bounds that makes the perspective aliasing along the view direction equal at
+    // z_n and z_f (for gamma = 90 degrees its worst case then grows as sqrt(z_f / z_n), Lloyd
+    // et al. 2008, against z_f / z_n for the uniform map).
+    info.n_opt = (z_near + std::sqrt(z_near * z_far)) / info.sin_gamma;
+    // Ogre's blend toward uniform as the directions become parallel (LiSPSMShadowCameraSetup:
+    // beyond |cos gamma| = 0.9, n_opt grows linearly up to 21 times at parallel): 1 / sin(gamma)
+    // alone leaves the warp too strong there, where the projected view direction says little
+    // about view depth.
+    const double cos_gamma = std::abs(forward.dot(toward));
+    if (cos_gamma > kLispsmBlendCosGamma) {
+        info.n_opt *= 1.0 + kLispsmBlendGain * (cos_gamma - kLispsmBlendCosGamma) /
+                                (1.0 - kLispsmBlendCosGamma);
+    }
+
+    // The space the warp is built in (Wimmer et al. §6): the world for a directional light; for
+    // a point light the post-perspective space of a uniform light frustum T around the held
+    // points, where the light is the direction +z and the map is T's image followed by the
+    // warp. That space is not metric (image coordinates are tangents, depth 1 / distance), so
+    // n_opt, metric, is carried into it as a ratio: the warp's near distance over the
+    // receivers' extent along its axis is kept, n_s / d_s = n_opt / d, with d the receivers'
+    // metric extent along the view direction projected perpendicular to `toward` (the
+    // directional approximation's axis). The warp then has the strength LiSPSM would give a
+    // directional light from the receivers' centroid, on top of the point light's own
+    // perspective; as the light recedes, T tends to an orthographic map and this to the
+    // directional case. (The alternative, n_opt from T's own z, mixes tangents with inverse
+    // distances and gave n_opt ~ 1e-6: a warp far past the depth row's limit.)
+    Mat4 space = Mat4::Identity();
+    Vec3 z_axis = -toward;  // light space z: the light's propagation
+    Vec3 y_axis = forward - forward.dot(z_axis) * z_axis;
+    if (point_light) {
+        Result<Mat4> basis = LightFrustumBasis(hull.light, focus.points);
+        if (!basis) return basis.error();
+        space = *basis;
+        z_axis = -Vec3::UnitZ();
+        // The view direction's image at the receivers' centroid: d/dt of T(c + t f), the
+        // direction in which view depth grows across the light's image there.
+        const Vec4 c = space * Point(centroid);
+        const Vec4 dc = space * Direction(forward);
+        const Vec3 velocity = (dc.head<3>() * c.w() - c.head<3>() * dc.w()) / (c.w() * c.w());
+        y_axis = velocity - velocity.dot(z_axis) * z_axis;
+    }
+    if (!(y_axis.norm() > 0.0) || !y_axis.allFinite()) {
+        return FallBack(input, hull, focus, std::move(info),
+                        "the view direction has no image across the light's image");
+    }
+    y_axis.normalize();
+    // x = z cross y so (x, y) is not mirrored for a camera looking along z.
     const Vec3 x_axis = z_axis.cross(y_axis);
+    auto in_space = [&](const Vec4& p) -> Vec3 {
+        const Vec4 s = space * p;
+        return s.head<3>() / s.w();
+    };
     double y_min = std::numeric_limits<double>::infinity();
-    for (const Vec4& h : hull.ray_points) {
-        const Vec4 p = space * h;
-        y_min = std::min(y_min, y_axis.dot(p.head<3>() / p.w()));
+    double x_min = y_min, x_max = -y_min;
+    for (const Vec4& p : focus.points) {
+        const Vec3 s = in_space(p);
+        y_min = std::min(y_min, y_axis.dot(s));
+        x_min = std::min(x_min, x_axis.dot(s));
+        x_max = std::max(x_max, x_axis.dot(s));
+    }
+    double n_space = info.n_opt;
+    if (point_light) {
+        const Vec3 metric_axis = (forward - forward.dot(toward) * toward).normalized();
+        double d_lo = std::numeric_limits<double>::infinity(), d_hi = -d_lo;
+        double s_lo = d_lo, s_hi = -d_lo;
+        for (const Vec4& r : focus.receivers) {
+            d_lo = std::min(d_lo, metric_axis.dot(r.head<3>()));
+            d_hi = std::max(d_hi, metric_axis.dot(r.head<3>()));
+            s_lo = std::min(s_lo, y_axis.dot(in_space(r)));
+            s_hi = std::max(s_hi, y_axis.dot(in_space(r)));
+        }
+        n_space = info.n_opt * (s_hi - s_lo) / (d_hi - d_lo);
+        if (!(n_space > 0.0) || !std::isfinite(n_space)) {
+            return FallBack(input, hull, focus, std::move(info),
+                            "the receivers have no extent along the warp's axis");
+        }
+    }
+    // The projection centre's x: in line with the eye (Wimmer et al.; Filament and Ogre), or for a
+    // point light whose image plane the eye is behind, the middle of the held points' image.
+    double centre_x = 0.5 * (x_min + x_max);
+    if (const Vec4 e = space * Point(eye); e.w() > 1e-12 * e.norm()) {
+        centre_x = x_axis.dot(e.head<3>() / e.w());
     }
     // The warp P followed by the orthographic projection along the light, for a near distance
-    // n: the projection centre sits in line with the eye across the light, n before the near
-    // face of H's light-space bounds, so H spans warp depths [n, n + extent]. Image x is the
-    // warp's x / depth, image y its depth coordinate -n / depth (the scale that makes lixels
-    // square at the near face; the rectangle fit renormalises).
+    // n: the projection centre sits n before the near face of the held points' light-space
+    // bounds, so they span warp depths [n, n + extent]. Image x is the warp's x / depth, image
+    // y its depth coordinate -n / depth (the scale that makes lixels square at the near face;
+    // the rectangle fit renormalises).
     auto warp_for = [&](double n) {
-        const Vec3 centre =
-            x_axis.dot(eye_s) * x_axis + (y_min - n) * y_axis + z_axis.dot(eye_s) * z_axis;
+        const Vec3 centre = centre_x * x_axis + (y_min - n) * y_axis;
         Mat4 warp = Mat4::Zero();
         warp.row(0) << x_axis.x(), x_axis.y(), x_axis.z(), -x_axis.dot(centre);
         warp.row(1) << 0.0, 0.0, 0.0, -n;
@@ -334,22 +523,28 @@ Result<BaselineMap> FitLispsmMap(const BaselineInput& input, const ExtentHull& h
         return Mat4(warp * space);
     };
     // FitDepthRow keeps q_near >= kMinNearRatio q_far and lets the renderer clamp what is
-    // nearer; the warp must not push receivers of H there. Where n_opt would, the warp is
-    // weakened by doubling n until H's q range fits (it tends to the unwarped range).
-    double n = info.n_opt;
+    // nearer; the warp must not push receivers there. Where n would, the warp is weakened by
+    // doubling n until the receivers' q range fits (it tends to the unwarped range).
+    double n = n_space;
     Mat4 prelim = warp_for(n);
-    double ratio = QRatio(prelim, hull.ray_points);
+    double ratio = QRatio(prelim, focus);
     for (int doubling = 0; doubling < 64 && !(ratio >= kWarpMinNearRatio); ++doubling) {
-        n *= 2.0;
-        const Mat4 weaker = warp_for(n);
-        const double weaker_ratio = QRatio(weaker, hull.ray_points);
+        const Mat4 weaker = warp_for(2.0 * n);
+        const double weaker_ratio = QRatio(weaker, focus);
         if (!(weaker_ratio > ratio)) break;  // at the unwarped limit
+        n *= 2.0;
         prelim = weaker;
         ratio = weaker_ratio;
     }
     info.warp_near = n;
+    // The warp fixes the image's y axis to the projected view direction; within the warped
+    // image the map may still be turned, and is, to the minimal-area rectangle, as the uniform
+    // map's image is (LightFrustumBasis) and PSM's post-perspective one: a view direction
+    // projected diagonally across a thin image (a floor lit from low) otherwise leaves most of
+    // a square map empty.
+    prelim = TurnImageToMinimalArea(prelim, focus.points);
     Result<LightMap> map =
-        FitImageRectangle(prelim, hull.light, hull.ray_points, MapSize{0, 0, input.lixel_budget});
+        FitImageRectangle(prelim, hull.light, focus.points, SquareMap(input), focus.receivers);
     if (!map) return map.error();
     return BaselineMap{*map, std::move(info)};
 }

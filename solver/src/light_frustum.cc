@@ -100,8 +100,10 @@ Result<Vec3> ConeAxis(std::vector<Vec3> units) {
 }
 
 // Rotation of (u, v) about their normal that gives the images' minimal-area bounding
-// rectangle (one of its sides lies on a convex-hull edge).
-void MinimalAreaTurn(const std::vector<Vec2>& images, Vec3& u, Vec3& v) {
+// rectangle (one of its sides lies on a convex-hull edge). `Axis`: the image axes as world
+// directions (Vec3) or as a matrix's image rows (RowVec4).
+template <class Axis>
+void MinimalAreaTurn(const std::vector<Vec2>& images, Axis& u, Axis& v) {
     const std::vector<Vec2> hull = ConvexHull2d(images);
     if (hull.size() < 3) return;
     double best_area = std::numeric_limits<double>::infinity();
@@ -129,8 +131,8 @@ void MinimalAreaTurn(const std::vector<Vec2>& images, Vec3& u, Vec3& v) {
     }
     const double c = std::cos(best_theta);
     const double s = std::sin(best_theta);
-    const Vec3 turned_u = c * u + s * v;
-    const Vec3 turned_v = -s * u + c * v;
+    const Axis turned_u = c * u + s * v;
+    const Axis turned_v = -s * u + c * v;
     u = turned_u;
     v = turned_v;
 }
@@ -167,6 +169,10 @@ Result<std::array<int, 2>> ChooseSize(const MapSize& size, double aspect) {
     if (size.lixel_budget < 1) {
         return Error{"size.lixel_budget", "must be >= 1 when no width and height are given, got " +
                                               std::to_string(size.lixel_budget)};
+    }
+    if (size.square) {
+        const int side = SquareSide(size.lixel_budget);
+        return std::array<int, 2>{side, side};
     }
     const double budget = static_cast<double>(size.lixel_budget);
     const double max_side = kMaxImageSide;
@@ -218,8 +224,20 @@ Result<bool> ValidateCubeFace(const Vec4& light, int face) {
 
 }  // namespace
 
+int SquareSide(std::int64_t lixel_budget) noexcept {
+    if (lixel_budget < 1) return 0;
+    if (lixel_budget >= std::int64_t{kMaxImageSide} * kMaxImageSide) return kMaxImageSide;
+    // Below 2^28 the square root in double is within an ulp: floor it, then settle a rounding
+    // at an exact square either way.
+    auto side = static_cast<std::int64_t>(std::sqrt(static_cast<double>(lixel_budget)));
+    while (side * side > lixel_budget) --side;
+    while ((side + 1) * (side + 1) <= lixel_budget) ++side;
+    return static_cast<int>(side);
+}
+
 Result<LightMap> FitImageRectangle(const Mat4& prelim, const Vec4& light,
-                                   std::span<const Vec4> points, const MapSize& size) noexcept {
+                                   std::span<const Vec4> points, const MapSize& size,
+                                   std::span<const Vec4> receivers) noexcept {
     if (!AllFinite(prelim)) return Error{"prelim", "is not finite"};
     if (Result<bool> ok = ValidateLight(light); !ok) return ok.error();
     if (Result<bool> ok = ValidatePoints(points); !ok) return ok.error();
@@ -288,13 +306,31 @@ Result<LightMap> FitImageRectangle(const Mat4& prelim, const Vec4& light,
     map.matrix.row(3) = w_scale * r_w;
     map.matrix.row(0) = w_scale * (width / (x1 - x0)) * (r_x - x0 * r_w);
     map.matrix.row(1) = w_scale * (height / (y1 - y0)) * (r_y - y0 * r_w);
-    Result<RowVec4> r_z = FitDepthRow(map.matrix.row(3), light, points);
+    Result<RowVec4> r_z = FitDepthRow(map.matrix.row(3), light, points, receivers);
     if (!r_z) return r_z.error();
     map.matrix.row(2) = *r_z;
     if (!AllFinite(map.matrix)) {
         return Error{"points", "light image is degenerate (non-finite light matrix)"};
     }
     return map;
+}
+
+Mat4 TurnImageToMinimalArea(const Mat4& prelim, std::span<const Vec4> points) noexcept {
+    std::vector<Vec2> images;
+    images.reserve(points.size());
+    for (const Vec4& p : points) {
+        const double q = prelim.row(3).dot(p);
+        if (!(q > 0.0)) continue;
+        const Vec2 image(prelim.row(0).dot(p) / q, prelim.row(1).dot(p) / q);
+        if (image.allFinite()) images.push_back(image);
+    }
+    RowVec4 u = prelim.row(0);
+    RowVec4 v = prelim.row(1);
+    MinimalAreaTurn(images, u, v);
+    Mat4 turned = prelim;
+    turned.row(0) = u;
+    turned.row(1) = v;
+    return turned;
 }
 
 Result<Mat4> LightFrustumBasis(const Vec4& light, std::span<const Vec4> points,
@@ -357,10 +393,10 @@ Result<Mat4> LightFrustumBasis(const Vec4& light, std::span<const Vec4> points,
 }
 
 Result<LightMap> FitFrustum(const Vec4& light, std::span<const Vec4> points, const MapSize& size,
-                            const Vec3& up_hint) noexcept {
+                            const Vec3& up_hint, std::span<const Vec4> receivers) noexcept {
     Result<Mat4> basis = LightFrustumBasis(light, points, up_hint);
     if (!basis) return basis.error();
-    return FitImageRectangle(*basis, light, points, size);
+    return FitImageRectangle(*basis, light, points, size, receivers);
 }
 
 Result<CubeFaceMap> FitCubeFace(const Vec4& light, int face, std::span<const Vec4> points,

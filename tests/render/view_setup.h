@@ -77,7 +77,7 @@ inline TestScene BoxOnSlab(int size) {
 inline LightMap UniformMap(const TestScene& s, std::int64_t budget) {
     auto hull = ComputeExtentHull(s.viewer, s.light, s.bounds);
     EXPECT_TRUE(hull.ok()) << hull.error().Message();
-    BaselineInput input{s.viewer, s.viewport, s.light, budget};
+    BaselineInput input{s.viewer, s.viewport, s.light, budget, {}};
     auto fitted = FitUniformMap(input, *hull);
     EXPECT_TRUE(fitted.ok()) << fitted.error().Message();
     return fitted->map;

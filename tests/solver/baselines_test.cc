@@ -4,6 +4,7 @@
 #include <lixel/solver/camera.h>
 #include <lixel/solver/extent_hull.h>
 #include <lixel/solver/homogeneous.h>
+#include <lixel/solver/light_frustum.h>
 
 #include <Eigen/SVD>
 #include <cmath>
@@ -81,6 +82,9 @@ TEST(Baselines, EveryMethodHoldsTheHullWithinTheBudget) {
             EXPECT_TRUE(testing::LightAtInfinity(fit->map, hull->light))
                 << BaselineName(method) << " config " << i;
             EXPECT_LE(static_cast<std::int64_t>(fit->map.width) * fit->map.height, budget);
+            // Square, the largest the budget buys (DESIGN §4.3), whatever the image's aspect.
+            EXPECT_EQ(fit->map.width, fit->map.height) << BaselineName(method) << " config " << i;
+            EXPECT_EQ(fit->map.width, SquareSide(budget)) << BaselineName(method);
             EXPECT_TRUE(testing::DepthGrowsAlongRay(fit->map, hull->light, PointInHull(rng, *hull),
                                                     c.bounds.Diagonal()))
                 << BaselineName(method) << " config " << i;
@@ -226,67 +230,430 @@ TEST(Baselines, LispsmBeatsUniformNearTheViewerWithAPerpendicularLight) {
     }
 }
 
-// The floor/wall room with its point light ahead of and above the viewer: with the camera's
-// near plane at 0.1 inside the scene bounds, V (and so LiSPSM's z_n and PSM's near plane)
-// starts 0.1 from the eye, though the nearest visible floor is ~3.8 away, and both warps spend
-// most of the map on that empty space. With the near plane pulled up to the receivers (3.0),
-// the same construction beats the uniform map on the nearest floor (measured m: LiSPSM 5.0,
-// PSM 3.7, uniform 6.7), so the warps point the right way for this light.
-TEST(Baselines, WarpsBeatUniformOnTheNearFloorWhenTheNearPlaneIsAtTheReceivers) {
-    testing::Configuration c = testing::FloorWallConfiguration();
-    c.viewer = Perspective(60.0 * std::numbers::pi / 180.0, 1.0, 3.0, 100.0) *
-               LookAt(c.eye, c.target, Vec3::UnitY());
+// Points of flat receiver boxes (one axis of zero extent) seen at an n x n grid of pixels
+// (their centres' rays, in front of the eye, between the near and far planes, inside the box):
+// what a map focused on the receivers must hold.
+std::vector<Vec4> SeenOnReceivers(const testing::Configuration& c,
+                                  const std::vector<Aabb>& receivers, int n) {
+    const Mat4 pixels = PixelMatrix(c.viewer, c.viewport);
+    const Mat4 unproject = pixels.inverse();
+    std::vector<Vec4> seen;
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            const double u = (i + 0.5) * c.viewport.width / n;
+            const double v = (j + 0.5) * c.viewport.height / n;
+            Vec4 a = unproject * Vec4(u, v, kClipDepthNear, 1.0);
+            Vec4 b = unproject * Vec4(u, v, kClipDepthFar, 1.0);
+            a /= a.w();
+            b /= b.w();
+            for (const Aabb& box : receivers) {
+                int axis = 0;
+                while (axis < 3 && box.max(axis) > box.min(axis)) ++axis;
+                if (axis == 3 || a(axis) == b(axis)) continue;
+                const double t = (box.min(axis) - a(axis)) / (b(axis) - a(axis));
+                if (!(t >= 0.0 && t <= 1.0)) continue;
+                Vec3 p = (a + t * (b - a)).head<3>();
+                p(axis) = box.min(axis);
+                const double slack = 1e-9 * box.Diagonal();
+                if ((p.array() >= box.min.array() - slack).all() &&
+                    (p.array() <= box.max.array() + slack).all()) {
+                    seen.push_back(Point(p));
+                }
+            }
+        }
+    }
+    return seen;
+}
+
+// The receivers of the floor/wall room (test_scenes): the floor y = 0 and the wall z = -5, each
+// a flat box on a face of the bounds, as the built-in scene's meshes bound them.
+std::vector<Aabb> FloorAndWall(const testing::Configuration& c) {
+    const Aabb& b = c.bounds;
+    return {Aabb{b.min, Vec3(b.max.x(), b.min.y(), b.max.z())},
+            Aabb{b.min, Vec3(b.max.x(), b.max.y(), b.min.z())}};
+}
+
+// The unmodified floor/wall room (near plane 0.1, the eye inside the bounds, the point light
+// ahead of and above the viewer), its floor and wall given as receivers. The nearest visible
+// floor is 3.7 from the eye: with z_n and PSM's near plane there, not at the camera's 0.1, both
+// warps put more lixels on the near floor than the uniform map (measured m at the bottom of the
+// view, 512^2 lixels: uniform 6.0, LiSPSM 3.7, PSM 3.9; before issue 12's fixes, with z_n and
+// the near plane at the camera's, n_opt in the light's post-perspective units and maps of the
+// image's aspect: uniform 9.9, LiSPSM 12.4, PSM 64.5).
+TEST(Baselines, WarpsBeatUniformOnTheNearFloorOfTheFloorWallRoom) {
+    const testing::Configuration c = testing::FloorWallConfiguration();
     const Mat4 pixels = PixelMatrix(c.viewer, c.viewport);
     const auto hull = ComputeExtentHull(c.viewer, c.light, c.bounds);
     ASSERT_TRUE(hull.ok()) << hull.error().Message();
-    const auto uniform = FitUniformMap(InputOf(c, 512 * 512), *hull);
-    ASSERT_TRUE(uniform.ok());
-    const double x = 0.5 * c.viewport.width, y = 0.02 * c.viewport.height;
-    const double m_uniform = FloorAliasing(pixels, uniform->map, x, y);
-    for (BaselineMethod method : {BaselineMethod::kLispsm, BaselineMethod::kPsm}) {
-        const auto fit = FitBaseline(method, InputOf(c, 512 * 512), *hull);
-        ASSERT_TRUE(fit.ok()) << fit.error().Message();
-        ASSERT_EQ(fit->info.used, method) << fit->info.fallback_reason;
-        EXPECT_LT(1.2 * FloorAliasing(pixels, fit->map, x, y), m_uniform) << BaselineName(method);
+    BaselineInput input = InputOf(c, 512 * 512);
+    input.receivers = FloorAndWall(c);
+    const auto uniform = FitUniformMap(input, *hull);
+    ASSERT_TRUE(uniform.ok()) << uniform.error().Message();
+    EXPECT_TRUE(uniform->info.focused_on_receivers);
+    // z_n: where the bottom plane of the view meets the floor (the floor lies along the
+    // viewer's x axis there, so the whole bottom edge is at one view depth).
+    const Vec3 forward = (c.target - c.eye).normalized();
+    const Vec3 up = Vec3::UnitY() - Vec3::UnitY().dot(forward) * forward;
+    const Vec3 bottom = forward - std::tan(30.0 * std::numbers::pi / 180.0) * up.normalized();
+    EXPECT_NEAR(uniform->info.z_near, c.eye.y() / -bottom.y(), 1e-6);
+    constexpr double kBetter = 1.3;  // measured: 1.6 (LiSPSM) and 1.5 (PSM)
+    for (double y : {0.5, 0.02 * c.viewport.height, 0.1 * c.viewport.height}) {
+        const double x = 0.5 * c.viewport.width;
+        const double m_uniform = FloorAliasing(pixels, uniform->map, x, y);
+        ASSERT_TRUE(std::isfinite(m_uniform));
+        for (BaselineMethod method : {BaselineMethod::kLispsm, BaselineMethod::kPsm}) {
+            const auto fit = FitBaseline(method, input, *hull);
+            ASSERT_TRUE(fit.ok()) << fit.error().Message();
+            ASSERT_EQ(fit->info.used, method) << fit->info.fallback_reason;
+            EXPECT_EQ(fit->info.z_near, uniform->info.z_near);
+            EXPECT_LT(kBetter * FloorAliasing(pixels, fit->map, x, y), m_uniform)
+                << BaselineName(method) << " at pixel row " << y;
+        }
     }
 }
 
-TEST(Baselines, PsmSlidesBackForCastersBehindTheViewer) {
-    // Light behind and above the viewer, outside the bounds: H reaches behind the eye up to
-    // the bounds, so the virtual camera must slide back, and the light lands behind the
-    // virtual eye in post-perspective space.
+// Receiver boxes none of which meets V leave every map on V, holding C_tot, as without any;
+// one that does moves z_n to its visible part.
+TEST(Baselines, ReceiversOutOfViewLeaveTheMapsOnTheViewVolume) {
+    const testing::Configuration c = testing::FloorWallConfiguration();
+    const auto hull = ComputeExtentHull(c.viewer, c.light, c.bounds);
+    ASSERT_TRUE(hull.ok());
+    // Behind the eye (z = 8 looking toward -z), and beside the room.
+    const std::vector<Aabb> unseen = {Aabb{Vec3(-10.0, 0.0, 9.0), Vec3(10.0, 8.0, 10.0)},
+                                      Aabb{Vec3(40.0, 0.0, 0.0), Vec3(41.0, 1.0, 1.0)}};
+    for (BaselineMethod method : kMethods) {
+        BaselineInput input = InputOf(c, 1 << 16);
+        const auto bare = FitBaseline(method, input, *hull);
+        input.receivers = unseen;
+        const auto fit = FitBaseline(method, input, *hull);
+        ASSERT_TRUE(bare.ok() && fit.ok()) << BaselineName(method);
+        EXPECT_FALSE(fit->info.focused_on_receivers);
+        EXPECT_TRUE(fit->map.matrix == bare->map.matrix) << BaselineName(method);
+        EXPECT_TRUE(testing::MapHoldsPoints(fit->map, hull->ray_points)) << BaselineName(method);
+        // V starts at the camera's near plane, 0.1 from the eye.
+        EXPECT_NEAR(fit->info.z_near, 0.1, 1e-6) << BaselineName(method);
+        input.receivers.push_back(FloorAndWall(c)[0]);
+        const auto floor = FitBaseline(method, input, *hull);
+        ASSERT_TRUE(floor.ok());
+        EXPECT_TRUE(floor->info.focused_on_receivers);
+        EXPECT_GT(floor->info.z_near, 3.7) << BaselineName(method);
+    }
+}
+
+// Toward parallel view and light, n_opt grows as 1 / sin(gamma) and, beyond |cos gamma| = 0.9,
+// by Ogre's further factor (1 + 20 (|cos gamma| - 0.9) / 0.1), so the warp fades into the
+// uniform map before the kLispsmMinSinGamma cut-off instead of jumping to it: the ratio of
+// lixel densities near and far on the floor falls steadily to the uniform map's.
+TEST(Baselines, LispsmBlendsTowardUniformAsViewAndLightTurnParallel) {
+    testing::Configuration c = Room(Vec4::Zero());
+    const Vec3 forward = (c.target - c.eye).normalized();
+    const Vec3 up = (Vec3::UnitY() - Vec3::UnitY().dot(forward) * forward).normalized();
+    auto density = [&](const LightMap& m, const Vec3& p) {
+        const Vec3 step(0.0, 0.0, -0.01);
+        return (LixelOf(m, Point(p + step)) - LixelOf(m, Point(p))).norm() / 0.01;
+    };
+    auto near_over_far = [&](const LightMap& m) {
+        return density(m, Vec3(0.0, 0.0, 4.0)) / density(m, Vec3(0.0, 0.0, -4.0));
+    };
+    double previous_n = 0.0, previous_gain = std::numeric_limits<double>::infinity();
+    for (const double degrees : {60.0, 30.0, 20.0, 10.0, 5.0, 2.0, 1.0}) {
+        const double gamma = degrees * std::numbers::pi / 180.0;
+        // From behind the viewer, tilted up by gamma from its view direction.
+        c.light = Direction(-std::cos(gamma) * forward + std::sin(gamma) * up);
+        const auto hull = ComputeExtentHull(c.viewer, c.light, c.bounds);
+        ASSERT_TRUE(hull.ok()) << hull.error().Message();
+        BaselineInput input = InputOf(c, 1 << 20);
+        input.receivers = FloorAndWall(c);
+        const auto fit = FitLispsmMap(input, *hull);
+        const auto uniform = FitUniformMap(input, *hull);
+        ASSERT_TRUE(fit.ok() && uniform.ok());
+        ASSERT_EQ(fit->info.used, BaselineMethod::kLispsm) << degrees << " degrees";
+        EXPECT_NEAR(fit->info.sin_gamma, std::sin(gamma), 1e-12);
+        const double cos_gamma = std::cos(gamma);
+        const double blend = cos_gamma > 0.9 ? 1.0 + 20.0 * (cos_gamma - 0.9) / 0.1 : 1.0;
+        const double z_n = fit->info.z_near, z_f = fit->info.z_far;
+        EXPECT_NEAR(fit->info.n_opt, blend * (z_n + std::sqrt(z_n * z_f)) / std::sin(gamma),
+                    1e-12 * fit->info.n_opt)
+            << degrees << " degrees";
+        EXPECT_GT(fit->info.n_opt, previous_n) << degrees << " degrees";
+        previous_n = fit->info.n_opt;
+        // The warp's extra near-over-far density, 1 for the uniform map.
+        const double gain = near_over_far(fit->map) / near_over_far(uniform->map);
+        EXPECT_GE(gain, 1.0 - 1e-9) << degrees << " degrees";
+        EXPECT_LT(gain, previous_gain) << degrees << " degrees";
+        previous_gain = gain;
+    }
+    EXPECT_LT(previous_gain, 1.02);  // at 1 degree, within 2 % of the uniform map
+}
+
+TEST(Baselines, PsmSlidesBackToKeepTheInfinityPlaneOut) {
+    // Kozlov's slide-back as NVIDIA's PracticalPSM sizes it: the virtual eye moves back until
+    // z_inf = (z_f + delta) / (z_f - z_n) reaches kPsmMinInfinityZ (a warp of at most 3:1).
+    // Light behind and above the viewer, outside the bounds: it lands behind the virtual eye in
+    // post-perspective space (inverted).
     testing::Configuration c = testing::FloorWallConfiguration();
     c.light = Point(Vec3(0.0, 7.0, 14.0));
     const auto hull = ComputeExtentHull(c.viewer, c.light, c.bounds);
     ASSERT_TRUE(hull.ok()) << hull.error().Message();
     ASSERT_FALSE(hull->light_inside);
-    const auto fit = FitPsmMap(InputOf(c, 1 << 20), *hull);
+    BaselineInput input = InputOf(c, 1 << 20);
+    input.receivers = FloorAndWall(c);
+    const auto fit = FitPsmMap(input, *hull);
     ASSERT_TRUE(fit.ok()) << fit.error().Message();
-    EXPECT_GT(fit->info.slide_back, 0.0);
+    const double z_n = fit->info.z_near, z_f = fit->info.z_far;
+    ASSERT_GT(z_f, 3.0 * z_n);  // so the rule slides back
+    EXPECT_NEAR(fit->info.slide_back, kPsmMinInfinityZ * (z_f - z_n) - z_f, 1e-9 * z_f);
     EXPECT_TRUE(fit->info.light_inverted_in_post_perspective);
-    EXPECT_TRUE(testing::MapHoldsPoints(fit->map, hull->ray_points));
-    // A light in front of the viewer needs no slide-back when H stays in front of the eye.
+    EXPECT_TRUE(testing::MapHoldsPoints(fit->map, SeenOnReceivers(c, input.receivers, 16)));
+    // A light in front of the viewer is not inverted; receivers within 3:1 in depth (the wall
+    // alone, 11.4 to 13.3 from the eye) need no slide-back.
     c.light = Point(Vec3(0.0, 7.0, -4.0));
     const auto front_hull = ComputeExtentHull(c.viewer, c.light, c.bounds);
     ASSERT_TRUE(front_hull.ok());
-    const auto front = FitPsmMap(InputOf(c, 1 << 20), *front_hull);
+    input = InputOf(c, 1 << 20);
+    input.receivers = {FloorAndWall(c)[1]};
+    const auto front = FitPsmMap(input, *front_hull);
     ASSERT_TRUE(front.ok()) << front.error().Message();
     EXPECT_FALSE(front->info.light_inverted_in_post_perspective);
+    ASSERT_LT(front->info.z_far, 3.0 * front->info.z_near);
     EXPECT_EQ(front->info.slide_back, 0.0);
-    EXPECT_TRUE(testing::MapHoldsPoints(front->map, front_hull->ray_points));
 }
 
-TEST(Baselines, PointLightLispsmWarpsInTheLightsPostPerspectiveSpace) {
-    testing::Configuration c = testing::FloorWallConfiguration();  // light (4, 9, 3)
+// The floor/wall room's point light (4, 9, 3): the warp is built in the light's post-perspective
+// space, but n_opt comes from metric distances, the visible floor's and wall's view depths
+// (3.7 to 13.3 from the eye) and the angle to the light; in that space's own units (tangents
+// and inverse distances) the same formula gave z_n ~ 0.03 and n_opt ~ 0.3.
+TEST(Baselines, PointLightLispsmTakesNOptFromMetricDistances) {
+    const testing::Configuration c = testing::FloorWallConfiguration();
     const auto hull = ComputeExtentHull(c.viewer, c.light, c.bounds);
     ASSERT_TRUE(hull.ok());
-    const auto fit = FitLispsmMap(InputOf(c, 1 << 20), *hull);
+    BaselineInput input = InputOf(c, 1 << 20);
+    input.receivers = FloorAndWall(c);
+    const auto fit = FitLispsmMap(input, *hull);
     ASSERT_TRUE(fit.ok()) << fit.error().Message();
-    EXPECT_EQ(fit->info.used, BaselineMethod::kLispsm) << fit->info.fallback_reason;
-    EXPECT_GT(fit->info.n_opt, 0.0);
-    const auto uniform = FitUniformMap(InputOf(c, 1 << 20), *hull);
+    ASSERT_EQ(fit->info.used, BaselineMethod::kLispsm) << fit->info.fallback_reason;
+    // z_n, z_f: the nearest and farthest view depths of what the pixels see on floor and wall.
+    const Vec3 forward = (c.target - c.eye).normalized();
+    const std::vector<Vec4> seen = SeenOnReceivers(c, input.receivers, 64);
+    double z_n = 1e300, z_f = 0.0, sin_lo = 1.0, sin_hi = 0.0;
+    for (const Vec4& p : seen) {
+        z_n = std::min(z_n, forward.dot(p.head<3>() - c.eye));
+        z_f = std::max(z_f, forward.dot(p.head<3>() - c.eye));
+        const double s = forward.cross((c.light.head<3>() - p.head<3>()).normalized()).norm();
+        sin_lo = std::min(sin_lo, s);
+        sin_hi = std::max(sin_hi, s);
+    }
+    EXPECT_NEAR(fit->info.z_near, z_n, 0.02 * z_n);  // the grid misses the extremes by < 2%
+    EXPECT_NEAR(fit->info.z_far, z_f, 0.02 * z_f);
+    // gamma toward the light from within the receivers: between the extremes over them.
+    EXPECT_GE(fit->info.sin_gamma, sin_lo);
+    EXPECT_LE(fit->info.sin_gamma, sin_hi);
+    const double z_near = fit->info.z_near, z_far = fit->info.z_far;
+    EXPECT_NEAR(fit->info.n_opt, (z_near + std::sqrt(z_near * z_far)) / fit->info.sin_gamma,
+                1e-12 * fit->info.n_opt);
+    const auto uniform = FitUniformMap(input, *hull);
     ASSERT_TRUE(uniform.ok());
     EXPECT_FALSE(fit->map.matrix.isApprox(uniform->map.matrix, 1e-6));
+    EXPECT_TRUE(testing::MapHoldsPoints(fit->map, seen));
+    EXPECT_TRUE(testing::LightAtInfinity(fit->map, hull->light));
+}
+
+// Lloyd, Govindaraju, Quammen, Molnar & Manocha, "Logarithmic Perspective Shadow Maps" (TOG
+// 2008): with the light perpendicular to the view direction, the worst-case perspective
+// aliasing along the view direction over [n, f] is (f - n) / n times a constant for the uniform
+// map and (f - n) / sqrt(n f) times the same constant for LiSPSM with n_opt, so it grows as
+// (f / n)^1 and (f / n)^(1/2). Measured here on the view axis: pixels per world unit across the
+// view at depth z over lixels per world unit along the view direction, the worst over z, for
+// f / n = 10, 100, 1000; the growth exponents between them must match within kExponent, and
+// the worst cases the model's within 1 %.
+TEST(Baselines, WorstPerspectiveAliasingGrowsAsLloydEtAlPredict) {
+    constexpr double kExponent = 0.05;  // the model's own from 10 to 100 are 1.041 and 0.541
+    const Viewport viewport{1024, 1024};
+    const double fovy = 60.0 * std::numbers::pi / 180.0;
+    const double t = std::tan(0.5 * fovy);
+    const Vec4 light = Direction(Vec3(0.0, 1.0, 0.0));  // perpendicular to the view, -z
+    const double ratios[] = {10.0, 100.0, 1000.0};
+    double worst[2][3];  // [uniform, LiSPSM][ratio]
+    for (int k = 0; k < 3; ++k) {
+        const double near = 1.0, far = ratios[k];
+        const Mat4 viewer =
+            Perspective(fovy, 1.0, near, far) * LookAt(Vec3::Zero(), -Vec3::UnitZ(), Vec3::UnitY());
+        // The bounds hold the whole frustum, so V is the frustum: z_n = n, z_f = f.
+        const double side = 1.1 * far * t;
+        const Aabb bounds{Vec3(-side, -side, -1.01 * far), Vec3(side, side, 0.5 * near)};
+        const auto hull = ComputeExtentHull(viewer, light, bounds);
+        ASSERT_TRUE(hull.ok()) << hull.error().Message();
+        const BaselineInput input{viewer, viewport, light, 1024 * 1024};
+        const auto uniform = FitUniformMap(input, *hull);
+        const auto lispsm = FitLispsmMap(input, *hull);
+        ASSERT_TRUE(uniform.ok() && lispsm.ok());
+        ASSERT_EQ(lispsm->info.used, BaselineMethod::kLispsm) << lispsm->info.fallback_reason;
+        EXPECT_NEAR(lispsm->info.sin_gamma, 1.0, 1e-12);
+        EXPECT_NEAR(lispsm->info.z_near, near, 1e-9 * far);
+        EXPECT_NEAR(lispsm->info.z_far, far, 1e-9 * far);
+        EXPECT_EQ(lispsm->info.warp_near, lispsm->info.n_opt);  // no weakening needed
+        const LightMap* maps[2] = {&uniform->map, &lispsm->map};
+        for (int m = 0; m < 2; ++m) {
+            worst[m][k] = 0.0;
+            for (int i = 0; i <= 400; ++i) {
+                const double z = near * std::pow(far / near, i / 400.0);
+                const Vec4 x = Point(Vec3(0.0, 0.0, -z));
+                const Vec4 p = maps[m]->matrix * x;
+                const Vec4 dp = maps[m]->matrix * Direction(-Vec3::UnitZ());
+                const Vec2 lixels_per_unit =
+                    (dp.head<2>() * p.w() - p.head<2>() * dp.w()) / (p.w() * p.w());
+                const double pixels_per_unit = viewport.height / (2.0 * z * t);
+                worst[m][k] = std::max(worst[m][k], pixels_per_unit / lixels_per_unit.norm());
+            }
+        }
+    }
+    const double expected[2] = {1.0, 0.5};
+    for (int m = 0; m < 2; ++m) {
+        for (int k = 0; k + 1 < 3; ++k) {
+            const double exponent =
+                std::log(worst[m][k + 1] / worst[m][k]) / std::log(ratios[k + 1] / ratios[k]);
+            EXPECT_NEAR(exponent, expected[m], kExponent)
+                << (m == 0 ? "uniform" : "LiSPSM") << " from f/n = " << ratios[k] << " to "
+                << ratios[k + 1] << " (worst m " << worst[m][k] << " -> " << worst[m][k + 1] << ")";
+        }
+    }
+    // Closer still: the worst cases are the model's own, c (f/n - 1) and c (f/n - 1) / sqrt(f/n)
+    // with one constant c (measured exponents 1.041, 1.004 and 0.541, 0.504, as the model's),
+    // so LiSPSM's worst is uniform's times sqrt(n / f).
+    const double c = worst[0][0] / (ratios[0] - 1.0);
+    for (int k = 0; k < 3; ++k) {
+        const double r = ratios[k];
+        EXPECT_NEAR(worst[0][k], c * (r - 1.0), 0.01 * c * (r - 1.0)) << "uniform, f/n = " << r;
+        EXPECT_NEAR(worst[1][k], c * (r - 1.0) / std::sqrt(r), 0.01 * c * (r - 1.0) / std::sqrt(r))
+            << "LiSPSM, f/n = " << r;
+    }
+}
+
+// A random room for the warps: the floor y = 0 (a flat receiver box, with up to three boxes
+// standing on it), bounds 5 to 50 eye heights across; a viewer 0.3 to 5 above the floor, inside
+// the bounds, looking 5 to 60 degrees below the horizon, with a near plane at 1 to 20 % of its
+// height (so V starts far nearer than the floor does); a light from 15 to 90 degrees above the
+// horizon, half the time a direction and otherwise a point above the bounds.
+struct FloorRoom {
+    testing::Configuration c;
+    std::vector<Aabb> receivers;
+};
+
+FloorRoom RandomFloorRoom(std::mt19937_64& rng) {
+    FloorRoom room;
+    testing::Configuration& c = room.c;
+    c.viewport = {static_cast<int>(Uniform(rng, 64, 2048)),
+                  static_cast<int>(Uniform(rng, 64, 2048))};
+    const double aspect = static_cast<double>(c.viewport.width) / c.viewport.height;
+    const double fovy = Uniform(rng, 30.0, 90.0) * std::numbers::pi / 180.0;
+    const double height = Uniform(rng, 0.3, 5.0);
+    const double half = height * Uniform(rng, 5.0, 50.0);
+    const double top = height * Uniform(rng, 2.0, 4.0);
+    c.bounds = {Vec3(-half, 0.0, -half), Vec3(half, top, half)};
+    c.eye = Vec3(Uniform(rng, -0.5, 0.5) * half, height, Uniform(rng, -0.5, 0.5) * half);
+    const double pitch = -Uniform(rng, 5.0, 60.0) * std::numbers::pi / 180.0;
+    const double yaw = Uniform(rng, 0.0, 2.0 * std::numbers::pi);
+    const Vec3 forward(std::cos(pitch) * std::sin(yaw), std::sin(pitch),
+                       std::cos(pitch) * std::cos(yaw));
+    c.target = c.eye + forward;
+    const double near = height * Uniform(rng, 0.01, 0.2);
+    c.viewer = Perspective(fovy, aspect, near, 4.0 * half) * LookAt(c.eye, c.target, Vec3::UnitY());
+    c.plane = Vec4(0.0, 1.0, 0.0, 0.0);
+    const double elevation = Uniform(rng, 15.0, 90.0) * std::numbers::pi / 180.0;
+    const double azimuth = Uniform(rng, 0.0, 2.0 * std::numbers::pi);
+    const Vec3 toward(std::cos(elevation) * std::sin(azimuth), std::sin(elevation),
+                      std::cos(elevation) * std::cos(azimuth));
+    if (std::bernoulli_distribution(0.5)(rng)) {
+        c.light = Direction(toward);
+    } else {
+        // Above the bounds (so never inside H), at that elevation from the room's centre.
+        const double lift = (top + Uniform(rng, 0.1, 2.0) * half) / toward.y();
+        c.light = Point(lift * toward);
+    }
+    room.receivers.push_back(Aabb{Vec3(-half, 0.0, -half), Vec3(half, 0.0, half)});
+    const int boxes = static_cast<int>(Uniform(rng, 0.0, 3.99));
+    for (int i = 0; i < boxes; ++i) {
+        const Vec3 size =
+            Vec3(Uniform(rng, 0.2, 2.0), Uniform(rng, 0.2, 2.0), Uniform(rng, 0.2, 2.0)) * height;
+        const Vec3 at(Uniform(rng, -0.8, 0.8) * half, 0.0, Uniform(rng, -0.8, 0.8) * half);
+        room.receivers.push_back(Aabb{at - Vec3(size.x(), 0.0, size.z()), at + size});
+    }
+    return room;
+}
+
+// LiSPSM's purpose and its construction's promise (n_opt minimises the worst perspective
+// aliasing along the view direction over a family of warps whose limit n -> infinity is the
+// uniform map): over random rooms, its worst aliasing over the visible floor is never worse
+// than the uniform map's beyond kNoise (the worst over 24^2 sampled pixels, not the true worst),
+// and in most rooms it is 1.5 times better. Every baseline map is square, within the budget,
+// and holds the floor the viewer sees.
+//
+// The promise is asserted where the analysis behind n_opt holds, the light within ~26 degrees
+// of perpendicular to the view (sin gamma >= kPerpendicular; Wimmer et al. derive n_opt for
+// gamma = 90 degrees and carry it to other angles with 1 / sin gamma). There (140 of the 400
+// rooms) LiSPSM's worst is at most 0.94 of uniform's. Further from it this LiSPSM, like
+// Filament's and Ogre's, can lose to the uniform map, and does in 31 of the other 260 rooms
+// (sin gamma 0.32 to 0.88; LiSPSM's worst up to 3.7 times uniform's): the warp runs along the
+// view direction projected into the light's image, and for an oblique light that axis mixes
+// the floor's lateral extent with its depth, so the near floor on one side of a wide view is
+// taken for far floor and gets fewer lixels than the uniform map gives it. (PSM, measured over
+// the same rooms: worse than uniform beyond 5 % in 18, up to 2.2 times.)
+TEST(Baselines, LispsmIsNeverWorseThanUniformOnTheVisibleFloor) {
+    constexpr double kNoise = 1.05;
+    constexpr double kPerpendicular = 0.9;  // sin gamma
+    std::mt19937_64 rng(4242);
+    int rooms = 0, perpendicular = 0, warped = 0, better = 0;
+    for (int i = 0; i < 400; ++i) {
+        const FloorRoom room = RandomFloorRoom(rng);
+        const testing::Configuration& c = room.c;
+        const auto hull = ComputeExtentHull(c.viewer, c.light, c.bounds);
+        ASSERT_TRUE(hull.ok()) << "room " << i << ": " << hull.error().Message();
+        ASSERT_FALSE(hull->light_inside);
+        const auto budget = static_cast<std::int64_t>(std::pow(2.0, Uniform(rng, 16, 24)));
+        BaselineInput input = InputOf(c, budget);
+        input.receivers = room.receivers;
+        const std::vector<Vec4> seen = SeenOnReceivers(c, {room.receivers[0]}, 24);
+        if (seen.empty()) continue;
+        ++rooms;
+        // MapHoldsPoints formats a message for each point it checks: a coarser grid for it.
+        const std::vector<Vec4> held = SeenOnReceivers(c, {room.receivers[0]}, 6);
+        const Mat4 pixels = PixelMatrix(c.viewer, c.viewport);
+        double worst[3] = {0.0, 0.0, 0.0};
+        double sin_gamma = 0.0;
+        for (BaselineMethod method : kMethods) {
+            const auto fit = FitBaseline(method, input, *hull);
+            ASSERT_TRUE(fit.ok()) << BaselineName(method) << " room " << i << ": "
+                                  << fit.error().Message();
+            EXPECT_TRUE(fit->info.focused_on_receivers) << BaselineName(method) << " room " << i;
+            EXPECT_EQ(fit->map.width, fit->map.height);
+            EXPECT_EQ(fit->map.width, SquareSide(budget));
+            EXPECT_LE(std::int64_t{fit->map.width} * fit->map.height, budget);
+            EXPECT_TRUE(testing::MapHoldsPoints(fit->map, held))
+                << BaselineName(method) << " room " << i;
+            EXPECT_TRUE(testing::LightAtInfinity(fit->map, hull->light));
+            if (method == BaselineMethod::kLispsm) {
+                sin_gamma = fit->info.sin_gamma;
+                if (fit->info.used == method) ++warped;
+            }
+            double& w = worst[static_cast<int>(method)];
+            for (const Vec4& p : seen) {
+                const Vec4 pixel = pixels * p;
+                const double m =
+                    FloorAliasing(pixels, fit->map, pixel.x() / pixel.w(), pixel.y() / pixel.w());
+                if (std::isfinite(m)) w = std::max(w, m);
+            }
+        }
+        const double ratio = worst[2] / worst[0];
+        if (ratio < 1.0 / 1.5) ++better;
+        if (!(sin_gamma >= kPerpendicular)) continue;
+        ++perpendicular;
+        EXPECT_LE(ratio, kNoise) << "room " << i << ": LiSPSM worst m " << worst[2] << ", uniform "
+                                 << worst[0] << " (sin gamma " << sin_gamma << ")";
+    }
+    EXPECT_GE(rooms, 350);
+    EXPECT_GE(perpendicular, rooms / 3);
+    EXPECT_GE(warped, rooms * 9 / 10);  // few fall back
+    EXPECT_GE(better, rooms / 2);       // the warp pays: 1.5 times better in 256 of 400
 }
 
 TEST(Baselines, BadInputIsRefusedNamingTheField) {
@@ -305,6 +672,12 @@ TEST(Baselines, BadInputIsRefusedNamingTheField) {
         in = InputOf(c, 1024);
         in.viewer(0, 0) = std::numeric_limits<double>::infinity();
         EXPECT_EQ(FitBaseline(method, in, *hull).error().field, "viewer[0][0]");
+        in = InputOf(c, 1024);
+        in.receivers = {Aabb{Vec3::Zero(), Vec3::Ones()},
+                        Aabb{Vec3::Zero(), Vec3(1.0, std::nan(""), 1.0)}};
+        EXPECT_EQ(FitBaseline(method, in, *hull).error().field, "receivers[1]");
+        in.receivers = {Aabb{Vec3::Ones(), Vec3::Zero()}};
+        EXPECT_EQ(FitBaseline(method, in, *hull).error().field, "receivers[0]");
         // A light inside V: one map cannot hold C_tot.
         testing::Configuration inside = c;
         inside.light = Point(Vec3(0.0, 1.0, 0.0));

@@ -104,6 +104,64 @@ TEST(FitFrustum, BudgetFollowsTheRectangleAspect) {
     ASSERT_TRUE(testing::MapHoldsPoints(*fixed, points));
 }
 
+TEST(FitFrustum, SquareBudgetGivesTheLargestSquareWhateverTheAspect) {
+    // The same 4 x 1 slab: a square map of the budget's side, lixels stretched 4:1.
+    std::vector<Vec4> points;
+    for (double x : {0.0, 4.0}) {
+        for (double y : {0.0, 1.0}) points.push_back(Point(Vec3(x, y, 0.0)));
+    }
+    for (const std::int64_t budget : {std::int64_t{1}, std::int64_t{2}, std::int64_t{40000},
+                                      std::int64_t{40000} - 1, std::int64_t{1} << 40}) {
+        const auto map = FitFrustum(Direction(Vec3(0, 0, 1)), points,
+                                    MapSize{0, 0, budget, /*square=*/true}, Vec3::UnitY());
+        ASSERT_TRUE(map.ok()) << map.error().Message();
+        EXPECT_EQ(map->width, map->height);
+        EXPECT_EQ(map->width, SquareSide(budget));
+        EXPECT_TRUE(testing::MapHoldsPoints(*map, points));
+    }
+    EXPECT_EQ(SquareSide(1), 1);
+    EXPECT_EQ(SquareSide(3), 1);
+    EXPECT_EQ(SquareSide(4), 2);
+    EXPECT_EQ(SquareSide(40000), 200);
+    EXPECT_EQ(SquareSide(39999), 199);
+    EXPECT_EQ(SquareSide(std::int64_t{1} << 40), kMaxImageSide);
+    EXPECT_EQ(SquareSide(0), 0);
+    // Just below, at and just above an exact square; past kMaxImageSide^2, the side limit.
+    const std::int64_t s = 12345;
+    EXPECT_EQ(SquareSide(s * s + 1), s);
+    EXPECT_EQ(SquareSide(std::int64_t{kMaxImageSide} * kMaxImageSide - 1), kMaxImageSide - 1);
+    EXPECT_EQ(SquareSide(s * s - 1), s - 1);
+    EXPECT_EQ(SquareSide(s * s), s);
+}
+
+TEST(TurnImageToMinimalArea, TurnsADiagonalSliverOntoItsAxes) {
+    // A thin slab along the diagonal of the x-y image of an orthographic light down -z: its
+    // axis-aligned rectangle is 10 x 10, its minimal one 14.1 x 0.14.
+    std::vector<Vec4> points;
+    for (double t : {0.0, 10.0}) {
+        for (double w : {-0.05, 0.05}) points.push_back(Point(Vec3(t + w, t - w, 0.0)));
+    }
+    Mat4 prelim = Mat4::Zero();
+    prelim.row(0) << 1.0, 0.0, 0.0, 0.0;
+    prelim.row(1) << 0.0, 1.0, 0.0, 0.0;
+    prelim.row(3) << 0.0, 0.0, 0.0, 1.0;
+    const Mat4 turned = TurnImageToMinimalArea(prelim, points);
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (const Vec4& p : points) {
+        const Vec4 h = turned * p;
+        x0 = std::min(x0, h.x() / h.w());
+        x1 = std::max(x1, h.x() / h.w());
+        y0 = std::min(y0, h.y() / h.w());
+        y1 = std::max(y1, h.y() / h.w());
+    }
+    EXPECT_NEAR((x1 - x0) * (y1 - y0), 10.0 * std::sqrt(2.0) * 0.1 * std::sqrt(2.0), 1e-9);
+    EXPECT_EQ(turned.row(3), prelim.row(3));
+    // Rows x and y are still planes through the light (orthogonal turn of the two).
+    EXPECT_NEAR(turned.row(0).head<3>().norm(), 1.0, 1e-12);
+    EXPECT_NEAR(turned.row(0).head<3>().dot(turned.row(1).head<3>()), 0.0, 1e-12);
+    EXPECT_NEAR(turned.row(0).dot(Vec4(0, 0, 1, 0)), 0.0, 1e-12);
+}
+
 TEST(FitFrustum, UpHintSetsTheImageYAxis) {
     const std::vector<Vec4> points = {Point(Vec3(-1, -1, -5)), Point(Vec3(1, 1, -5)),
                                       Point(Vec3(1, -1, -6)), Point(Vec3(-1, 1, -6))};

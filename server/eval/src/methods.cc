@@ -83,6 +83,8 @@ Result<Plan> PlanMethod(const scene::Scene& scene, const Method& method, std::in
     input.viewport = request.viewport;
     input.light = request.light;
     input.lixel_budget = budget;
+    // The receivers the warps focus on (Kozlov; Filament, Ogre): every object's box.
+    for (const SceneObject& o : request.objects) input.receivers.push_back(o.bounds);
     auto fitted = FitBaseline(baseline, input, *hull);
     if (!fitted) {
         return Error{method.Name() + ": " + fitted.error().field, fitted.error().reason};

@@ -479,7 +479,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
                                         : request.method() == v1::METHOD_PSM   ? BaselineMethod::kPsm
                                                                                : BaselineMethod::kLispsm;
         BaselineInput input{decoded->viewer, decoded->viewport, decoded->light,
-                            decoded->lixel_budget};
+                            decoded->lixel_budget, {}};
+        // The receivers the warps focus on (Kozlov; Filament, Ogre): every object's box.
+        for (const SceneObject& o : decoded->objects) input.receivers.push_back(o.bounds);
         auto fitted = FitBaseline(baseline, input, plan->hull);
         if (!fitted) return InvalidArgument(fitted.error());
         PlannedMap m;

@@ -18,20 +18,30 @@ namespace lixel {
 // The size of a map to fit: either fixed (width and height both > 0, each in
 // [1, kMaxImageSide]) or chosen from a budget (width = height = 0, lixel_budget >= 1): the
 // largest width x height <= lixel_budget, sides <= kMaxImageSide, whose aspect matches the
-// fitted rectangle's (lixels square in the light image's own units).
+// fitted rectangle's (lixels square in the light image's own units), or with `square` the
+// largest s x s <= lixel_budget, s <= kMaxImageSide, whatever the rectangle's aspect (lixels
+// then stretched to fill it), as engines allocate shadow maps (DESIGN §4.3).
 struct MapSize {
     int width = 0;
     int height = 0;
     std::int64_t lixel_budget = 0;
+    bool square = false;  // budget sizes only
 };
+
+// The side of the square map a budget buys: the largest s with s * s <= lixel_budget, at most
+// kMaxImageSide; 0 when the budget is below 1.
+int SquareSide(std::int64_t lixel_budget) noexcept;
 
 // Maps the bounding rectangle of the points' images under `prelim` exactly onto
 // [0, W] x [0, H] lixels and sets the depth row with FitDepthRow. `prelim`'s rows 0, 1, 3 must
 // be planes through `light` (row 2 is ignored) with prelim.row(3) . X > 0 for every point;
-// `light` is the world light (point of either w sign, or w = 0 toward the light). Errors name
-// "points[i]" for a point the frustum cannot hold, "size" for a bad size or budget.
+// `light` is the world light (point of either w sign, or w = 0 toward the light). `receivers`
+// (optional, among or inside the points) go to FitDepthRow as receivers: their depths land in
+// [0, 1] whatever the near clamp. Errors name "points[i]" for a point the frustum cannot hold,
+// "size" for a bad size or budget.
 Result<LightMap> FitImageRectangle(const Mat4& prelim, const Vec4& light,
-                                   std::span<const Vec4> points, const MapSize& size) noexcept;
+                                   std::span<const Vec4> points, const MapSize& size,
+                                   std::span<const Vec4> receivers = {}) noexcept;
 
 // A light frustum around `points` (homogeneous; the map must hold each), before the rectangle
 // fit: rows 0, 1, 3 are planes through the light with row(3) . X > 0 for every point, row 2
@@ -45,9 +55,17 @@ Result<LightMap> FitImageRectangle(const Mat4& prelim, const Vec4& light,
 Result<Mat4> LightFrustumBasis(const Vec4& light, std::span<const Vec4> points,
                                const Vec3& up_hint = Vec3::Zero()) noexcept;
 
+// `prelim` (rows 0, 1, 3 planes through the light) with rows 0 and 1 turned about the image's
+// normal so the images of the points in front of it (q > 0) have the minimal-area bounding
+// rectangle, as LightFrustumBasis turns its own image: for a map whose image axes something
+// else sets first (LiSPSM's warp runs along the projected view direction), before
+// FitImageRectangle. Rows 2 and 3 are unchanged.
+Mat4 TurnImageToMinimalArea(const Mat4& prelim, std::span<const Vec4> points) noexcept;
+
 // LightFrustumBasis followed by FitImageRectangle: the uniform (conventional) map.
 Result<LightMap> FitFrustum(const Vec4& light, std::span<const Vec4> points, const MapSize& size,
-                            const Vec3& up_hint = Vec3::Zero()) noexcept;
+                            const Vec3& up_hint = Vec3::Zero(),
+                            std::span<const Vec4> receivers = {}) noexcept;
 
 // One face of a point light's cube (0..5: +X, -X, +Y, -Y, +Z, -Z about the oriented
 // propagation direction, s/t axes as OpenGL's cube-map table), a fixed 90 degree frustum
