@@ -1,6 +1,7 @@
 // The plan's maps as the view pass sees them, and the lookup rule that picks one (scheduler.h
 // LookupRule; paper 004 §3): maps are tried in plan order; a point belongs to the first map whose
-// q > 0, whose lixel lies in [0, W) x [0, H) and whose half-planes a x + b y + c >= 0 all hold.
+// q > 0, whose lixel lies in its lookup rectangle [x0, x1) x [y0, y1) (the map less its guard
+// band, LookupRectangle) and whose half-planes a x + b y + c >= 0 all hold.
 // Expects LIXEL_MAX_MAPS and LIXEL_MAX_HALF_PLANES from the program's defines.
 
 uniform int u_map_count;
@@ -10,6 +11,7 @@ uniform mat4 u_map_lixel[LIXEL_MAX_MAPS];
 // ((u_map_lixel)^-1)^T: carries a world plane into light-screen coordinates (paper 003 §3.4).
 uniform mat4 u_map_plane[LIXEL_MAX_MAPS];
 uniform ivec2 u_map_size[LIXEL_MAX_MAPS];
+uniform vec4 u_map_lookup[LIXEL_MAX_MAPS];  // (x0, y0, x1, y1), lixels
 uniform int u_map_half_plane_count[LIXEL_MAX_MAPS];
 uniform vec3 u_map_half_planes[LIXEL_MAX_MAPS * LIXEL_MAX_HALF_PLANES];
 
@@ -19,8 +21,8 @@ int select_map(vec3 p, out vec3 light_point) {
         vec4 h = u_map_lixel[m] * vec4(p, 1.0);
         if (!(h.w > 0.0)) continue;
         vec3 s = h.xyz / h.w;
-        if (s.x < 0.0 || s.y < 0.0 || s.x >= float(u_map_size[m].x) ||
-            s.y >= float(u_map_size[m].y)) {
+        vec4 r = u_map_lookup[m];
+        if (s.x < r.x || s.y < r.y || s.x >= r.z || s.y >= r.w) {
             continue;
         }
         bool inside = true;

@@ -91,14 +91,20 @@ float second_depth_test(int map, vec3 s, vec4 plane, float bias, int r, bool vir
         for (int bi = 0; bi < r; ++bi) {
             ivec2 t = base + 2 * ivec2(bi, bj);
             vec4 z_second = gather_a(map, t);
-            // Tap centres in gather order.
-            vec4 cx = vec4(t.x, t.x + 1, t.x + 1, t.x) + 0.5;
-            vec4 cy = vec4(t.y + 1, t.y + 1, t.y, t.y) + 0.5;
+            // Tap centres in gather order, clamped to the map as the texels read are: a tap past
+            // the edge reads the edge texel (common_textures.glsl), whose depth belongs to its own
+            // centre.
+            vec2 last = vec2(u_map_size[map] - 1);
+            vec4 cx = clamp(vec4(t.x, t.x + 1, t.x + 1, t.x), 0.0, last.x) + 0.5;
+            vec4 cy = clamp(vec4(t.y + 1, t.y + 1, t.y, t.y), 0.0, last.y) + 0.5;
             // The tangent plane's depth at the tap centres, as the point's own depth plus the
             // slope over at most r lixels per axis: -(a x + b y + w) / c evaluated at the
             // centres cancels to a small d near a reversed-Z map's far end and loses it.
             vec4 z_virtual = s.z + slope.x * (cx - s.x) + slope.y * (cy - s.y);
-            vec4 lit = vec4(greaterThanEqual(z_virtual + bias, z_second));
+            // A texel nothing covers (stored depth 0) holds no occluder, however far past the
+            // depth row's far end the tangent plane extrapolates.
+            vec4 lit = max(vec4(greaterThanEqual(z_virtual + bias, z_second)),
+                           vec4(lessThanEqual(z_second, vec4(0.0))));
             virtual_lit += dot(block_weights(bi, bj, r, f), lit);
         }
     }

@@ -20,6 +20,11 @@ struct Rectangle {
     std::int64_t Area() const { return width * height; }
 };
 
+// The map's lixels with `guard` lixels of border on every side of the needed rectangle.
+std::int64_t GuardedArea(const Rectangle& r, int guard) {
+    return (r.width + 2 * guard) * (r.height + 2 * guard);
+}
+
 struct Bounds2d {
     double min_x, min_y, max_x, max_y;
 };
@@ -79,14 +84,27 @@ Result<Rectangle> FitScale(const Bounds2d& b, double& scale, const CropOptions& 
     if (scale * extent > 4.0 * kMaxImageSide) scale = 4.0 * kMaxImageSide / extent;
     for (int iteration = 0; iteration < 200; ++iteration) {
         const Rectangle r = IntegerRectangle(b, scale);
+        const int g = options.guard;
         double shrink = 1.0;
-        if (options.lixel_budget > 0 && r.Area() > options.lixel_budget) {
-            shrink = std::min(shrink, std::sqrt(static_cast<double>(options.lixel_budget) /
-                                                static_cast<double>(r.Area())));
+        if (options.lixel_budget > 0 && GuardedArea(r, g) > options.lixel_budget) {
+            // The band does not shrink with the scale: the s with (s w + 2g)(s h + 2g) = budget,
+            // w h s^2 + 2 g (w + h) s + 4 g^2 - budget = 0; no such s when the band alone is
+            // over the budget.
+            const double w = static_cast<double>(r.width);
+            const double h = static_cast<double>(r.height);
+            const double budget = static_cast<double>(options.lixel_budget);
+            const double half_b = g * (w + h);
+            const double disc = half_b * half_b - w * h * (4.0 * g * g - budget);
+            const double s_fit = disc > 0.0 && budget > 4.0 * g * g
+                                     ? (std::sqrt(disc) - half_b) / (w * h)
+                                     : 0.5;
+            shrink = std::min(shrink, std::min(s_fit, 1.0 - 1e-9));
         }
         const std::int64_t side = std::max(r.width, r.height);
-        if (side > options.max_side) {
-            shrink = std::min(shrink, static_cast<double>(options.max_side) / static_cast<double>(side));
+        const std::int64_t max_interior = options.max_side - 2 * static_cast<std::int64_t>(g);
+        if (side > max_interior) {
+            shrink = std::min(shrink, static_cast<double>(std::max<std::int64_t>(max_interior, 1)) /
+                                          static_cast<double>(side));
         }
         if (shrink == 1.0) return r;
         // Step a little past the estimate so a rectangle straddling integers still shrinks.
@@ -121,6 +139,10 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
     }
     if (options.lixel_budget < 0) {
         return Error{"crop.lixel_budget", "must be >= 0 (0: no budget)"};
+    }
+    if (options.guard < 0 || 2 * options.guard >= options.max_side) {
+        return Error{"crop.guard", "must be in [0, max_side / 2), got " +
+                                       std::to_string(options.guard)};
     }
     if (needed_points.empty()) return Error{"needed_points", "is empty: nothing to crop to"};
     if (!matrix.allFinite()) return Error{"matrix", "has non-finite entries"};
@@ -197,11 +219,14 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
     out.origin = Vec2(rect->x0, rect->y0);
     const double c = std::cos(best_theta);
     const double s = std::sin(best_theta);
-    // A_l = renumber(-x0, -y0) * scale * rotate(theta).
-    out.affine << scale * c, -scale * s, -rect->x0, scale * s, scale * c, -rect->y0, 0.0, 0.0, 1.0;
+    // A_l = renumber(guard - x0, guard - y0) * scale * rotate(theta).
+    const double g = options.guard;
+    out.guard = options.guard;
+    out.affine << scale * c, -scale * s, g - rect->x0, scale * s, scale * c, g - rect->y0, 0.0,
+        0.0, 1.0;
     out.map.matrix = ApplyImageAffine(out.affine, matrix);
-    out.map.width = static_cast<int>(rect->width);
-    out.map.height = static_cast<int>(rect->height);
+    out.map.width = static_cast<int>(rect->width) + 2 * options.guard;
+    out.map.height = static_cast<int>(rect->height) + 2 * options.guard;
     if (!out.map.matrix.allFinite()) return Error{"matrix", "crop produced non-finite entries"};
     return out;
 }

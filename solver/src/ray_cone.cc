@@ -28,15 +28,20 @@ double TwiceArea(const std::vector<Vec3>& polygon) {
 }  // namespace
 
 RayCone AcceptedCone(const LightMap& map, const std::vector<Eigen::Vector3d>& half_planes) {
+    return AcceptedCone(map, Eigen::Vector4d(0.0, 0.0, map.width, map.height), half_planes);
+}
+
+RayCone AcceptedCone(const LightMap& map, const Eigen::Vector4d& rectangle,
+                     const std::vector<Eigen::Vector3d>& half_planes) {
     const RowVec4 r_x = map.matrix.row(0);
     const RowVec4 r_y = map.matrix.row(1);
     const RowVec4 r_w = map.matrix.row(3);
     RayCone cone;
     cone.planes = {NormalizedPlane(r_w),
-                   NormalizedPlane(r_x),
-                   NormalizedPlane(map.width * r_w - r_x),
-                   NormalizedPlane(r_y),
-                   NormalizedPlane(map.height * r_w - r_y)};
+                   NormalizedPlane(r_x - rectangle[0] * r_w),
+                   NormalizedPlane(rectangle[2] * r_w - r_x),
+                   NormalizedPlane(r_y - rectangle[1] * r_w),
+                   NormalizedPlane(rectangle[3] * r_w - r_y)};
     for (const Eigen::Vector3d& l : half_planes) {
         cone.planes.push_back(NormalizedPlane(l.x() * r_x + l.y() * r_y + l.z() * r_w));
     }

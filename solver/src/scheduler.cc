@@ -410,6 +410,28 @@ std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
     return points;
 }
 
+// The guard band a map of `budget` lixels gets: kGuardLixels, but at most 1/16 of the budget's
+// side (a 64^2 budget keeps 4, a 16^2 one 1), so small budgets stay mostly interior, and less
+// than half the largest side.
+int GuardFor(std::int64_t budget, int max_side) {
+    const int by_budget = static_cast<int>(std::sqrt(static_cast<double>(budget)) / 16.0);
+    return std::max(0, std::min({kGuardLixels, by_budget, (max_side - 1) / 2}));
+}
+
+// x -> x + g, y -> y + g and g more lixels on every side: the same rays, with a guard band.
+void AddGuardBand(LightMap& map, int g) {
+    map.matrix.row(0) += g * map.matrix.row(3);
+    map.matrix.row(1) += g * map.matrix.row(3);
+    map.width += 2 * g;
+    map.height += 2 * g;
+}
+
+// The rays the lookup sends to a map: its lookup rectangle (the map less its guard band) and its
+// half-planes. Coverage is judged by these; depth and casters by the whole rendered map.
+RayCone LookupCone(const LightMap& map, const LookupRule& rule) {
+    return AcceptedCone(map, LookupRectangle(map, rule), rule.half_planes);
+}
+
 // Refits a map's depth row to DepthPoints, with `receivers` (what the map is kept for) inside
 // [0, 1] by construction; keeps the old row when nothing is held.
 void RefitDepth(const Context& c, PlannedMap& m, const std::vector<Vec4>& receivers = {}) {
@@ -423,6 +445,7 @@ void RefitDepth(const Context& c, PlannedMap& m, const std::vector<Vec4>& receiv
 Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
                                                std::vector<LeftOut>& left_out) {
     const PlanRequest& r = c.request;
+    const int guard = GuardFor(r.lixel_budget, r.max_texture_size);
     std::vector<PlannedMap> maps;
     std::vector<RayCone> cones;
     for (const Candidate& cand : c.candidates) {
@@ -449,6 +472,7 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
         pr.bounds = c.bounds;
         pr.crop.scale = scale;
         pr.crop.max_side = r.max_texture_size;
+        pr.crop.guard = guard;
         Vec4 line_a, line_b;
         if (!cand.cut_by.empty() &&
             MeetingLine(cand.plane, c.request.planes[cand.cut_by.front()].plane, line_a, line_b)) {
@@ -502,7 +526,8 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
         m.scale = solved->crop.scale;
         m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
         m.lookup.half_planes = half_planes;
-        cones.push_back(AcceptedCone(m.map, m.lookup.half_planes));
+        m.lookup.guard = solved->crop.guard;
+        cones.push_back(LookupCone(m.map, m.lookup));
         maps.push_back(std::move(m));
     }
     return maps;
@@ -531,7 +556,7 @@ struct UncoveredPiece {
 std::vector<UncoveredPiece> Uncovered(const Context& c, const std::vector<PlannedMap>& maps) {
     std::vector<RayCone> cones;
     cones.reserve(maps.size());
-    for (const PlannedMap& m : maps) cones.push_back(AcceptedCone(m.map, m.lookup.half_planes));
+    for (const PlannedMap& m : maps) cones.push_back(LookupCone(m.map, m.lookup));
     std::vector<int> plane_held(c.request.planes.size(), -1);  // -1 unknown, 0 no, 1 yes
     std::vector<UncoveredPiece> out;
     for (const ViewRegion& v : c.view_regions) {
@@ -627,21 +652,47 @@ auto FitWithinSide(Fit fit, std::int64_t budget, int max_side) -> decltype(fit(M
     return fitted;
 }
 
+// FitWithinSide with room for a guard band of `guard` lixels: the band's lixels come out of the
+// budget and its width out of the side, so the guarded map stays within both.
+template <class Fit>
+auto FitWithGuard(Fit fit, std::int64_t budget, int max_side, int guard)
+    -> decltype(fit(MapSize{})) {
+    std::int64_t interior = budget;
+    auto fitted = FitWithinSide(fit, interior, max_side - 2 * guard);
+    for (int attempt = 0; attempt < 16 && fitted.ok(); ++attempt) {
+        const LightMap& m = MapOf(*fitted);
+        const std::int64_t total =
+            static_cast<std::int64_t>(m.width + 2 * guard) * (m.height + 2 * guard);
+        if (total <= budget) break;
+        // Sizes step by whole rows and columns: take one more of the short side each time.
+        interior -= total - budget + std::min(m.width, m.height);
+        if (interior < 1) {
+            return Error{"lixel_budget", "too small for a map and its guard band (" +
+                                             std::to_string(budget) + " lixels)"};
+        }
+        fitted = FitWithinSide(fit, interior, max_side - 2 * guard);
+    }
+    return fitted;
+}
+
 Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& uncovered,
                          std::int64_t budget, Plan& plan) {
     const std::vector<Vec4> points = VerticesOf(uncovered);
     const std::string kept_for = KeptFor(c, uncovered);
     const int max_side = c.request.max_texture_size;
     if (!c.hull.light_inside) {
-        auto fallback = FitWithinSide(
+        const int guard = GuardFor(budget, max_side);
+        auto fallback = FitWithGuard(
             [&](const MapSize& size) { return FitFrustum(c.light, points, size); }, budget,
-            max_side);
+            max_side, guard);
         if (fallback.ok()) {
             PlannedMap m;
             m.role = MapRole::kFallback;
             m.name = "fallback";
             m.kept_for = kept_for;
             m.map = *fallback;
+            AddGuardBand(m.map, guard);
+            m.lookup.guard = guard;
             m.passes = {Pass::kDepth};
             m.needed_image = ImageHull(m.map.matrix, points);
             m.scale = 0.0;
@@ -698,9 +749,10 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
     }
     for (size_t k = 0; k < kept.size(); ++k) {
         const int face = kept[k];
-        auto fitted = FitWithinSide(
+        const int guard = GuardFor(shares[k], max_side);
+        auto fitted = FitWithGuard(
             [&](const MapSize& size) { return FitCubeFaceCropped(c.light, face, regions, size); },
-            shares[k], max_side);
+            shares[k], max_side, guard);
         if (!fitted) return fitted.error();
         PlannedMap m;
         m.role = MapRole::kCubeFace;
@@ -708,8 +760,11 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
         m.kept_for = kept_for;
         m.name = std::string("cube ") + kCubeFaceNames[face];
         m.map = fitted->map;
+        AddGuardBand(m.map, guard);
+        m.lookup.guard = guard;
         m.passes = {Pass::kDepth};
         m.needed_image = fitted->needed_image;
+        for (Vec2& p : m.needed_image) p += Vec2(guard, guard);
         m.scale = 0.0;
         m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
         RefitDepth(c, m);
@@ -1087,14 +1142,15 @@ bool TileUniform(const PixelEstimate& e, const TileProofs& proofs, const RaySamp
         const PlannedMap& map = e.plan.maps[m];
         const Mat4& M = map.map.matrix;
         const size_t forms = 5 + map.lookup.half_planes.size();
+        const Eigen::Vector4d rect = LookupRectangle(map.map, map.lookup);
         // Form f: coefficients on (x, y, q); f >= 0 (or > 0) is the test.
         auto coefficients = [&](size_t f) -> Eigen::Vector3d {
             switch (f) {
-                case 0: return {0.0, 0.0, 1.0};                   // q > 0
-                case 1: return {1.0, 0.0, 0.0};                   // u >= 0
-                case 2: return {-1.0, 0.0, double(map.map.width)};   // u < width
-                case 3: return {0.0, 1.0, 0.0};                   // v >= 0
-                case 4: return {0.0, -1.0, double(map.map.height)};  // v < height
+                case 0: return {0.0, 0.0, 1.0};        // q > 0
+                case 1: return {1.0, 0.0, -rect[0]};   // u >= x0
+                case 2: return {-1.0, 0.0, rect[2]};   // u < x1
+                case 3: return {0.0, 1.0, -rect[1]};   // v >= y0
+                case 4: return {0.0, -1.0, rect[3]};   // v < y1
                 default: return map.lookup.half_planes[f - 5];
             }
         };

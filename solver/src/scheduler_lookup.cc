@@ -4,12 +4,19 @@
 
 namespace lixel {
 
+Eigen::Vector4d LookupRectangle(const LightMap& map, const LookupRule& rule) noexcept {
+    if (rule.guard <= 0) return {0.0, 0.0, double(map.width), double(map.height)};
+    const double inset = rule.guard - kLookupMargin;
+    return {inset, inset, map.width - inset, map.height - inset};
+}
+
 bool LookupAccepts(const PlannedMap& map, const Vec4& x) noexcept {
     const Vec4 p = map.map.matrix * x;
     if (!(p.w() > 0.0)) return false;
     const double u = p.x() / p.w();
     const double v = p.y() / p.w();
-    if (!(u >= 0.0 && u < map.map.width && v >= 0.0 && v < map.map.height)) return false;
+    const Eigen::Vector4d r = LookupRectangle(map.map, map.lookup);
+    if (!(u >= r[0] && u < r[2] && v >= r[1] && v < r[3])) return false;
     for (const Eigen::Vector3d& h : map.lookup.half_planes) {
         if (h.x() * u + h.y() * v + h.z() < 0.0) return false;
     }

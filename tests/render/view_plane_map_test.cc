@@ -156,3 +156,64 @@ TEST(ViewPlan, PlaneMapsStrictlyBetterOnTheElongatedShadow) {
 
 }  // namespace
 }  // namespace lixel::render
+
+namespace lixel::render {
+namespace {
+
+// The floor map's edges are the viewport's (its needed rays are the floor in view): taps of
+// pixels along the view's border read the map's guard band (scheduler.h kGuardLixels) and, for
+// wider filters, the atlas's copies of the edge texels past it. Every filter must shade the open
+// floor there as it shades the rest of it: lit where the truth is lit. Virtual samples at tap
+// centres past the edge compared the floor's tangent plane there with the edge texel's depth,
+// which belongs elsewhere on the floor: second depth left 128 of 3456 border pixels partly
+// shadowed at r = 1 before they were clamped to the texels read. And past the floor's far edge,
+// where the planned map's depth row ends, the tangent plane extrapolates below 0 and empty
+// texels (0) shadowed it: 384 of the planned map's border pixels at r = 4, before empty texels
+// were taken as holding no occluder.
+TEST(ViewPlan, OpenFloorAtTheMapsEdgesShadesAsTheTruth) {
+    TestScene s = testing::OpenSquareOverFloor(128);
+    s.meshes.resize(1);  // the floor alone: lit everywhere, so any shadow is the filter's
+    s.shapes.resize(1);
+    s.viewer = testing::Viewer(Vec3(0.0, 2.5, 2.5), Vec3(0.0, 0.0, 0.0), 50.0, 1.0);
+    // The floor's map alone (no guard band: taps past its edge read the atlas's copies), and as
+    // the scheduler plans it (with its guard band).
+    const std::vector<PlannedMap> bare = {
+        testing::Planned(testing::FloorMap(s, 128 * 128), {Pass::kDepth, Pass::kSecondDepth})};
+    std::vector<PlannedMap> planned = PlanFloor(s, 128 * 128).maps;
+    ASSERT_EQ(planned.size(), 1u) << "the floor map alone holds every visible ray";
+    EXPECT_EQ(planned[0].lookup.guard, kGuardLixels);
+    planned[0].passes = {Pass::kDepth, Pass::kSecondDepth};
+    const FloatImage truth = testing::TruthMask(s.shapes, s.viewer, s.viewport, s.light);
+    const std::vector<PlannedMap>* both[] = {&bare, &planned};
+    for (const std::vector<PlannedMap>* maps : both) {
+    for (ShadowMethod method : {ShadowMethod::kPcf, ShadowMethod::kSecondDepth}) {
+        for (int radius : {1, 4}) {
+            ShadowOptions options;
+            options.pcf_radius = radius;
+            const auto view = testing::RenderView(s, *maps, method, options);
+            int border_lit = 0;
+            int wrong = 0;
+            for (int y = 0; y < s.viewport.height; ++y) {
+                for (int x = 0; x < s.viewport.width; ++x) {
+                    const int edge = std::min(std::min(x, y), std::min(s.viewport.width - 1 - x,
+                                                                       s.viewport.height - 1 - y));
+                    const std::size_t i = static_cast<std::size_t>(y) * s.viewport.width + x;
+                    if (edge >= 8 || truth.at(x, y) != 1.0f || view.map_index[i] != 0) continue;
+                    ++border_lit;
+                    // Lit up to the float sum of (2r - 1)^2 tent weights (2e-7 at r = 4).
+                    wrong += view.mask.at(x, y) < 1.0f - 1e-6f ? 1 : 0;
+                }
+            }
+            const char* which = maps == &bare ? "bare" : "planned";
+            std::printf("[ measured ] %s map, %s r = %d: %d of %d lit floor pixels within 8 px "
+                        "of the map's edges not fully lit\n",
+                        which, ShadowMethodName(method), radius, wrong, border_lit);
+            EXPECT_GT(border_lit, 1000);
+            EXPECT_EQ(wrong, 0) << which << " " << ShadowMethodName(method) << " r = " << radius;
+        }
+    }
+    }
+}
+
+}  // namespace
+}  // namespace lixel::render

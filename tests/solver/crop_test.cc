@@ -153,6 +153,40 @@ TEST(Crop, BudgetIsNeverExceeded) {
     }
 }
 
+// A guard band (scheduler.h kGuardLixels) sits around the needed rectangle: the needed images
+// lie in [guard, width - guard] x [guard, height - guard], and the band counts in the budget.
+TEST(Crop, GuardBandSurroundsTheNeededRectangleWithinTheBudget) {
+    std::mt19937_64 rng(4711);
+    for (int i = 0; i < 5000; ++i) {
+        const CropCase c = RandomCropCase(rng);
+        CropOptions options;
+        options.guard = static_cast<int>(Uniform(rng, 0, 6));
+        options.lixel_budget = i % 3 == 0 ? 0 : static_cast<std::int64_t>(Uniform(rng, 200, 400000));
+        options.twist = i % 2 ? Twist::kMinimizeArea : Twist::kNone;
+        const auto crop = CropToNeededRays(c.matrix, c.points, options);
+        ASSERT_TRUE(crop.ok()) << i << ": " << crop.error().Message();
+        EXPECT_EQ(crop->guard, options.guard);
+        if (options.lixel_budget > 0) {
+            EXPECT_LE(static_cast<std::int64_t>(crop->map.width) * crop->map.height,
+                      options.lixel_budget) << i;
+        }
+        const ImageBounds after = BoundsOf(crop->map.matrix, c.points);
+        const double g = options.guard;
+        const double tolerance = 1e-6;
+        EXPECT_GE(after.min_x, g - tolerance) << i;
+        EXPECT_GE(after.min_y, g - tolerance) << i;
+        EXPECT_LE(after.max_x, crop->map.width - g + tolerance) << i;
+        EXPECT_LE(after.max_y, crop->map.height - g + tolerance) << i;
+        // The band is exactly `guard` wide: the interior is the tightest rectangle (to 2 lixels
+        // of rounding and scale), the band adds 2 g.
+        if (options.lixel_budget == 0 && options.twist == Twist::kNone) {
+            const ImageBounds before = BoundsOf(c.matrix, c.points);
+            const double w = std::max(1.0, std::ceil(before.max_x) - std::floor(before.min_x));
+            EXPECT_LE(crop->map.width, static_cast<int>(w) + 2 * options.guard) << i;
+        }
+    }
+}
+
 TEST(Crop, MaxSideIsRespected) {
     CropCase c;
     c.matrix = Mat4::Identity();
@@ -194,6 +228,12 @@ TEST(Crop, RefusesBadInputNamingTheField) {
     EXPECT_EQ(RefusedField(nan, points, options), "matrix");
     options.lixel_budget = -1;
     EXPECT_EQ(RefusedField(m, points, options), "crop.lixel_budget");
+    options.lixel_budget = 0;
+    options.guard = -1;
+    EXPECT_EQ(RefusedField(m, points, options), "crop.guard");
+    options.guard = kMaxImageSide / 2;
+    EXPECT_EQ(RefusedField(m, points, options), "crop.guard");
+    options.guard = 0;
     // The smallest budget still holds the rays, in one lixel.
     options.lixel_budget = 1;
     const auto one = CropToNeededRays(m, points, options);

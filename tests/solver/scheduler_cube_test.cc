@@ -67,8 +67,11 @@ FaceCover Measure(const PlannedMap& m, const Vec3& light) {
     FaceCover c;
     c.span_residual = (rows - k * basis).norm() / rows.norm();
     const Mat3 inverse = k.inverse();
-    const double w = m.map.width, h = m.map.height;
-    const Vec2 corners[4] = {{0, 0}, {w, 0}, {w, h}, {0, h}};
+    // The rays the face's lookup takes: the map less its guard band (the band's texels are for
+    // filter taps and overlap the neighbouring faces).
+    const double g = m.lookup.guard;
+    const double w = m.map.width - 2 * g, h = m.map.height - 2 * g;
+    const Vec2 corners[4] = {{g, g}, {g + w, g}, {g + w, g + h}, {g, g + h}};
     Vec2 tangent[4];
     for (int i = 0; i < 4; ++i) {
         const Vec3 stm = inverse * Vec3(corners[i].x(), corners[i].y(), 1.0);
@@ -206,21 +209,23 @@ void ExpectCroppedFaces(const PlanRequest& r, const Plan& plan, const std::strin
         if (c.tangent_area < 4.0 * (1.0 - 1e-6)) ++cropped;
         sum_area += c.tangent_area;
     }
-    // Shared by needed area: every face's lixels per tangent unit^2 at least what
-    // (budget - faces) / sum(area) gives, less the floor of each side; with some face cropped
-    // that beats the even split (sum(area) < 4 faces).
+    // Shared by needed area: every face's lixels, its guard band included (the band comes out of
+    // its own share), per tangent unit^2 of the rays it holds at least what (budget - faces) /
+    // sum(area) gives, less the floor of each side and a row or column more the refit for the
+    // band may take; with some face cropped that beats the even split (sum(area) < 4 faces).
     const double even = EvenSplitDensity(r.lixel_budget, faces);
     const double shared = static_cast<double>(r.lixel_budget - faces) / sum_area;
     for (const PlannedMap& m : plan.maps) {
         if (m.role != MapRole::kCubeFace) continue;
         const FaceCover c = Measure(m, light);
-        const double w = m.map.width, h = m.map.height;
+        const double w = m.map.width - 2 * m.lookup.guard, h = m.map.height - 2 * m.lookup.guard;
         if (std::max(w, h) >= 16 * std::min(w, h)) continue;  // a sliver capped at aspect 16
-        EXPECT_GE(c.lixels_per_tangent, shared * (1.0 - 1.0 / w) * (1.0 - 1.0 / h))
+        const double density = static_cast<double>(m.lixels) / c.tangent_area;
+        EXPECT_GE(density, shared * (1.0 - 2.0 / w) * (1.0 - 2.0 / h))
             << where << " " << m.name << " " << w << " x " << h;
-        EXPECT_GE(c.lixels_per_tangent,
-                  even * (1.0 - 1.0 / w) * (1.0 - 1.0 / h) *
-                      (1.0 - static_cast<double>(faces) / static_cast<double>(r.lixel_budget)))
+        EXPECT_GE(density, even * (1.0 - 2.0 / w) * (1.0 - 2.0 / h) *
+                               (1.0 - static_cast<double>(faces) /
+                                          static_cast<double>(r.lixel_budget)))
             << where << " " << m.name;
     }
     EXPECT_LE(plan.total_lixels, r.lixel_budget) << where;

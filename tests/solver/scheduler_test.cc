@@ -2,6 +2,7 @@
 // lookup rule's coverage of every visible point (DESIGN §4.5; Chong & Gortler §3-4).
 #include <gtest/gtest.h>
 #include <lixel/solver/camera.h>
+#include <lixel/solver/crop.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/scheduler.h>
 
@@ -648,6 +649,67 @@ TEST(Scheduler, RefusesBadInputNamingTheField) {
     r = FloorWallRequest();
     r.viewer(3, 3) = std::numeric_limits<double>::infinity();
     EXPECT_EQ(field(r), "viewer[3][3]");
+}
+
+
+// The crop snaps images within 1e-6 lixel past an integer onto it, so a needed ray can image
+// just past the needed rectangle's edge. Without a guard band the lookup's half-open test then
+// refuses a ray the map was made to hold (and no later map may hold it); with one, the lookup
+// rectangle reaches kLookupMargin into the band and takes it.
+TEST(Lookup, NeededRaysSnappedOntoTheRectanglesEdgeAreAccepted) {
+    const Mat4 m = Mat4::Identity();  // lixel (x, y) = world (x, y) at z = 0, q = 1
+    const std::vector<Vec4> needed = {Point(Vec3(0.25, 0.5, 0)),
+                                      Point(Vec3(10.0000005, 3.5, 0))};  // snapped to x = 10
+    for (const int guard : {0, kGuardLixels}) {
+        CropOptions options;
+        options.guard = guard;
+        const auto crop = CropToNeededRays(m, needed, options);
+        ASSERT_TRUE(crop.ok()) << crop.error().Message();
+        ASSERT_EQ(crop->map.width, 10 + 2 * guard) << "the snap keeps the column out";
+        PlannedMap planned;
+        planned.map = crop->map;
+        planned.lookup.guard = crop->guard;
+        const bool accepted = LookupAccepts(planned, needed[1]);
+        if (guard == 0) {
+            EXPECT_FALSE(accepted) << "the defect a guard band removes";
+        } else {
+            EXPECT_TRUE(accepted);
+            EXPECT_TRUE(LookupAccepts(planned, needed[0]));
+            // The band itself, half a lixel past the needed rectangle, is not looked up.
+            EXPECT_FALSE(LookupAccepts(planned, Point(Vec3(10.75, 3.5, 0))));
+        }
+    }
+}
+
+// Every planned map's needed rays are accepted by its own lookup test (its needed polygon's
+// vertices, which lie on the crop's edges) over random rooms.
+TEST(Lookup, EveryPlaneMapAcceptsItsNeededPolygonsVertices) {
+    std::mt19937_64 rng(90210);
+    int checked = 0;
+    for (int i = 0; i < 300; ++i) {
+        const testing::Configuration c = testing::RandomConfiguration(rng);
+        PlanRequest r;
+        r.viewer = c.viewer;
+        r.viewport = c.viewport;
+        r.light = c.light;
+        r.scene_bounds = c.bounds;
+        r.planes = {PlaneOfInterest{"plane", c.plane, {}}};
+        r.lixel_budget = 1024 * 1024;
+        const auto plan = PlanShadowMaps(r);
+        if (!plan.ok()) continue;
+        for (const PlannedMap& m : plan->maps) {
+            if (m.role != MapRole::kPlane) continue;
+            EXPECT_EQ(m.lookup.guard, kGuardLixels);
+            for (const Vec3& v : m.needed_polygon) {
+                const Vec4 p = m.map.matrix * Point(v);
+                EXPECT_TRUE(LookupAccepts(m, Point(v)))
+                    << "configuration " << i << ": vertex at lixel " << p.x() / p.w() << ", "
+                    << p.y() / p.w() << " of " << m.map.width << " x " << m.map.height;
+                ++checked;
+            }
+        }
+    }
+    EXPECT_GT(checked, 300);
 }
 
 }  // namespace

@@ -238,6 +238,7 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     std::vector<float> lixel(16 * kMaxViewMaps, 0.0f);
     std::vector<float> plane(16 * kMaxViewMaps, 0.0f);
     std::vector<GLint> size(2 * kMaxViewMaps, 0);
+    std::vector<float> rectangle(4 * kMaxViewMaps, 0.0f);
     std::vector<GLint> half_plane_count(kMaxViewMaps, 0);
     std::vector<float> half_planes(3 * kMaxViewMaps * kMaxHalfPlanes, 0.0f);
     for (std::size_t i = 0; i < request.maps.size(); ++i) {
@@ -247,6 +248,8 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
         std::copy(t.plane.data(), t.plane.data() + 16, plane.begin() + 16 * i);
         size[2 * i] = m.map.width;
         size[2 * i + 1] = m.map.height;
+        const Eigen::Vector4d r = LookupRectangle(m.map, m.lookup);
+        for (int c = 0; c < 4; ++c) rectangle[4 * i + c] = static_cast<float>(r[c]);
         half_plane_count[i] = static_cast<GLint>(m.lookup.half_planes.size());
         for (std::size_t k = 0; k < m.lookup.half_planes.size(); ++k) {
             const Eigen::Vector3d& h = m.lookup.half_planes[k];
@@ -264,6 +267,7 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     gl.ProgramUniformMatrix4fv(program, shader.Uniform("u_map_plane"), kMaxViewMaps, GL_FALSE,
                                plane.data());
     gl.ProgramUniform2iv(program, shader.Uniform("u_map_size"), kMaxViewMaps, size.data());
+    gl.ProgramUniform4fv(program, shader.Uniform("u_map_lookup"), kMaxViewMaps, rectangle.data());
     gl.ProgramUniform1iv(program, shader.Uniform("u_map_half_plane_count"), kMaxViewMaps,
                          half_plane_count.data());
     gl.ProgramUniform3fv(program, shader.Uniform("u_map_half_planes"),

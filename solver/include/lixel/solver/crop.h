@@ -29,6 +29,9 @@ struct CropOptions {
     std::int64_t lixel_budget = 0;
     // Largest side allowed (the GL maximum texture size), [1, kMaxImageSide].
     int max_side = kMaxImageSide;
+    // Lixels of border added on every side of the needed rectangle (a guard band for filter
+    // taps, scheduler.h kGuardLixels), counted in the budget and the side; [0, max_side / 2).
+    int guard = 0;
 };
 
 struct CropResult {
@@ -37,10 +40,12 @@ struct CropResult {
     double twist_radians = 0.0;   // rotation applied, counter-clockwise
     double scale = 1.0;           // uniform scale applied (lixels per uncropped lixel)
     Vec2 origin = Vec2::Zero();   // lower-left corner of the rectangle before renumbering
+    int guard = 0;                // the needed rectangle is [guard, width - guard) x ...
 };
 
 // The rectangle holds every needed image to within 1e-6 lixel (images that close past an
-// integer are snapped onto it rather than paying for a whole row or column).
+// integer are snapped onto it rather than paying for a whole row or column), `guard` lixels
+// inside the map's edges.
 // `needed_points` are homogeneous world points whose images' convex hull is the needed
 // region (a needed-ray polygon's vertices); each must have q > 0 under `matrix`.
 Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> needed_points,

@@ -22,6 +22,11 @@ struct RayCone {
 // plane l_x r_x + l_y r_y + l_z r_w.
 RayCone AcceptedCone(const LightMap& map, const std::vector<Eigen::Vector3d>& half_planes);
 
+// The same with the lixel rectangle [x0, x1] x [y0, y1] given as (x0, y0, x1, y1) in place of
+// [0, width] x [0, height] (a lookup rectangle, scheduler.h).
+RayCone AcceptedCone(const LightMap& map, const Eigen::Vector4d& rectangle,
+                     const std::vector<Eigen::Vector3d>& half_planes);
+
 // `region` minus the cone, as disjoint convex pieces (region ∩ {p_1 >= 0 ... p_{k-1} >= 0,
 // p_k < 0} for each bounding plane p_k); pieces without volume are dropped.
 std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayCone& cone);

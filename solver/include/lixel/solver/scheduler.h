@@ -61,12 +61,30 @@ struct PlanRequest {
     PassRequest passes;
 };
 
+// Lixels of border every planned map renders around its needed rays: the farthest tap of the
+// widest filter past a needed point (PCF and second depth read r <= 4 texels past the lixel they
+// fall in, silhouette maps one texel and its corners), plus one for rounding. Taps near a map's
+// edge then read the scene's real depths there, not a copy of the edge texels.
+inline constexpr int kGuardLixels = 2;
+
+// How far past the needed rectangle (into the guard band) the lookup still accepts a point,
+// lixels: needed images within 1e-6 lixel past an integer are snapped onto it by the crop, and
+// float lixel coordinates in a shader stray by a few ulps of the map's side; half a lixel of
+// real texels takes both in.
+inline constexpr double kLookupMargin = 0.5;
+
 // The lookup rule of one map (paper §3): a world point X belongs to this map when
-// q = (M X).w > 0, its lixel (x, y) lies in [0, width) x [0, height), and every half-plane
-// a x + b y + c >= 0 holds. Maps are tried in plan order; the fallback accepts what is left.
+// q = (M X).w > 0, its lixel (x, y) lies in the lookup rectangle (LookupRectangle: the map less
+// its guard band, widened by kLookupMargin), and every half-plane a x + b y + c >= 0 holds.
+// Maps are tried in plan order; the fallback accepts what is left.
 struct LookupRule {
     std::vector<Eigen::Vector3d> half_planes;  // (a, b, c) on lixel coordinates
+    int guard = 0;  // lixels of guard band on every side; 0: the lookup takes the whole map
 };
+
+// [x0, x1) x [y0, y1) in lixels, as (x0, y0, x1, y1): [0, width) x [0, height) without a guard
+// band, else the map less `guard` lixels on every side, widened by kLookupMargin.
+Eigen::Vector4d LookupRectangle(const LightMap& map, const LookupRule& rule) noexcept;
 
 struct PlannedMap {
     MapRole role = MapRole::kPlane;
