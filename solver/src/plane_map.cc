@@ -4,6 +4,7 @@
 #include <lixel/solver/depth_row.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/light_map.h>
+#include <lixel/solver/map_diagnostics.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/polygon.h>
 #include <lixel/solver/ray_cone.h>
@@ -17,25 +18,6 @@
 
 namespace lixel {
 
-namespace {
-
-// Points spread over a convex polygon: its vertices, centroid, and fixed barycentric patterns
-// in each fan triangle, so residuals are measured inside the needed region, not only on it.
-std::vector<Vec3> SamplePolygon(const std::vector<Vec3>& polygon) {
-    std::vector<Vec3> samples = polygon;
-    const Vec3 centroid = PolygonCentroid(polygon);
-    samples.push_back(centroid);
-    const double pattern[][2] = {{1.0 / 3, 1.0 / 3}, {0.05, 0.05}, {0.9, 0.05}, {0.05, 0.9},
-                                 {0.45, 0.45},       {0.7, 0.2},   {0.2, 0.7}};
-    for (size_t i = 0; i < polygon.size(); ++i) {
-        const Vec3 e0 = polygon[i] - centroid;
-        const Vec3 e1 = polygon[(i + 1) % polygon.size()] - centroid;
-        for (const auto& ab : pattern) samples.push_back(centroid + ab[0] * e0 + ab[1] * e1);
-    }
-    return samples;
-}
-
-}  // namespace
 
 Vec3 GlOrigin(const Mat4& viewer, const Vec4& plane, const std::vector<Vec3>& needed_polygon) {
     // The light rows carry a large component along P's normal ((a_j.l) P) that cancels on P; with
@@ -52,20 +34,6 @@ Vec3 GlOrigin(const Mat4& viewer, const Vec4& plane, const std::vector<Vec3>& ne
 }
 
 namespace {
-
-// Smallest stored-depth difference a GL pass resolves at a receiver: the larger of the float32
-// storage step at d (the depth texture's format) and the rounding of the float dot product that
-// computes d's numerator, half a float ulp per term of sum_i |c_i x_i| for the stored depth row c
-// and the relative vertex x, over q. Near d = 0 the second term keeps the figure honest where
-// float32 itself is finer than any computed depth can be.
-double DepthStep(const Eigen::Vector4f& stored_row, const Eigen::Vector4f& local, float q) {
-    const float d = std::clamp(stored_row.dot(local) / q, 0.0f, 1.0f);
-    const double storage =
-        static_cast<double>(std::nextafter(d, 2.0f)) - static_cast<double>(d);
-    const double terms = stored_row.cwiseProduct(local).cwiseAbs().cast<double>().sum();
-    const double computed = 0.5 * std::numeric_limits<float>::epsilon() * terms / std::abs(q);
-    return std::max(storage, computed);
-}
 
 // LixelsPerPixel with the viewer's pixel matrix already inverted (`unproject`), so Diagnose
 // inverts it once for all its samples.
@@ -110,8 +78,7 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
     const Vec4& l = solved.light;
     const bool directional = l.w() == 0.0;
     double worst_reach = 0.0;
-    double nearest_along = std::numeric_limits<double>::infinity();
-    double farthest_along = -nearest_along;
+    DepthStepTally steps;
     d.lixels_per_pixel_min = std::numeric_limits<double>::infinity();
     for (const Vec3& s : SamplePolygon(polygon)) {
         const Vec4 x = Point(s);
@@ -136,31 +103,8 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
                                              : float_error);
 
         worst_reach = std::max(worst_reach, (s - l.head<3>()).norm());
-        // Depth step along the light ray at this receiver: DepthStep / |dd/ds| for the stored
-        // depth d = 1 - z (light_map.h), with |dd/ds| = |dz/ds|.
-        const Vec3 dir3 = directional ? Vec3(-l.head<3>()) : Vec3((s - l.head<3>()).normalized());
-        const Vec4 dir(dir3.x(), dir3.y(), dir3.z(), 0.0);
-        const RowVec4 r_z = map.matrix.row(2);
-        const RowVec4 r_w = map.matrix.row(3);
-        const double q = r_w.dot(x);
-        const double dz = (r_z.dot(dir) * q - r_z.dot(x) * r_w.dot(dir)) / (q * q);
-        if (dz != 0.0 && std::isfinite(dz)) {
-            const Eigen::Vector4f local4(local.x(), local.y(), local.z(), 1.0f);
-            const double step =
-                DepthStep(gl.projection.row(2).transpose(), local4, clip.w()) / std::abs(dz);
-            d.depth_resolution = std::max(d.depth_resolution, step);
-            // Nearest and farthest along the light: depth grows with the distance from a point
-            // light, and with u = -l.X / q for a directional one.
-            const double along = directional ? -l.head<3>().dot(s) : (s - l.head<3>()).norm();
-            if (along < nearest_along) {
-                nearest_along = along;
-                d.depth_step_nearest = step;
-            }
-            if (along > farthest_along) {
-                farthest_along = along;
-                d.depth_step_farthest = step;
-            }
-        }
+        const double step = DepthStepAt(map, gl, l, s);
+        if (step > 0.0) steps.Add(d, l, s, step);
         if (auto scale =
                 FootprintAt(unproject, solved.plane, map, Vec2(v.x() / v.w(), v.y() / v.w()));
             scale) {

@@ -7,6 +7,7 @@
 #include <lixel/solver/light_frustum.h>
 #include <lixel/solver/polygon.h>
 #include <lixel/solver/ray_cone.h>
+#include <lixel/solver/map_diagnostics.h>
 #include <lixel/solver/scheduler.h>
 
 #include <Eigen/LU>
@@ -675,10 +676,25 @@ auto FitWithGuard(Fit fit, std::int64_t budget, int max_side, int guard)
     return fitted;
 }
 
+// The figures plane maps report (map_diagnostics.h), for a fallback or cube face: at samples
+// of the faces of the region it is kept for, where its own lookup takes them.
+SolveDiagnostics DiagnoseHeld(const Context& c, const PlannedMap& m,
+                              std::span<const Receiver> receivers) {
+    std::vector<Receiver> held;
+    for (const Receiver& r : receivers) {
+        if (LookupAccepts(m, Point(r.point))) held.push_back(r);
+    }
+    return DiagnoseMap(m.map, c.light, c.request.viewer, c.request.viewport, held);
+}
+
 Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& uncovered,
                          std::int64_t budget, Plan& plan) {
     const std::vector<Vec4> points = VerticesOf(uncovered);
     const std::string kept_for = KeptFor(c, uncovered);
+    std::vector<ConvexPolytope> pieces;
+    pieces.reserve(uncovered.size());
+    for (const UncoveredPiece& piece : uncovered) pieces.push_back(piece.piece);
+    const std::vector<Receiver> receivers = RegionReceivers(pieces);
     const int max_side = c.request.max_texture_size;
     if (!c.hull.light_inside) {
         const int guard = GuardFor(budget, max_side);
@@ -698,6 +714,7 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
             m.scale = 0.0;
             m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
             RefitDepth(c, m, points);
+            m.diagnostics = DiagnoseHeld(c, m, receivers);
             plan.maps.push_back(std::move(m));
             plan.left_out.push_back({"cube faces", "not needed: one frustum holds the fallback's "
                                                    "rays (the light is outside them)"});
@@ -768,6 +785,7 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
         m.scale = 0.0;
         m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
         RefitDepth(c, m);
+        m.diagnostics = DiagnoseHeld(c, m, receivers);
         plan.maps.push_back(std::move(m));
     }
     plan.left_out.push_back({"fallback", "replaced by cube faces: the light lies among the rays "

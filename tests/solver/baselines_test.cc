@@ -5,6 +5,7 @@
 #include <lixel/solver/extent_hull.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/light_frustum.h>
+#include <lixel/solver/map_diagnostics.h>
 
 #include <Eigen/SVD>
 #include <cmath>
@@ -688,6 +689,41 @@ TEST(Baselines, BadInputIsRefusedNamingTheField) {
         ASSERT_FALSE(refused.ok());
         EXPECT_EQ(refused.error().field, "hull");
     }
+}
+
+// A baseline reports the figures plane maps have (map_diagnostics.h): its lixels per pixel at a
+// floor point, from LixelsPerPixel's central differences, match the analytic Jacobian of
+// FloorAliasing (the floor's tangents through both matrices) to rounding, for every method.
+TEST(Baselines, DiagnosticsMatchTheAnalyticFootprintOnTheFloor) {
+    const testing::Configuration c = testing::FloorWallConfiguration();
+    const Mat4 pixels = PixelMatrix(c.viewer, c.viewport);
+    const Mat4 unproject = pixels.inverse();
+    const auto hull = ComputeExtentHull(c.viewer, c.light, c.bounds);
+    ASSERT_TRUE(hull.ok());
+    int compared = 0;
+    for (BaselineMethod method : {BaselineMethod::kUniform, BaselineMethod::kPsm,
+                                  BaselineMethod::kLispsm}) {
+        const auto fit = FitBaseline(method, InputOf(c, 512 * 512), *hull);
+        ASSERT_TRUE(fit.ok()) << fit.error().Message();
+        for (const Vec2& at : {Vec2(512.5, 20.5), Vec2(100.5, 300.5), Vec2(900.5, 150.5)}) {
+            const double m = FloorAliasing(pixels, fit->map, at.x(), at.y());
+            ASSERT_TRUE(std::isfinite(m));
+            // The floor point under the pixel centre.
+            Vec4 a = unproject * Vec4(at.x(), at.y(), kClipDepthNear, 1.0);
+            Vec4 b = unproject * Vec4(at.x(), at.y(), kClipDepthFar, 1.0);
+            a /= a.w();
+            b /= b.w();
+            const Vec3 point = (a + (a.y() / (a.y() - b.y())) * (b - a)).head<3>();
+            const std::vector<Receiver> receiver = {{point, Vec4(0, 1, 0, 0)}};
+            const SolveDiagnostics d =
+                DiagnoseMap(fit->map, c.light, c.viewer, c.viewport, receiver);
+            ASSERT_EQ(d.samples, 1) << BaselineName(method);
+            EXPECT_NEAR(d.lixels_per_pixel_min * m, 1.0, 1e-6) << BaselineName(method);
+            EXPECT_GT(d.depth_step_nearest, 0.0);
+            ++compared;
+        }
+    }
+    EXPECT_EQ(compared, 9);
 }
 
 }  // namespace

@@ -187,6 +187,7 @@ void ExpectCroppedFaces(const PlanRequest& r, const Plan& plan, const std::strin
     for (const PlannedMap& m : plan.maps) faces += m.role == MapRole::kCubeFace ? 1 : 0;
     ASSERT_GT(faces, 0) << where;
     double sum_area = 0.0;
+    int diagnosed = 0;
     for (const PlannedMap& m : plan.maps) {
         if (m.role != MapRole::kCubeFace) continue;
         const FaceCover c = Measure(m, light);
@@ -208,6 +209,15 @@ void ExpectCroppedFaces(const PlanRequest& r, const Plan& plan, const std::strin
         }
         if (c.tangent_area < 4.0 * (1.0 - 1e-6)) ++cropped;
         sum_area += c.tangent_area;
+        // The figures plane maps have, where the face holds sampled receivers.
+        const SolveDiagnostics& d = m.diagnostics;
+        diagnosed += d.samples > 0 ? 1 : 0;
+        if (d.samples > 0) {
+            EXPECT_GT(d.lixels_per_pixel_min, 0.0) << where << " " << m.name;
+            EXPECT_LE(d.lixels_per_pixel_min, d.lixels_per_pixel_max) << where << " " << m.name;
+            EXPECT_LE(std::max(d.depth_step_nearest, d.depth_step_farthest), d.depth_resolution)
+                << where << " " << m.name;
+        }
     }
     // Shared by needed area: every face's lixels, its guard band included (the band comes out of
     // its own share), per tangent unit^2 of the rays it holds at least what (budget - faces) /
@@ -228,6 +238,7 @@ void ExpectCroppedFaces(const PlanRequest& r, const Plan& plan, const std::strin
                                           static_cast<double>(r.lixel_budget)))
             << where << " " << m.name;
     }
+    EXPECT_GT(diagnosed, 0) << where << ": no face reports lixels per pixel";
     EXPECT_LE(plan.total_lixels, r.lixel_budget) << where;
     std::int64_t sum = 0;
     for (const PlannedMap& m : plan.maps) sum += m.lixels;

@@ -188,6 +188,14 @@ TEST(SchedulerFallback, KeptWhereCastersMayNeedItSayingWhatFor) {
             const PlannedMap* fallback = FindFallback(*plan);
             ASSERT_NE(fallback, nullptr);
             EXPECT_EQ(FindLeftOut(*plan, "fallback"), nullptr);
+            // The figures plane maps have, at samples of the region it is kept for.
+            const SolveDiagnostics& d = fallback->diagnostics;
+            EXPECT_GT(d.samples, 0);
+            EXPECT_GT(d.lixels_per_pixel_min, 0.0);
+            EXPECT_LE(d.lixels_per_pixel_min, d.lixels_per_pixel_max);
+            EXPECT_GT(d.depth_step_nearest, 0.0);
+            EXPECT_GT(d.depth_step_farthest, 0.0);
+            EXPECT_LE(std::max(d.depth_step_nearest, d.depth_step_farthest), d.depth_resolution);
             for (const auto& [name, what] : expected) {
                 if (name != s.name) continue;
                 EXPECT_TRUE(fallback->kept_for.starts_with("kept for")) << fallback->kept_for;

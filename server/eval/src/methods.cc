@@ -1,6 +1,7 @@
 // Methods and their plans (methods.h).
 #include <lixel/eval/methods.h>
 #include <lixel/solver/baselines.h>
+#include <lixel/solver/map_diagnostics.h>
 #include <lixel/solver/extent_hull.h>
 
 namespace lixel::eval {
@@ -99,6 +100,8 @@ Result<Plan> PlanMethod(const scene::Scene& scene, const Method& method, std::in
     if (request.passes.silhouette_map) map.passes.push_back(Pass::kSilhouetteMap);
     map.scale = 0.0;
     map.lixels = std::int64_t(map.map.width) * map.map.height;
+    map.diagnostics = DiagnoseMap(map.map, request.light, request.viewer, request.viewport,
+                                  ViewReceivers(request));
     plan.maps.push_back(map);
     if (!fitted->info.fallback_reason.empty()) {
         plan.warnings.push_back(std::string(FittingName(method.fitting)) +

@@ -6,6 +6,7 @@
 #include <lixel/scene/upload.h>
 #include <lixel/service/jobs.h>
 #include <lixel/solver/baselines.h>
+#include <lixel/solver/map_diagnostics.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/volumes/edge_adjacency.h>
@@ -489,6 +490,8 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         m.name = BaselineName(baseline);
         m.map = fitted->map;
         m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
+        m.diagnostics = DiagnoseMap(m.map, decoded->light, decoded->viewer, decoded->viewport,
+                                    ViewReceivers(*decoded));
         job.maps = {m};
     }
     // The filter decides the one pass every map needs, casters or not: second depth and the

@@ -363,7 +363,7 @@ void EncodePlan(const Plan& plan, v1::PlanResponse* out) {
         pm->set_expected_pixels(m.expected_pixels);
         pm->set_kept_for(m.kept_for);
         pm->set_guard(static_cast<std::uint32_t>(m.lookup.guard));
-        if (m.role == MapRole::kPlane) EncodeDiagnostics(m.diagnostics, pm->mutable_diagnostics());
+        if (m.diagnostics.samples > 0) EncodeDiagnostics(m.diagnostics, pm->mutable_diagnostics());
     }
     for (const LeftOut& l : plan.left_out) {
         v1::LeftOut* lo = out->add_left_out();

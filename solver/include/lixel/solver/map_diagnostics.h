@@ -1,0 +1,61 @@
+// The aliasing and depth-resolution figures of any light map at the receivers a viewer sees:
+// plane maps report them from their solve (plane_map.h Diagnose); the fallback, cube faces and
+// the baselines report the same figures here, at sampled points of what they are asked about.
+#pragma once
+
+#include <lixel/solver/convex_polytope.h>
+#include <lixel/solver/light_map.h>
+#include <lixel/solver/plane_map.h>
+#include <lixel/solver/types.h>
+
+#include <limits>
+#include <span>
+#include <vector>
+
+namespace lixel {
+
+struct PlanRequest;
+
+// A visible surface point and the plane its pixel footprint is measured on.
+struct Receiver {
+    Vec3 point = Vec3::Zero();
+    Vec4 plane = Vec4::Zero();
+};
+
+// Points spread over a convex polygon: its vertices, centroid, and fixed barycentric patterns
+// in each fan triangle, so figures are measured inside the region, not only on its outline.
+std::vector<Vec3> SamplePolygon(const std::vector<Vec3>& polygon);
+
+// World distance along the light ray at receiver `x` between stored depths a GL pass tells
+// apart: the float32 step of the stored depth 1 - z (light_map.h), or the rounding of the float
+// depth the pass computes from `gl` where that is larger, over |d(depth)/ds|. 0 where the depth
+// does not change along the ray (a degenerate row).
+double DepthStepAt(const LightMap& map, const GlLightTransform& gl, const Vec4& light,
+                   const Vec3& x);
+
+// Folds receiver `x`'s depth step (DepthStepAt, > 0) into d's worst step and the steps at the
+// receivers nearest to and farthest from the light seen so far.
+struct DepthStepTally {
+    double nearest = std::numeric_limits<double>::infinity();
+    double farthest = -std::numeric_limits<double>::infinity();
+    void Add(SolveDiagnostics& d, const Vec4& light, const Vec3& x, double step);
+};
+
+// SolveDiagnostics' figures that hold for any map (lixels per pixel, depth resolution and
+// steps at the nearest and farthest receiver, samples), over the receivers that are in the
+// viewport, in front of the viewer, held by the map (q > 0) and not seen edge-on (a footprint
+// with a zero or non-finite singular value, as on faces a frustum plane cut). The residuals,
+// conditioning
+// and sign are the plane solve's and stay at their defaults.
+SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4& viewer,
+                             const Viewport& viewport, std::span<const Receiver> receivers);
+
+// Samples of every face of the regions (the fallback's needed region: visible object boxes less
+// the rays plane maps hold), each with its face's plane.
+std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions);
+
+// What a baseline map is asked about: the planes of interest in view (their polygons, or the
+// plane within the scene bounds) and the faces of the objects' boxes in view.
+std::vector<Receiver> ViewReceivers(const PlanRequest& request);
+
+}  // namespace lixel

@@ -1,0 +1,134 @@
+// Aliasing and depth resolution for maps of every role (map_diagnostics.h).
+#include <lixel/solver/camera.h>
+#include <lixel/solver/homogeneous.h>
+#include <lixel/solver/map_diagnostics.h>
+#include <lixel/solver/polygon.h>
+#include <lixel/solver/scheduler.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lixel {
+
+std::vector<Vec3> SamplePolygon(const std::vector<Vec3>& polygon) {
+    std::vector<Vec3> samples = polygon;
+    const Vec3 centroid = PolygonCentroid(polygon);
+    samples.push_back(centroid);
+    const double pattern[][2] = {{1.0 / 3, 1.0 / 3}, {0.05, 0.05}, {0.9, 0.05}, {0.05, 0.9},
+                                 {0.45, 0.45},       {0.7, 0.2},   {0.2, 0.7}};
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const Vec3 e0 = polygon[i] - centroid;
+        const Vec3 e1 = polygon[(i + 1) % polygon.size()] - centroid;
+        for (const auto& ab : pattern) samples.push_back(centroid + ab[0] * e0 + ab[1] * e1);
+    }
+    return samples;
+}
+
+double DepthStepAt(const LightMap& map, const GlLightTransform& gl, const Vec4& light,
+                   const Vec3& x) {
+    const bool directional = light.w() == 0.0;
+    const Vec3 dir3 = directional ? Vec3(-light.head<3>().normalized())
+                                  : Vec3((x - light.head<3>() / light.w()).normalized());
+    const Vec4 dir(dir3.x(), dir3.y(), dir3.z(), 0.0);
+    const Vec4 p = Point(x);
+    const RowVec4 r_z = map.matrix.row(2);
+    const RowVec4 r_w = map.matrix.row(3);
+    const double q = r_w.dot(p);
+    // |dd/ds| = |dz/ds| for the stored depth d = 1 - z.
+    const double dz = (r_z.dot(dir) * q - r_z.dot(p) * r_w.dot(dir)) / (q * q);
+    if (!(dz != 0.0) || !std::isfinite(dz)) return 0.0;
+    // What the pass computes: the float vertex relative to the origin, the float stored row.
+    const Eigen::Vector3f local = (x - gl.origin).cast<float>();
+    const Eigen::Vector4f local4(local.x(), local.y(), local.z(), 1.0f);
+    const Eigen::Vector4f row = gl.projection.row(2).transpose();
+    const float w = gl.projection.row(3).dot(local4.transpose());
+    const float d = std::clamp(row.dot(local4) / w, 0.0f, 1.0f);
+    const double storage = static_cast<double>(std::nextafter(d, 2.0f)) - static_cast<double>(d);
+    // Half a float ulp per term of the dot product, over q.
+    const double terms = row.cwiseProduct(local4).cwiseAbs().cast<double>().sum();
+    const double computed = 0.5 * std::numeric_limits<float>::epsilon() * terms / std::abs(w);
+    return std::max(storage, computed) / std::abs(dz);
+}
+
+void DepthStepTally::Add(SolveDiagnostics& d, const Vec4& light, const Vec3& x, double step) {
+    d.depth_resolution = std::max(d.depth_resolution, step);
+    // Distance along the light: depth grows with the distance from a point light, and with
+    // -l.X for a directional one.
+    const double along = light.w() == 0.0 ? -light.head<3>().normalized().dot(x)
+                                          : (x - light.head<3>() / light.w()).norm();
+    if (along < nearest) {
+        nearest = along;
+        d.depth_step_nearest = step;
+    }
+    if (along > farthest) {
+        farthest = along;
+        d.depth_step_farthest = step;
+    }
+}
+
+SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4& viewer,
+                             const Viewport& viewport, std::span<const Receiver> receivers) {
+    SolveDiagnostics d;
+    const Mat4 pixel = PixelMatrix(viewer, viewport);
+    const GlLightTransform gl =
+        ToGl(map, receivers.empty() ? Vec3::Zero() : receivers.front().point);
+    DepthStepTally steps;
+    d.lixels_per_pixel_min = std::numeric_limits<double>::infinity();
+    for (const Receiver& r : receivers) {
+        const Vec4 x = Point(r.point);
+        const Vec4 v = pixel * x;
+        if (!(v.w() > 0.0) || !((map.matrix * x).w() > 0.0)) continue;
+        const Vec2 at(v.x() / v.w(), v.y() / v.w());
+        if (!(at.x() >= 0.0 && at.y() >= 0.0 && at.x() <= viewport.width &&
+              at.y() <= viewport.height)) {
+            continue;
+        }
+        // A plane seen edge-on (a face a frustum plane cut, through the eye) has no footprint.
+        auto scale = LixelsPerPixel(viewer, viewport, r.plane, map, at);
+        if (!scale || !(scale->y() > 0.0) || !scale->allFinite()) continue;
+        d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
+        d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());
+        const double step = DepthStepAt(map, gl, light, r.point);
+        if (step > 0.0) steps.Add(d, light, r.point, step);
+        ++d.samples;
+    }
+    if (d.samples == 0) d.lixels_per_pixel_min = 0.0;
+    return d;
+}
+
+std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions) {
+    std::vector<Receiver> out;
+    for (const ConvexPolytope& region : regions) {
+        for (const PolytopeFace& face : region.faces()) {
+            for (const Vec3& s : SamplePolygon(face.polygon)) out.push_back({s, face.outward_plane});
+        }
+    }
+    return out;
+}
+
+std::vector<Receiver> ViewReceivers(const PlanRequest& request) {
+    std::vector<Receiver> out;
+    const std::vector<Vec4> frustum = FrustumPlanes(request.viewer);
+    for (const PlaneOfInterest& p : request.planes) {
+        std::vector<Vec3> polygon = p.polygon.empty()
+                                        ? PlaneBoxPolygon(p.plane, request.scene_bounds)
+                                        : p.polygon;
+        for (const Vec4& half_space : frustum) polygon = ClipPolygon(polygon, half_space);
+        if (polygon.size() < 3) continue;
+        for (const Vec3& s : SamplePolygon(polygon)) out.push_back({s, p.plane});
+    }
+    std::vector<ConvexPolytope> boxes;
+    for (const SceneObject& o : request.objects) {
+        ConvexPolytope box = ConvexPolytope::FromBox(o.bounds);
+        for (const Vec4& half_space : frustum) {
+            if (!box.empty()) box.Clip(half_space);
+        }
+        if (!box.empty()) boxes.push_back(std::move(box));
+    }
+    const std::vector<Receiver> faces = RegionReceivers(boxes);
+    out.insert(out.end(), faces.begin(), faces.end());
+    return out;
+}
+
+}  // namespace lixel
