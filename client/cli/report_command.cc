@@ -184,6 +184,10 @@ int ReportCommand(client::Client& client, const Flags& flags) {
                 row.error.wrong = static_cast<std::int64_t>(e.wrong_pixels());
                 row.error.band_decided = static_cast<std::int64_t>(e.band_decided_pixels());
                 row.error.band_wrong = static_cast<std::int64_t>(e.band_wrong_pixels());
+                row.error.false_lit = static_cast<std::int64_t>(e.false_lit_pixels());
+                row.error.false_shadow = static_cast<std::int64_t>(e.false_shadow_pixels());
+                row.error.planes_decided = static_cast<std::int64_t>(e.planes_decided_pixels());
+                row.error.planes_wrong = static_cast<std::int64_t>(e.planes_wrong_pixels());
                 row.aliasing_planes = Stats(e.aliasing_planes());
                 row.aliasing_elsewhere = Stats(e.aliasing_elsewhere());
                 row.lixel_use = e.lixel_use();

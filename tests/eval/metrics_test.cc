@@ -71,6 +71,25 @@ TEST(Misclassified, HandComputedCounts) {
     EXPECT_DOUBLE_EQ(r->BandPercent(), 100.0 * 2 / 9);
 }
 
+// Split where plane-optimal maps make their claim: the bottom row on a plane of interest holds 5
+// decided pixels and the false-lit (3, 0); the other 8 decided pixels hold the false-shadow one.
+TEST(Misclassified, SplitOnThePlanesOfInterestAndElsewhere) {
+    GroundTruth truth = Case();
+    for (int x = 0; x < truth.width; ++x) truth.plane[truth.Index(x, 0)] = 0;
+    const auto r = Misclassified(truth, CaseMask(), 1);
+    ASSERT_TRUE(r.ok()) << r.error().Message();
+    EXPECT_EQ(r->planes_decided, 5);
+    EXPECT_EQ(r->planes_wrong, 1);
+    EXPECT_DOUBLE_EQ(r->PlanesPercent(), 100.0 / 5);
+    EXPECT_DOUBLE_EQ(r->ElsewherePercent(), 100.0 / 8);
+    // No pixel on a plane: everything is elsewhere.
+    const auto none = Misclassified(Case(), CaseMask(), 1);
+    ASSERT_TRUE(none.ok());
+    EXPECT_EQ(none->planes_decided, 0);
+    EXPECT_DOUBLE_EQ(none->PlanesPercent(), 0.0);
+    EXPECT_DOUBLE_EQ(none->ElsewherePercent(), none->Percent());
+}
+
 TEST(Misclassified, BandRadiusZeroAndTwo) {
     auto r0 = Misclassified(Case(), CaseMask(), 0);
     ASSERT_TRUE(r0.ok());

@@ -299,12 +299,12 @@ TEST_F(ServiceTest, RenderStreamsAHeaderThenEveryMapInChunks) {
         EXPECT_EQ(meta.height(), map.map().height());
         ASSERT_EQ(maps->images[i].size() * 4, meta.bytes());
         bytes += meta.bytes();
-        // Depth maps hold z/w in [0, 1] (1 where nothing was drawn).
+        // Depth maps hold the stored depth 1 - z/w in [0, 1] (0 where nothing was drawn).
         std::size_t drawn = 0;
-        for (float z : maps->images[i]) {
-            ASSERT_GE(z, 0.0f);
-            ASSERT_LE(z, 1.0f);
-            drawn += z < 1.0f;
+        for (float d : maps->images[i]) {
+            ASSERT_GE(d, 0.0f);
+            ASSERT_LE(d, 1.0f);
+            drawn += d > 0.0f;
         }
         EXPECT_GT(drawn, 0u) << map.name();
     }
@@ -324,6 +324,12 @@ TEST_F(ServiceTest, ViewReturnsAMaskAndItsEvaluation) {
     ASSERT_TRUE(view->has_evaluation());
     EXPECT_GT(view->evaluation().decided_pixels(), 1000u);
     EXPECT_LT(view->evaluation().misclassified_percent(), 5.0);
+    // The wrong pixels split by kind and by where they lie, over the wire.
+    const v1::Evaluation& e = view->evaluation();
+    EXPECT_EQ(e.false_lit_pixels() + e.false_shadow_pixels(), e.wrong_pixels());
+    EXPECT_GT(e.planes_decided_pixels(), 0u);
+    EXPECT_LE(e.planes_decided_pixels(), e.decided_pixels());
+    EXPECT_LE(e.planes_wrong_pixels(), e.wrong_pixels());
     EXPECT_EQ(view->truth().size(), 128u * 128u);
     EXPECT_GE(view->timings_size(), 4);
     // Exact silhouette shadow volumes: no maps, and (outside the undecided band) the truth.

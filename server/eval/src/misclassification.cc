@@ -126,6 +126,10 @@ Result<Misclassification> Misclassified(const GroundTruth& truth, const Mask& ma
                 ++result.band_decided;
                 if (wrong) ++result.band_wrong;
             }
+            if (!truth.plane.empty() && truth.plane[i] >= 0) {
+                ++result.planes_decided;
+                if (wrong) ++result.planes_wrong;
+            }
         }
         return result;
     };
@@ -136,6 +140,8 @@ Result<Misclassification> Misclassified(const GroundTruth& truth, const Mask& ma
         a.false_shadow += b.false_shadow;
         a.band_decided += b.band_decided;
         a.band_wrong += b.band_wrong;
+        a.planes_decided += b.planes_decided;
+        a.planes_wrong += b.planes_wrong;
         return a;
     };
     return tbb::parallel_reduce(tbb::blocked_range<std::size_t>(0, truth.state.size(), 1 << 14),

@@ -582,6 +582,10 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         e->set_wrong_pixels(static_cast<std::uint64_t>(wrong->wrong));
         e->set_band_decided_pixels(static_cast<std::uint64_t>(wrong->band_decided));
         e->set_band_wrong_pixels(static_cast<std::uint64_t>(wrong->band_wrong));
+        e->set_false_lit_pixels(static_cast<std::uint64_t>(wrong->false_lit));
+        e->set_false_shadow_pixels(static_cast<std::uint64_t>(wrong->false_shadow));
+        e->set_planes_decided_pixels(static_cast<std::uint64_t>(wrong->planes_decided));
+        e->set_planes_wrong_pixels(static_cast<std::uint64_t>(wrong->planes_wrong));
         e->set_undecided_pixels(static_cast<std::uint64_t>(truth->Count(eval::Truth::kUndecided)));
         if (truth->seconds > 0.0) {
             e->set_truth_rays_per_second(

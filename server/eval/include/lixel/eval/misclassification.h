@@ -21,11 +21,22 @@ struct Misclassification {
     std::int64_t false_shadow = 0;  // mask shadow, truth lit
     std::int64_t band_decided = 0;  // decided pixels inside the boundary band
     std::int64_t band_wrong = 0;
+    // Decided pixels on a plane of interest (GroundTruth::plane >= 0), where plane-optimal maps
+    // make their claim (paper 004), and of those the wrong ones; the rest are "elsewhere".
+    std::int64_t planes_decided = 0;
+    std::int64_t planes_wrong = 0;
 
     // Percentages in [0, 100]; 0 when nothing was decided.
     double Percent() const { return decided ? 100.0 * double(wrong) / double(decided) : 0.0; }
     double BandPercent() const {
         return band_decided ? 100.0 * double(band_wrong) / double(band_decided) : 0.0;
+    }
+    double PlanesPercent() const {
+        return planes_decided ? 100.0 * double(planes_wrong) / double(planes_decided) : 0.0;
+    }
+    double ElsewherePercent() const {
+        const std::int64_t n = decided - planes_decided;
+        return n ? 100.0 * double(wrong - planes_wrong) / double(n) : 0.0;
     }
 };
 
