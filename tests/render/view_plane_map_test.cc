@@ -16,7 +16,9 @@ namespace {
 
 using testing::TestScene;
 
-Plan PlanFloor(const TestScene& s, std::int64_t budget, PassRequest passes = {}) {
+// The scene's view, light, meshes and bounds as a plan request for `planes`.
+PlanRequest RequestFor(const TestScene& s, std::vector<PlaneOfInterest> planes,
+                       std::int64_t budget) {
     PlanRequest request;
     request.viewer = s.viewer;
     request.viewport = s.viewport;
@@ -25,8 +27,13 @@ Plan PlanFloor(const TestScene& s, std::int64_t budget, PassRequest passes = {})
         request.objects.push_back(SceneObject{m.name, m.Bounds(), &m, m.closed});
     }
     request.scene_bounds = s.bounds;
-    request.planes = {PlaneOfInterest{"floor", Vec4(0, 1, 0, 0), {}}};
+    request.planes = std::move(planes);
     request.lixel_budget = budget;
+    return request;
+}
+
+Plan PlanFloor(const TestScene& s, std::int64_t budget, PassRequest passes = {}) {
+    PlanRequest request = RequestFor(s, {PlaneOfInterest{"floor", Vec4(0, 1, 0, 0), {}}}, budget);
     request.fallback_floor = budget / 8;
     request.passes = passes;
     auto plan = PlanShadowMaps(request);
@@ -253,21 +260,12 @@ TEST(ViewPlan, PlanesShadeAsTheTruthOnTheSeamBetweenTheirMaps) {
     s.viewer = testing::Viewer(Vec3(0.0, 2.5, 4.0), Vec3(0.0, 0.0, -0.5), 50.0, 1.0);
     s.light = Point(Vec3(1.0, 6.0, 1.0));
     s.bounds = {Vec3(-3, -1, -3), Vec3(3, 1, 3)};
-    PlanRequest request;
-    request.viewer = s.viewer;
-    request.viewport = s.viewport;
-    request.light = s.light;
-    for (const Mesh& m : s.meshes) {
-        request.objects.push_back(SceneObject{m.name, m.Bounds(), &m, m.closed});
-    }
-    request.scene_bounds = s.bounds;
     const Vec3 slope_normal = (slope[1] - slope[0]).cross(slope[2] - slope[1]).normalized();
-    request.planes = {PlaneOfInterest{"floor", Vec4(0, 1, 0, 0), floor},
-                      PlaneOfInterest{"slope", Vec4(slope_normal.x(), slope_normal.y(),
-                                                    slope_normal.z(), 0.0),
-                                      slope}};
-    request.lixel_budget = 256 * 256;
-    auto plan = PlanShadowMaps(request);
+    const Vec4 slope_plane(slope_normal.x(), slope_normal.y(), slope_normal.z(), 0.0);
+    auto plan = PlanShadowMaps(RequestFor(s,
+                                          {PlaneOfInterest{"floor", Vec4(0, 1, 0, 0), floor},
+                                           PlaneOfInterest{"slope", slope_plane, slope}},
+                                          256 * 256));
     ASSERT_TRUE(plan.ok()) << plan.error().Message();
     int plane_maps = 0;
     for (PlannedMap& m : plan->maps) {
