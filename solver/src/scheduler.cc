@@ -5,9 +5,9 @@
 #include <lixel/solver/depth_row.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/light_frustum.h>
+#include <lixel/solver/map_diagnostics.h>
 #include <lixel/solver/polygon.h>
 #include <lixel/solver/ray_cone.h>
-#include <lixel/solver/map_diagnostics.h>
 #include <lixel/solver/scheduler.h>
 
 #include <Eigen/LU>
@@ -672,6 +672,13 @@ auto FitWithGuard(Fit fit, std::int64_t budget, int max_side, int guard)
                                              std::to_string(budget) + " lixels)"};
         }
         fitted = FitWithinSide(fit, interior, max_side - 2 * guard);
+    }
+    if (fitted.ok()) {
+        const LightMap& m = MapOf(*fitted);
+        if (static_cast<std::int64_t>(m.width + 2 * guard) * (m.height + 2 * guard) > budget) {
+            return Error{"lixel_budget", "no map and guard band of " + std::to_string(guard) +
+                                             " lixels fits " + std::to_string(budget) + " lixels"};
+        }
     }
     return fitted;
 }
