@@ -654,9 +654,11 @@ auto FitWithinSide(Fit fit, std::int64_t budget, int max_side) -> decltype(fit(M
 }
 
 // FitWithinSide with room for a guard band of `guard` lixels: the band's lixels come out of the
-// budget and its width out of the side, so the guarded map stays within both.
+// budget and its width out of the side, so the guarded map stays within both. A fit that keeps
+// a side the limit cannot shrink (a map FitWithinSide leaves at the GL maximum) gets a narrower
+// band, written back to `guard`.
 template <class Fit>
-auto FitWithGuard(Fit fit, std::int64_t budget, int max_side, int guard)
+auto FitWithGuard(Fit fit, std::int64_t budget, int max_side, int& guard)
     -> decltype(fit(MapSize{})) {
     std::int64_t interior = budget;
     auto fitted = FitWithinSide(fit, interior, max_side - 2 * guard);
@@ -675,6 +677,7 @@ auto FitWithGuard(Fit fit, std::int64_t budget, int max_side, int guard)
     }
     if (fitted.ok()) {
         const LightMap& m = MapOf(*fitted);
+        guard = std::max(0, std::min(guard, (max_side - std::max(m.width, m.height)) / 2));
         if (static_cast<std::int64_t>(m.width + 2 * guard) * (m.height + 2 * guard) > budget) {
             return Error{"lixel_budget", "no map and guard band of " + std::to_string(guard) +
                                              " lixels fits " + std::to_string(budget) + " lixels"};
@@ -704,7 +707,7 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
     const std::vector<Receiver> receivers = RegionReceivers(pieces);
     const int max_side = c.request.max_texture_size;
     if (!c.hull.light_inside) {
-        const int guard = GuardFor(budget, max_side);
+        int guard = GuardFor(budget, max_side);
         auto fallback = FitWithGuard(
             [&](const MapSize& size) { return FitFrustum(c.light, points, size); }, budget,
             max_side, guard);
@@ -773,7 +776,7 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
     }
     for (size_t k = 0; k < kept.size(); ++k) {
         const int face = kept[k];
-        const int guard = GuardFor(shares[k], max_side);
+        int guard = GuardFor(shares[k], max_side);
         auto fitted = FitWithGuard(
             [&](const MapSize& size) { return FitCubeFaceCropped(c.light, face, regions, size); },
             shares[k], max_side, guard);

@@ -136,5 +136,35 @@ TEST(FuzzRegression, FrustumOfImagesFurtherApartThanADoubleIsRefused) {
     EXPECT_EQ(map.error().field, "points") << map.error().Message();
 }
 
+// A fallback FitWithinSide leaves at the GL maximum side (16384, a sliver under a directional
+// light with an unbounded budget): its guard band must not take it past the maximum
+// (fuzz_scheduler: a 16388 x 2843 map broke the contract). The band narrows instead.
+TEST(FuzzRegression, GuardBandNeverTakesAMapPastTheMaximumSide) {
+    PlanRequest request;
+    request.viewer << -0x1p+2, 0x1.1p+1, -0x1.a8p+2, 0x1.3p+2,  //
+        0x1.4p+0, -0x1p+0, 0x1p+0, 0x0p+0,                        //
+        0x0.0000000000001p-1022, 0x0p+0, 0x1.fp+1, 0x0p+0,        //
+        -0x1.7p+2, 0x0p+0, 0x1.0cp+3, -0x1.8p-1;
+    request.viewport = {3065, 5420};
+    request.light = Vec4(0.0, 0x1.ap+2, 0x1.cp+0, 0.0);
+    request.objects = {
+        SceneObject{"a", Aabb{Vec3(-0x1.a8p+2, -0x1.8p+1, 0.0), Vec3(-0x1.68p+2, -0x1p+1, 1.0)},
+                    nullptr, true},
+        SceneObject{"b", Aabb{Vec3(0, 0, 0), Vec3(1, 1, 1)}, nullptr, true},
+        SceneObject{"c", Aabb{Vec3(0, 0, 0), Vec3(1, 1, 1)}, nullptr, false}};
+    request.lixel_budget = 5303663739760811604;
+    request.max_texture_size = kMaxImageSide;
+    const auto plan = PlanShadowMaps(request);
+    ASSERT_TRUE(plan.ok()) << plan.error().Message();
+    std::int64_t total = 0;
+    for (const PlannedMap& m : plan->maps) {
+        EXPECT_LE(m.map.width, request.max_texture_size) << m.name;
+        EXPECT_LE(m.map.height, request.max_texture_size) << m.name;
+        EXPECT_GE(m.lookup.guard, 0) << m.name;
+        total += m.lixels;
+    }
+    EXPECT_LE(total, request.lixel_budget);
+}
+
 }  // namespace
 }  // namespace lixel
