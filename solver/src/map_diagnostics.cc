@@ -5,6 +5,7 @@
 #include <lixel/solver/polygon.h>
 #include <lixel/solver/scheduler.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -71,6 +72,7 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
                              const Viewport& viewport, std::span<const Receiver> receivers) {
     SolveDiagnostics d;
     const Mat4 pixel = PixelMatrix(viewer, viewport);
+    const Mat4 unproject = pixel.inverse();
     const GlLightTransform gl =
         ToGl(map, receivers.empty() ? Vec3::Zero() : receivers.front().point);
     DepthStepTally steps;
@@ -85,7 +87,7 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
             continue;
         }
         // A plane seen edge-on (a face a frustum plane cut, through the eye) has no footprint.
-        auto scale = LixelsPerPixel(viewer, viewport, r.plane, map, at);
+        auto scale = FootprintAt(unproject, r.plane, map, at);
         if (!scale || !(scale->y() > 0.0) || !scale->allFinite()) continue;
         d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
         d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());

@@ -33,10 +33,6 @@ Vec3 GlOrigin(const Mat4& viewer, const Vec4& plane, const std::vector<Vec3>& ne
     return PolygonCentroid(needed_polygon);
 }
 
-namespace {
-
-// LixelsPerPixel with the viewer's pixel matrix already inverted (`unproject`), so Diagnose
-// inverts it once for all its samples.
 Result<Vec2> FootprintAt(const Mat4& unproject, const Vec4& plane, const LightMap& map,
                          const Vec2& pixel) {
     // The plane point under a pixel: its ray a-b (near and far clip depth) meets P at
@@ -63,6 +59,8 @@ Result<Vec2> FootprintAt(const Mat4& unproject, const Vec4& plane, const LightMa
     const Eigen::JacobiSVD<Eigen::Matrix2d> svd(jacobian);
     return Vec2(svd.singularValues()(0), svd.singularValues()(1));
 }
+
+namespace {
 
 SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatrix& solved,
                           const CropResult& crop, const std::vector<Vec3>& polygon) {

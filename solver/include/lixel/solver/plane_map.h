@@ -70,6 +70,11 @@ Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept;
 Result<Vec2> LixelsPerPixel(const Mat4& viewer, const Viewport& viewport, const Vec4& plane,
                             const LightMap& map, const Vec2& pixel) noexcept;
 
+// LixelsPerPixel with the viewer's pixel matrix already inverted (`unproject`), for callers that
+// measure many pixels of one view and invert it once.
+Result<Vec2> FootprintAt(const Mat4& unproject, const Vec4& plane, const LightMap& map,
+                         const Vec2& pixel);
+
 // Where a GL pass should put its coordinate origin for a plane map: the foot of the viewer's eye
 // on P (or the needed polygon's centroid for an orthographic viewer).
 Vec3 GlOrigin(const Mat4& viewer, const Vec4& plane, const std::vector<Vec3>& needed_polygon);
