@@ -16,11 +16,17 @@ namespace {
 using testing::Configuration;
 using testing::FloorWallConfiguration;
 
-TEST(PlaneMap, FloorOfTheFloorWallRoomHasOneLixelPerPixel) {
-    const Configuration c = FloorWallConfiguration();
+// The plane map request of a configuration: its input, with its bounds.
+PlaneMapRequest RequestOf(const Configuration& c) {
     PlaneMapRequest request;
     request.input = c.Input();
     request.bounds = c.bounds;
+    return request;
+}
+
+TEST(PlaneMap, FloorOfTheFloorWallRoomHasOneLixelPerPixel) {
+    const Configuration c = FloorWallConfiguration();
+    PlaneMapRequest request = RequestOf(c);
     const auto map = SolvePlaneMap(request);
     ASSERT_TRUE(map.ok()) << map.error().Message();
     EXPECT_LE(map->diagnostics.residual_lixels, 1e-9);
@@ -42,9 +48,7 @@ TEST(PlaneMap, FloorOfTheFloorWallRoomHasOneLixelPerPixel) {
 // 1.9e-6 against 3.1e-5 world units there (16x), 7.3e-7 against 7.7e-6 at the nearest (11x).
 TEST(PlaneMap, ReversedDepthResolvesTheFloorFinerThanForwardDepth) {
     const Configuration c = FloorWallConfiguration();
-    PlaneMapRequest request;
-    request.input = c.Input();
-    request.bounds = c.bounds;
+    PlaneMapRequest request = RequestOf(c);
     const auto map = SolvePlaneMap(request);
     ASSERT_TRUE(map.ok()) << map.error().Message();
     const LightMap& m = map->crop.map;
@@ -79,9 +83,7 @@ TEST(PlaneMap, ReversedDepthResolvesTheFloorFinerThanForwardDepth) {
 
 TEST(PlaneMap, FloorTwistPutsTheFloorWallLineHorizontalAndTheWallAboveTheMap) {
     const Configuration c = FloorWallConfiguration();
-    PlaneMapRequest request;
-    request.input = c.Input();
-    request.bounds = c.bounds;
+    PlaneMapRequest request = RequestOf(c);
     // The floor below the floor/wall line z = -5 (paper §3): the polygon stops at the wall.
     const Vec4 wall(0, 0, 1, 5);  // z >= -5 is the room's side
     request.needed_polygon = ClipPolygon(VisiblePlanePolygon(c.viewer, c.plane, c.bounds), wall);
@@ -107,9 +109,7 @@ TEST(PlaneMap, FloorTwistPutsTheFloorWallLineHorizontalAndTheWallAboveTheMap) {
 
 TEST(PlaneMap, BudgetBelowOnePerPixelGivesOneReportedScale) {
     const Configuration c = FloorWallConfiguration();
-    PlaneMapRequest request;
-    request.input = c.Input();
-    request.bounds = c.bounds;
+    PlaneMapRequest request = RequestOf(c);
     request.crop.lixel_budget = 350 * 350;  // the paper's per-plane allocation
     const auto map = SolvePlaneMap(request);
     ASSERT_TRUE(map.ok()) << map.error().Message();
@@ -156,9 +156,7 @@ TEST(PlaneMap, FootprintScaleIsMeasuredApartFromTheCropOverRandomViews) {
 
 TEST(PlaneMap, AWrongScaleIsSeenByTheFootprint) {
     const Configuration c = FloorWallConfiguration();
-    PlaneMapRequest request;
-    request.input = c.Input();
-    request.bounds = c.bounds;
+    PlaneMapRequest request = RequestOf(c);
     const auto map = SolvePlaneMap(request);
     ASSERT_TRUE(map.ok()) << map.error().Message();
     // A map 1 % too fine: rows x and y scaled about the image origin.
