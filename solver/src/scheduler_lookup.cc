@@ -13,6 +13,8 @@ Eigen::Vector4d LookupRectangle(const LightMap& map, const LookupRule& rule) noe
 bool LookupAccepts(const PlannedMap& map, const Vec4& x) noexcept {
     const Vec4 p = map.map.matrix * x;
     if (!(p.w() > 0.0)) return false;
+    // Signed by w so that any homogeneous representative of a finite point gives one answer.
+    if (map.lookup.world_limit.dot(x) * (x.w() < 0.0 ? -1.0 : 1.0) < 0.0) return false;
     const double u = p.x() / p.w();
     const double v = p.y() / p.w();
     const Eigen::Vector4d r = LookupRectangle(map.map, map.lookup);

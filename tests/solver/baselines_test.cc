@@ -20,6 +20,8 @@
 namespace lixel {
 namespace {
 
+using testing::FloorRoom;
+using testing::RandomFloorRoom;
 using testing::RandomUnit;
 using testing::Uniform;
 
@@ -528,58 +530,6 @@ TEST(Baselines, WorstPerspectiveAliasingGrowsAsLloydEtAlPredict) {
         EXPECT_NEAR(worst[1][k], c * (r - 1.0) / std::sqrt(r), 0.01 * c * (r - 1.0) / std::sqrt(r))
             << "LiSPSM, f/n = " << r;
     }
-}
-
-// A random room for the warps: the floor y = 0 (a flat receiver box, with up to three boxes
-// standing on it), bounds 5 to 50 eye heights across; a viewer 0.3 to 5 above the floor, inside
-// the bounds, looking 5 to 60 degrees below the horizon, with a near plane at 1 to 20 % of its
-// height (so V starts far nearer than the floor does); a light from 15 to 90 degrees above the
-// horizon, half the time a direction and otherwise a point above the bounds.
-struct FloorRoom {
-    testing::Configuration c;
-    std::vector<Aabb> receivers;
-};
-
-FloorRoom RandomFloorRoom(std::mt19937_64& rng) {
-    FloorRoom room;
-    testing::Configuration& c = room.c;
-    c.viewport = {static_cast<int>(Uniform(rng, 64, 2048)),
-                  static_cast<int>(Uniform(rng, 64, 2048))};
-    const double aspect = static_cast<double>(c.viewport.width) / c.viewport.height;
-    const double fovy = Uniform(rng, 30.0, 90.0) * std::numbers::pi / 180.0;
-    const double height = Uniform(rng, 0.3, 5.0);
-    const double half = height * Uniform(rng, 5.0, 50.0);
-    const double top = height * Uniform(rng, 2.0, 4.0);
-    c.bounds = {Vec3(-half, 0.0, -half), Vec3(half, top, half)};
-    c.eye = Vec3(Uniform(rng, -0.5, 0.5) * half, height, Uniform(rng, -0.5, 0.5) * half);
-    const double pitch = -Uniform(rng, 5.0, 60.0) * std::numbers::pi / 180.0;
-    const double yaw = Uniform(rng, 0.0, 2.0 * std::numbers::pi);
-    const Vec3 forward(std::cos(pitch) * std::sin(yaw), std::sin(pitch),
-                       std::cos(pitch) * std::cos(yaw));
-    c.target = c.eye + forward;
-    const double near = height * Uniform(rng, 0.01, 0.2);
-    c.viewer = Perspective(fovy, aspect, near, 4.0 * half) * LookAt(c.eye, c.target, Vec3::UnitY());
-    c.plane = Vec4(0.0, 1.0, 0.0, 0.0);
-    const double elevation = Uniform(rng, 15.0, 90.0) * std::numbers::pi / 180.0;
-    const double azimuth = Uniform(rng, 0.0, 2.0 * std::numbers::pi);
-    const Vec3 toward(std::cos(elevation) * std::sin(azimuth), std::sin(elevation),
-                      std::cos(elevation) * std::cos(azimuth));
-    if (std::bernoulli_distribution(0.5)(rng)) {
-        c.light = Direction(toward);
-    } else {
-        // Above the bounds (so never inside H), at that elevation from the room's centre.
-        const double lift = (top + Uniform(rng, 0.1, 2.0) * half) / toward.y();
-        c.light = Point(lift * toward);
-    }
-    room.receivers.push_back(Aabb{Vec3(-half, 0.0, -half), Vec3(half, 0.0, half)});
-    const int boxes = static_cast<int>(Uniform(rng, 0.0, 3.99));
-    for (int i = 0; i < boxes; ++i) {
-        const Vec3 size =
-            Vec3(Uniform(rng, 0.2, 2.0), Uniform(rng, 0.2, 2.0), Uniform(rng, 0.2, 2.0)) * height;
-        const Vec3 at(Uniform(rng, -0.8, 0.8) * half, 0.0, Uniform(rng, -0.8, 0.8) * half);
-        room.receivers.push_back(Aabb{at - Vec3(size.x(), 0.0, size.z()), at + size});
-    }
-    return room;
 }
 
 // LiSPSM's purpose and its construction's promise (n_opt minimises the worst perspective

@@ -75,11 +75,15 @@ inline constexpr double kLookupMargin = 0.5;
 
 // The lookup rule of one map (paper §3): a world point X belongs to this map when
 // q = (M X).w > 0, its lixel (x, y) lies in the lookup rectangle (LookupRectangle: the map less
-// its guard band, widened by kLookupMargin), and every half-plane a x + b y + c >= 0 holds.
-// Maps are tried in plan order; the fallback accepts what is left.
+// its guard band, widened by kLookupMargin), every half-plane a x + b y + c >= 0 holds, and
+// X lies in the world half-space world_limit . X >= 0 (X with w = 1). Maps are tried in plan
+// order; the fallback accepts what is left.
 struct LookupRule {
     std::vector<Eigen::Vector3d> half_planes;  // (a, b, c) on lixel coordinates
     int guard = 0;  // lixels of guard band on every side; 0: the lookup takes the whole map
+    // A world plane (a, b, c, d): a cascade's view depth limit (cascades.h); zero, which every
+    // point satisfies, for every other map.
+    Vec4 world_limit = Vec4::Zero();
 };
 
 // [x0, x1) x [y0, y1) in lixels, as (x0, y0, x1, y1): [0, width) x [0, height) without a guard
