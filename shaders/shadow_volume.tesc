@@ -1,8 +1,9 @@
 #version 450 core
 // Paper 001 §2.2, Alg. 3: the edge's multiplicity from its opposite points, then tessellation
 // levels (2|m| - 1, 1) so the evaluation stage can fold |m| copies of the side quad (Fig. 1).
-// Patch: [A, B, O_1 .. O_k], unused slots repeat A (Alg. 4 gives 0 for o = a exactly), so no
-// count vertex is needed. gl_PatchVerticesIn <= 32 and k <= 30 keep 2k - 1 <= 64 on llvmpipe.
+// Patch: [A, B, O_1 .. O_k], k = gl_PatchVerticesIn - 2: each draw's patches hold exactly k
+// opposite points (volume_scene.h groups edges by their count), so no count vertex is needed.
+// gl_PatchVerticesIn <= 32 and k <= 30 keep 2k - 1 <= 64 on llvmpipe.
 
 #include "common_volumes.glsl"
 

@@ -3,10 +3,13 @@
 // rays, and the choice between z-pass and z-fail.
 #include <gtest/gtest.h>
 #include <lixel/solver/camera.h>
+#include <lixel/solver/homogeneous.h>
 #include <lixel/volumes/counting_mode.h>
 #include <lixel/volumes/extrusion.h>
+#include <lixel/volumes/multiplicity.h>
 #include <lixel/volumes/volume_count.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <numbers>
 #include <random>
@@ -150,11 +153,101 @@ TEST(CountingMode, ZPassOnlyWhenTheNearPlaneMeetsNoVolume) {
     mode = ChooseCountingMode(meshes, Vec4(0.5, 1, 0, 0), side);
     ASSERT_TRUE(mode.ok());
     EXPECT_EQ(*mode, CountingMode::kZPass);
-    // Parallel to the near plane the hull is flat and nothing can be proven: z-fail.
+    // Parallel to the near plane the light and the near rectangle alone span a flat hull; with
+    // the eye it is a solid prism, clear of the sphere (whose volume is the column below it).
     mode = ChooseCountingMode(meshes, Vec4(0, 1, 0, 0), side);
+    ASSERT_TRUE(mode.ok());
+    EXPECT_EQ(*mode, CountingMode::kZPass);
+    // The same light, the eye in the sphere's shadow looking across: the prism holds the sphere.
+    const Mat4 under = projection * LookAt(Vec3(0.2, -3, 0), Vec3(4, -3, 1), Vec3::UnitY());
+    mode = ChooseCountingMode(meshes, Vec4(0, 1, 0, 0), under);
     ASSERT_TRUE(mode.ok());
     EXPECT_EQ(*mode, CountingMode::kZFail);
     EXPECT_FALSE(ChooseCountingMode(meshes, light, Mat4::Zero()).ok());
+}
+
+TEST(CountingMode, ZPassOnlyWhenTheEyeIsOutsideEveryVolumeToo) {
+    // Issue 16.1: the eye at the origin looking down -z, the light at (10, 0, 10), a triangle
+    // 0.02 wide 0.07 behind the eye toward the light. Its volume holds the eye but not the near
+    // rectangle, so McGuire's hull (light and near rectangle) misses it; z-pass counted from the
+    // eye (CountZPass, or GL with depth clamp) is then one off everywhere.
+    const Vec3 light_point(10, 0, 10);
+    const Vec4 light = Point(light_point);
+    const Mesh sliver = testing::FacingTriangle(0.07 * light_point.normalized(), light_point, 0.02);
+    const Mesh wall = testing::FacingSquare(Vec3(0, 0, -3), Vec3::UnitZ(), 3.0);
+    auto sliver_adj = BuildEdgeAdjacency(sliver);
+    auto wall_adj = BuildEdgeAdjacency(wall);
+    ASSERT_TRUE(sliver_adj.ok() && wall_adj.ok());
+    const Mat4 viewer = Perspective(std::numbers::pi / 4, 1.0, 0.1, 50.0) *
+                        LookAt(Vec3::Zero(), Vec3(0, 0, -1), Vec3::UnitY());
+    const VolumeMesh volume = ExtrudeSilhouetteVolume(
+        *sliver_adj, ComputeMultiplicities(*sliver_adj, light), light, Caps::kLightAndDark);
+    int zpass_wrong = 0;
+    for (int i = 0; i < 11; ++i) {
+        for (int k = 0; k < 11; ++k) {
+            const Vec3 p(-1.0 + 0.2 * i, -1.0 + 0.2 * k, -3.0);  // lit wall points in view
+            ASSERT_EQ(testing::ShadowRayHits(sliver, p, light), 0);
+            ASSERT_EQ(CountZFail(volume, Vec3::Zero(), p), 0);
+            zpass_wrong += CountZPass(volume, Vec3::Zero(), p) != 0;
+        }
+    }
+    EXPECT_EQ(zpass_wrong, 121);  // the scenario: counting from the eye is wrong everywhere
+    const EdgeAdjacency* sliver_only[] = {&*sliver_adj};
+    auto mode = ChooseCountingMode(sliver_only, light, viewer);
+    ASSERT_TRUE(mode.ok());
+    EXPECT_EQ(*mode, CountingMode::kZFail);
+    mode = ChooseCountingMode(volume, light, viewer);
+    ASSERT_TRUE(mode.ok());
+    EXPECT_EQ(*mode, CountingMode::kZFail);
+    // Per caster: the wall can still be counted z-pass.
+    const EdgeAdjacency* both[] = {&*wall_adj, &*sliver_adj};
+    auto modes = ChooseCountingModes(both, light, viewer);
+    ASSERT_TRUE(modes.ok());
+    EXPECT_EQ(*modes, (std::vector<CountingMode>{CountingMode::kZPass, CountingMode::kZFail}));
+    mode = ChooseCountingMode(both, light, viewer);
+    ASSERT_TRUE(mode.ok());
+    EXPECT_EQ(*mode, CountingMode::kZFail);
+}
+
+TEST(CountingMode, ZPassChoiceIsSoundForRandomViewsAndLights) {
+    // Whenever z-pass is chosen, counting from the eye (CountZPass) equals the shadow-ray truth:
+    // no volume holds the eye. (Closed volumes, so the segments may pass through occluders.)
+    const Mesh mesh =
+        testing::Merge({testing::Sphere(Vec3(0, 1, 0), 1.0, 8, 12),
+                        testing::Box(Vec3(2, 0, -1), Vec3(3, 1, 0)), testing::Square(6.0, -1.0)});
+    auto adj = BuildEdgeAdjacency(mesh);
+    ASSERT_TRUE(adj.ok());
+    const EdgeAdjacency* meshes[] = {&*adj};
+    std::mt19937 rng(12351);
+    std::uniform_real_distribution<double> u(-4.0, 4.0);
+    int zpass = 0;
+    int zfail = 0;
+    for (int view = 0; view < 300; ++view) {
+        const Vec3 eye(u(rng), u(rng), u(rng));
+        const Vec3 target(0.3 * u(rng), 1.0 + 0.3 * u(rng), 0.3 * u(rng));
+        const Vec4 light = view % 3 == 0 ? Vec4(u(rng), u(rng), u(rng), 0.0)
+                                         : Point(Vec3(u(rng), 4.0 + u(rng), u(rng)));
+        if ((eye - target).norm() < 0.5) continue;
+        const Mat4 viewer = Perspective(std::numbers::pi / 3, 1.0, 0.05, 100.0) *
+                            LookAt(eye, target, Vec3::UnitY());
+        auto mode = ChooseCountingMode(meshes, light, viewer);
+        ASSERT_TRUE(mode.ok());
+        if (*mode == CountingMode::kZFail) {
+            ++zfail;
+            continue;
+        }
+        ++zpass;
+        const VolumeMesh closed = ExtrudeSilhouetteVolume(*adj, ComputeMultiplicities(*adj, light),
+                                                          light, Caps::kLightAndDark);
+        for (int i = 0; i < 20; ++i) {
+            const Vec3 p(u(rng), u(rng), u(rng));
+            ASSERT_EQ(CountZPass(closed, eye, p), testing::ShadowRayHits(mesh, p, light))
+                << "view " << view << " point " << p.transpose();
+        }
+    }
+    EXPECT_GT(zpass, 50);
+    EXPECT_GT(zfail, 20);
+    std::printf("[ measured ] random views: %d z-pass, %d z-fail\n", zpass, zfail);
 }
 
 }  // namespace

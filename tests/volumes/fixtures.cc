@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 namespace lixel::volumes::testing {
 namespace {
@@ -201,6 +202,73 @@ Mesh Square(double half, double height) {
                    F(Vec3(half, height, half)), F(Vec3(half, height, -half))};
     m.normals.assign(4, Eigen::Vector3f(0, 1, 0));
     AddQuad(m, 0, 1, 2, 3);
+    return m;
+}
+
+namespace {
+
+// Two unit vectors completing n (unit) to a right-handed frame u, v, n.
+std::pair<Vec3, Vec3> Frame(const Vec3& n) {
+    const Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+    const Vec3 u = helper.cross(n).normalized();
+    return {u, n.cross(u)};
+}
+
+}  // namespace
+
+Mesh FacingSquare(const Vec3& centre, const Vec3& normal, double half) {
+    const Vec3 n = normal.normalized();
+    const auto [u, v] = Frame(n);
+    Mesh m;
+    m.name = "facing_square";
+    for (const auto& [a, b] :
+         {std::pair{-1, -1}, std::pair{1, -1}, std::pair{1, 1}, std::pair{-1, 1}}) {
+        m.positions.push_back(F(centre + half * (a * u + b * v)));
+        m.normals.push_back(F(n));
+    }
+    AddQuad(m, 0, 1, 2, 3);
+    return m;
+}
+
+Mesh FacingTriangle(const Vec3& centre, const Vec3& normal, double side) {
+    const Vec3 n = normal.normalized();
+    const auto [u, v] = Frame(n);
+    const double r = side / std::sqrt(3.0);  // circumradius
+    Mesh m;
+    m.name = "facing_triangle";
+    for (int k = 0; k < 3; ++k) {
+        const double a = 2.0 * std::numbers::pi * k / 3.0;
+        m.positions.push_back(F(centre + r * (std::cos(a) * u + std::sin(a) * v)));
+        m.normals.push_back(F(n));
+    }
+    m.indices = {0, 1, 2};
+    return m;
+}
+
+Mesh Moebius(int segments) {
+    Mesh m;
+    m.name = "moebius";
+    const double pi = std::numbers::pi;
+    // Half a turn of the cross direction over one loop: vertex i's "top" is (i + segments)'s
+    // "bottom", so the last quad joins the first with its sides swapped.
+    for (int i = 0; i < segments; ++i) {
+        const double t = 2.0 * pi * i / segments;
+        const Vec3 radial(std::cos(t), 0.0, std::sin(t));
+        const Vec3 across = std::cos(t / 2) * radial + std::sin(t / 2) * Vec3::UnitY();
+        const Vec3 along(-std::sin(t), 0.0, std::cos(t));
+        const Vec3 n = along.cross(across).normalized();
+        for (double s : {-0.2, 0.2}) {
+            m.positions.push_back(F(radial + s * across));
+            m.normals.push_back(F(n));
+        }
+    }
+    for (int i = 0; i < segments; ++i) {
+        const auto a = static_cast<std::uint32_t>(2 * i);
+        const bool last = i + 1 == segments;
+        const auto b = static_cast<std::uint32_t>(last ? 1 : 2 * (i + 1));
+        const auto b1 = static_cast<std::uint32_t>(last ? 0 : 2 * (i + 1) + 1);
+        AddQuad(m, a, b, b1, a + 1);
+    }
     return m;
 }
 

@@ -34,6 +34,15 @@ Mesh Fan(const std::vector<double>& angles);
 // An open square in the plane y = height, [-half, half]^2, two triangles.
 Mesh Square(double half, double height);
 
+// A square of half-size `half` centred at `centre`, perpendicular to `normal` and wound
+// counter-clockwise about it (facing it); and an equilateral triangle of side `side`, likewise.
+Mesh FacingSquare(const Vec3& centre, const Vec3& normal, double half);
+Mesh FacingTriangle(const Vec3& centre, const Vec3& normal, double side);
+
+// A Moebius strip of `segments` quads about the y axis (radius 1, width 0.4), with per-vertex
+// normals: a mesh that no winding makes consistent.
+Mesh Moebius(int segments);
+
 // Meshes merged into one (indices offset).
 Mesh Merge(const std::vector<Mesh>& meshes);
 

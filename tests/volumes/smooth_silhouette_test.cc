@@ -11,9 +11,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <random>
 #include <set>
+#include <string>
 #include <tuple>
+#include <utility>
 
 #include "fixtures.h"
 
@@ -275,6 +279,107 @@ TEST(SmoothVolume, TorusLoopsCloseAndTheVolumeIsClosed) {
                 << "light " << light.transpose() << " point " << p.transpose();
         }
     }
+}
+
+TEST(SmoothSilhouette, IndependentOfWinding) {
+    // Issue 16.3: a coarse sphere with randomly flipped triangles must give the same single loop
+    // and the same volume as the consistently wound one (the robust path already does).
+    const Mesh mesh = CoarseSphere();
+    auto adj = BuildEdgeAdjacency(mesh);
+    ASSERT_TRUE(adj.ok());
+    const SmoothOptions options;
+    auto reference = ComputeSmoothSilhouette(mesh, *adj, kLight, options);
+    ASSERT_TRUE(reference.ok());
+    ASSERT_EQ(reference->loops.size(), 1u);
+    const VolumeMesh reference_volume =
+        ExtrudeSmoothVolume(mesh, *adj, *reference, kLight, Caps::kLightAndDark);
+    const Vec3 eye(7.3, 9.1, 8.7);
+    std::mt19937 rng(12351);
+    std::uniform_real_distribution<double> u(-3.0, 3.0);
+    std::vector<Vec3> points;
+    std::vector<int> expected;
+    int lit = 0;
+    for (int i = 0; i < 800; ++i) {
+        // Half on the floor, half in the space around the sphere.
+        if (i % 2 == 0) {
+            points.emplace_back(u(rng) - 0.6, 0.0, u(rng) - 0.4);
+        } else {
+            points.emplace_back(0.6 * u(rng), 1.5 + 0.6 * u(rng), 0.6 * u(rng));
+        }
+        expected.push_back(CountZFail(reference_volume, eye, points.back()));
+        lit += expected.back() == 0;
+    }
+    ASSERT_GT(lit, 200);
+    for (std::uint32_t seed = 1; seed <= 8; ++seed) {
+        const Mesh flipped = testing::Shuffled(mesh, seed, true);
+        auto flipped_adj = BuildEdgeAdjacency(flipped);
+        ASSERT_TRUE(flipped_adj.ok());
+        auto s = ComputeSmoothSilhouette(flipped, *flipped_adj, kLight, options);
+        ASSERT_TRUE(s.ok()) << s.error().Message();
+        EXPECT_EQ(s->loops.size(), 1u) << "seed " << seed;
+        EXPECT_EQ(s->stats.open_chains, 0u) << "seed " << seed;
+        // The same points (the loop may start elsewhere).
+        std::size_t points_off = 0;
+        std::size_t total = 0;
+        for (const SmoothLoop& loop : s->loops) {
+            for (const SmoothVertex& v : loop.vertices) {
+                ++total;
+                double nearest = std::numeric_limits<double>::infinity();
+                for (const SmoothVertex& r : reference->loops[0].vertices) {
+                    nearest = std::min(nearest, (r.position - v.position).norm());
+                }
+                points_off += nearest > 1e-9;
+            }
+        }
+        EXPECT_EQ(total, reference->loops[0].vertices.size()) << "seed " << seed;
+        EXPECT_EQ(points_off, 0u) << "seed " << seed;
+        const VolumeMesh volume =
+            ExtrudeSmoothVolume(flipped, *flipped_adj, *s, kLight, Caps::kLightAndDark);
+        int lit_shadowed = 0;
+        int wrong = 0;
+        int open = 0;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            const int zfail = CountZFail(volume, eye, points[i]);
+            open += CountZPass(volume, eye, points[i]) != zfail;
+            wrong += zfail != expected[i];
+            lit_shadowed += expected[i] == 0 && zfail != 0;
+        }
+        EXPECT_EQ(wrong, 0) << "seed " << seed;
+        EXPECT_EQ(open, 0) << "seed " << seed;
+        std::printf(
+            "[ measured ] seed %u: %zu loops, %zu of %zu points off, %d of %d lit points "
+            "shadowed, %d wrong, %d not closed\n",
+            seed, s->loops.size(), points_off, total, lit_shadowed, lit, wrong, open);
+    }
+}
+
+TEST(SmoothSilhouette, CreasesAndSeveralLoopsIndependentOfWinding) {
+    // A cylinder (crease rims, caps welded to the side) and a torus (several loops), flipped.
+    const std::pair<Mesh, Vec4> cases[] = {
+        {testing::Cylinder(Vec3(0, 0.5, 0), 0.6, 1.5, 10), Vec4(3, 5, 0.7, 1)},
+        {testing::Torus(Vec3(0, 1.0, 0), 1.0, 0.35, 12, 8), Vec4(3, 2, 1, 1)}};
+    for (const auto& [mesh, light] : cases) {
+        const SmoothSilhouette reference = Compute(mesh, light, {});
+        for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+            const SmoothSilhouette s = Compute(testing::Shuffled(mesh, seed, true), light, {});
+            ASSERT_EQ(s.loops.size(), reference.loops.size()) << mesh.name << " seed " << seed;
+            EXPECT_EQ(s.stats.open_chains, 0u);
+            EXPECT_EQ(s.stats.output_points, reference.stats.output_points) << mesh.name;
+            EXPECT_EQ(s.stats.crease_corners, reference.stats.crease_corners) << mesh.name;
+        }
+    }
+}
+
+TEST(SmoothSilhouette, RefusesNonOrientableMeshes) {
+    const Mesh strip = testing::Moebius(24);
+    auto adj = BuildEdgeAdjacency(strip);
+    ASSERT_TRUE(adj.ok());
+    EXPECT_EQ(adj->stats.non_manifold_edges, 0u);
+    auto s = ComputeSmoothSilhouette(strip, *adj, kLight, {});
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.error().field, "mesh");
+    EXPECT_NE(s.error().reason.find("not orientable"), std::string::npos) << s.error().reason;
+    EXPECT_NE(s.error().reason.find("moebius"), std::string::npos) << s.error().reason;
 }
 
 TEST(SmoothSilhouette, RefusesBadInput) {

@@ -21,6 +21,7 @@ struct Builder {
     const EdgeAdjacency& adj;
     std::span<const Vec3> normals;
     std::span<const double> facing;
+    std::span<const std::int8_t> orientation;
     bool displace;
 
     std::uint32_t InputVertex(std::uint32_t t, int k) const {
@@ -67,11 +68,19 @@ struct Builder {
                 facing[InputVertex(t, Corner(t, edge.b))]};
     }
 
+    // +1 when t's oriented winding runs edge e from e.a to e.b.
+    int EdgeSign(std::uint32_t t, std::uint32_t e) const {
+        int slot = 0;
+        while (adj.triangle_edges[3 * t + slot] != e) ++slot;
+        const int input = adj.triangles[3 * t + slot] == adj.edges[e].a ? 1 : -1;
+        return orientation[t] < 0 ? -input : input;
+    }
+
     void Interior(std::uint32_t t, std::vector<TraceSegment>& out) const {
         double f[3];
         bool in[3];
         for (int k = 0; k < 3; ++k) {
-            f[k] = facing[InputVertex(t, k)];
+            f[k] = facing[InputVertex(t, OrientedCorner(orientation[t], k))];
             in[k] = f[k] > 0.0;
         }
         if (in[0] == in[1] && in[1] == in[2]) return;
@@ -82,7 +91,7 @@ struct Builder {
             if (!in[k] && in[(k + 1) % 3]) enter = k;
         }
         auto crossing = [&](int k) {
-            const std::uint32_t e = adj.triangle_edges[3 * t + k];
+            const std::uint32_t e = adj.triangle_edges[3 * t + OrientedEdgeSlot(orientation[t], k)];
             const auto [fa, fb] = EndFacing(t, adj.edges[e]);
             return Point(t, e, CrossingParameter(fa, fb));
         };
@@ -92,7 +101,7 @@ struct Builder {
 
     struct Cover {
         double lo, hi;
-        int sign;  // +1: the side's winding runs a -> b
+        int sign;  // +1: the side's oriented winding runs a -> b
         std::uint32_t triangle;
     };
 
@@ -107,20 +116,14 @@ struct Builder {
                 const std::uint32_t t = adj.opposite_triangle[k];
                 const auto [fa, fb] = EndFacing(t, edge);
                 if ((fa > 0.0) != (fb > 0.0)) trivial = false;
-                if (fa > 0.0 && fb > 0.0) {
-                    int slot = 0;
-                    while (adj.triangle_edges[3 * t + slot] != e) ++slot;
-                    full_sum += adj.triangles[3 * t + slot] == edge.a ? 1 : -1;
-                }
+                if (fa > 0.0 && fb > 0.0) full_sum += EdgeSign(t, e);
             }
             if (trivial && full_sum == 0) return;
         }
         std::vector<Cover> covers;
         for (std::uint32_t k = edge.first; k < edge.first + edge.count; ++k) {
             const std::uint32_t t = adj.opposite_triangle[k];
-            int slot = 0;
-            while (adj.triangle_edges[3 * t + slot] != e) ++slot;
-            const int sign = adj.triangles[3 * t + slot] == edge.a ? 1 : -1;
+            const int sign = EdgeSign(t, e);
             const auto [fa, fb] = EndFacing(t, edge);
             const bool ia = fa > 0.0;
             const bool ib = fb > 0.0;
@@ -189,8 +192,10 @@ struct KeyHash {
 
 std::vector<TraceSegment> BoundarySegments(const Mesh& mesh, const EdgeAdjacency& adjacency,
                                            std::span<const Vec3> unit_normals,
-                                           std::span<const double> facing, bool displace) {
-    const Builder builder{mesh, adjacency, unit_normals, facing, displace};
+                                           std::span<const double> facing,
+                                           std::span<const std::int8_t> orientation,
+                                           bool displace) {
+    const Builder builder{mesh, adjacency, unit_normals, facing, orientation, displace};
     std::vector<TraceSegment> out;
     for (std::uint32_t t = 0; t < adjacency.source.size(); ++t) builder.Interior(t, out);
     for (std::uint32_t e = 0; e < adjacency.edges.size(); ++e) builder.EdgePieces(e, out);

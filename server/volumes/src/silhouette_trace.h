@@ -23,7 +23,8 @@ struct TracePoint {
     Vec3 displaced;  // on the Hermite curve through the edge (paper 002 §3.2)
 };
 
-// Directed so that R lies to the left (counter-clockwise in each triangle's input winding).
+// Directed so that R lies to the left (counter-clockwise in each triangle's oriented winding,
+// orientation.h).
 struct TraceSegment {
     TracePoint from;
     TracePoint to;
@@ -34,10 +35,19 @@ struct TracedLoop {
     bool closed = true;
 };
 
-// `unit_normals` per input vertex, `facing` = FacingValues(mesh, light).
+// `unit_normals` per input vertex, `facing` = FacingValues(mesh, light), `orientation` =
+// OrientTriangles(mesh, adjacency).
 std::vector<TraceSegment> BoundarySegments(const Mesh& mesh, const EdgeAdjacency& adjacency,
                                            std::span<const Vec3> unit_normals,
-                                           std::span<const double> facing, bool displace);
+                                           std::span<const double> facing,
+                                           std::span<const std::int8_t> orientation, bool displace);
+
+// Corner k (0, 1, 2) of kept triangle t in its oriented winding, as an input corner; and the
+// slot in adjacency.triangle_edges of the edge from oriented corner k to k + 1.
+inline int OrientedCorner(std::int8_t orientation, int k) {
+    return orientation < 0 ? (3 - k) % 3 : k;
+}
+inline int OrientedEdgeSlot(std::int8_t orientation, int k) { return orientation < 0 ? 2 - k : k; }
 
 std::vector<TracedLoop> ChainLoops(std::vector<TraceSegment> segments);
 

@@ -1,6 +1,7 @@
 // Steps (b) and (c) of paper 002 over the loops of silhouette_trace.cc.
 #include <lixel/volumes/hermite.h>
 #include <lixel/volumes/multiplicity.h>
+#include <lixel/volumes/orientation.h>
 #include <lixel/volumes/smooth_silhouette.h>
 
 #include <cmath>
@@ -139,10 +140,13 @@ Result<SmoothSilhouette> ComputeSmoothSilhouette(const Mesh& mesh, const EdgeAdj
         normals[i] = mesh.normals[i].cast<double>().normalized();
     }
     const std::vector<double> facing = FacingValues(mesh, l);
+    auto orientation = OrientTriangles(mesh, adjacency);
+    if (!orientation) return orientation.error();
     const auto loops = detail::ChainLoops(
-        detail::BoundarySegments(mesh, adjacency, normals, facing, options.displace));
+        detail::BoundarySegments(mesh, adjacency, normals, facing, *orientation, options.displace));
 
     SmoothSilhouette out;
+    out.orientation = std::move(orientation.value());
     for (const detail::TracedLoop& traced : loops) {
         const std::vector<LoopPoint> points = LoopPoints(traced);
         SmoothLoop loop;

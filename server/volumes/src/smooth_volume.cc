@@ -2,26 +2,31 @@
 #include <lixel/volumes/multiplicity.h>
 #include <lixel/volumes/smooth_volume.h>
 
+#include "silhouette_trace.h"
+
 namespace lixel::volumes {
 namespace {
 
 Eigen::Vector4d Finite(const Vec3& p) { return {p.x(), p.y(), p.z(), 1.0}; }
 
-// Triangle t clipped to f > 0, in its input winding, as points on the mesh. Crossing points use
-// EdgePoint/CrossingParameter like the loops, so the cap's border is the loops' p' bit for bit.
+// Triangle t clipped to f > 0, in its oriented winding (the one the loops were traced in), as
+// points on the mesh. Crossing points use EdgePoint/CrossingParameter like the loops, so the
+// cap's border is the loops' p' bit for bit.
 std::vector<Vec3> LitPolygon(const Mesh& mesh, const EdgeAdjacency& adj,
-                             std::span<const double> facing, std::uint32_t t) {
+                             std::span<const double> facing, std::int8_t orientation,
+                             std::uint32_t t) {
     std::vector<Vec3> polygon;
+    const std::size_t first = 3 * static_cast<std::size_t>(adj.source[t]);
     for (int k = 0; k < 3; ++k) {
-        const int k1 = (k + 1) % 3;
-        const std::uint32_t iv = mesh.indices[3 * static_cast<std::size_t>(adj.source[t]) + k];
-        const std::uint32_t iv1 = mesh.indices[3 * static_cast<std::size_t>(adj.source[t]) + k1];
-        const double f = facing[iv];
-        const double f1 = facing[iv1];
-        if (f > 0.0) polygon.push_back(adj.points[adj.triangles[3 * t + k]].cast<double>());
+        const int c = detail::OrientedCorner(orientation, k);
+        const int c1 = detail::OrientedCorner(orientation, (k + 1) % 3);
+        const double f = facing[mesh.indices[first + c]];
+        const double f1 = facing[mesh.indices[first + c1]];
+        if (f > 0.0) polygon.push_back(adj.points[adj.triangles[3 * t + c]].cast<double>());
         if ((f > 0.0) != (f1 > 0.0)) {
-            const std::uint32_t e = adj.triangle_edges[3 * t + k];
-            const bool forward = adj.triangles[3 * t + k] == adj.edges[e].a;
+            const std::uint32_t e =
+                adj.triangle_edges[3 * t + detail::OrientedEdgeSlot(orientation, k)];
+            const bool forward = adj.triangles[3 * t + c] == adj.edges[e].a;
             const double fa = forward ? f : f1;
             const double fb = forward ? f1 : f;
             polygon.push_back(EdgePoint(adj, e, CrossingParameter(fa, fb)));
@@ -64,7 +69,10 @@ VolumeMesh ExtrudeSmoothVolume(const Mesh& mesh, const EdgeAdjacency& adjacency,
     if (caps == Caps::kNone) return out;
     const std::vector<double> facing = FacingValues(mesh, l);
     for (std::uint32_t t = 0; t < adjacency.source.size(); ++t) {
-        const std::vector<Vec3> polygon = LitPolygon(mesh, adjacency, facing, t);
+        const std::int8_t orientation = silhouette.orientation.size() == adjacency.source.size()
+                                            ? silhouette.orientation[t]
+                                            : std::int8_t{1};
+        const std::vector<Vec3> polygon = LitPolygon(mesh, adjacency, facing, orientation, t);
         for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
             out.Cap(out.Add(Finite(polygon[0])), out.Add(Finite(polygon[k])),
                     out.Add(Finite(polygon[k + 1])));

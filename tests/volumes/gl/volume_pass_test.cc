@@ -12,11 +12,13 @@
 #include <lixel/volumes/smooth_volume.h>
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "../fixtures.h"
 #include "gl_environment.h"
@@ -79,6 +81,37 @@ TEST(VolumePassMultiplicity, SplitEdgesAddUp) {
     ExpectGpuMatchesCpu({fans}, Vec4(-1, 3, 2, 1), 1);
 }
 
+TEST(VolumePassMultiplicity, PatchesArePaddedOnlyToTheirOwnEdge) {
+    // Issue 16.6: one wide fan made every patch of the scene as large as its spine's. Each
+    // patch now holds A, B and exactly its own opposite points.
+    std::vector<double> thirty;
+    std::vector<double> forty;
+    for (int k = 0; k < 30; ++k) thirty.push_back(0.1 + 0.2 * k);
+    for (int k = 0; k < 40; ++k) forty.push_back(0.05 + 0.15 * k);
+    const Mesh sphere = Sphere(Vec3(0, 3, 0), 0.5, 8, 12);
+    Mesh far_fan = volumes::testing::Fan(forty);
+    for (Eigen::Vector3f& p : far_fan.positions) p += Eigen::Vector3f(4.0f, 0.0f, 0.0f);
+    const std::vector<Mesh> meshes = {sphere, volumes::testing::Fan(thirty), far_fan};
+    auto scene = UploadVolumeScene(testing::Context(), meshes, Vec3::Zero());
+    ASSERT_TRUE(scene.ok()) << scene.error().Message();
+    const auto per_patch =
+        static_cast<std::size_t>(std::min(testing::Context().info().max_patch_vertices - 2,
+                                          (testing::Context().info().max_tess_gen_level + 1) / 2));
+    std::size_t needed = 0;
+    for (const EdgeAdjacency& adj : scene->adjacency()) {
+        for (const Edge& e : adj.edges) {
+            const std::size_t chunks = (e.count + per_patch - 1) / per_patch;
+            needed += 2 * chunks + e.count;
+        }
+    }
+    EXPECT_EQ(scene->patch_index_count(), needed);
+    std::printf("[ measured ] patch indices %zu, needed %zu (%zu patches)\n",
+                scene->patch_index_count(), needed, scene->patch_count());
+    for (const Vec4& light : {Vec4(2, 6, 1, 1), Vec4(5, 0.2, 0.5, 1), Vec4(0.3, 1, 0.2, 0)}) {
+        ExpectGpuMatchesCpu(meshes, light, 0);
+    }
+}
+
 TEST(VolumePassMultiplicity, RefusesImpossiblePatchSizes) {
     const Mesh square = volumes::testing::Square(1.0, 0.0);
     auto scene =
@@ -129,6 +162,9 @@ std::vector<int> TruthMask(const MaskCase& c) {
     return truth;
 }
 
+// A truth value Compare skips (pixels a test does not judge).
+constexpr int kIgnored = -2;
+
 struct Comparison {
     int compared = 0;
     int wrong = 0;
@@ -145,6 +181,7 @@ Comparison Compare(const MaskCase& c, const render::FloatImage& mask,
     for (int y = 1; y + 1 < h; ++y) {
         for (int x = 1; x + 1 < w; ++x) {
             const int v = truth[static_cast<std::size_t>(y) * w + x];
+            if (v == kIgnored) continue;
             bool uniform = true;
             for (int dy = -1; dy <= 1; ++dy) {
                 for (int dx = -1; dx <= 1; ++dx) {
@@ -274,6 +311,100 @@ TEST(VolumePassMask, EyeInShadowNeedsZFail) {
     const Rendered zpass = RenderMask(c, CountingChoice::kZPass);
     const Comparison wrong = Compare(c, zpass.mask, TruthMask(c));
     EXPECT_GT(wrong.wrong, wrong.compared / 4);
+}
+
+TEST(VolumePassMask, CastersCountedWithDifferentModesAddUp) {
+    // The eye under the plate (z-fail), a sphere in the plate's shadow casting its own (z-pass),
+    // the floor (z-pass): where the shadows overlap the pixel's count is a z-fail and a z-pass
+    // count summed, exact because each is exact for its own volumes.
+    MaskCase c = SquareOverFloor();
+    c.meshes.push_back(Sphere(Vec3(-0.5, 0.3, -0.5), 0.25, 10, 16));
+    c.viewer = Viewer(Vec3(0.3, 0.6, 0.2), Vec3(-3.0, 0.0, -2.0));
+    const Rendered r = RenderMask(c, CountingChoice::kAuto);
+    EXPECT_EQ(r.info.modes, (std::vector<CountingMode>{CountingMode::kZPass, CountingMode::kZFail,
+                                                       CountingMode::kZPass}));
+    ExpectMaskExact(c, CountingChoice::kAuto, CountingMode::kZFail, "mixed auto");
+    ExpectMaskExact(c, CountingChoice::kZFail, CountingMode::kZFail, "mixed z-fail");
+}
+
+TEST(VolumePassMask, EyeInsideAVolumeBehindIt) {
+    // Issue 16.1: the eye at the origin looking down -z, the light at (10, 0, 10), a triangle
+    // 0.02 wide 0.07 behind the eye toward the light: its volume holds the eye but not the near
+    // rectangle. A plate casts a visible shadow on the wall. The sliver must be counted z-fail
+    // (the eye is in the z-pass proof's hull), the wall and the plate may stay z-pass, and
+    // forced z-pass (no depth clamp: counted from the near plane) is right as well.
+    const Vec3 light_point(10, 0, 10);
+    MaskCase c;
+    c.meshes = {
+        volumes::testing::FacingSquare(Vec3(0, 0, -3), Vec3::UnitZ(), 3.0),
+        volumes::testing::FacingSquare(Vec3(0.4, 0.1, -1.5), Vec3::UnitZ(), 0.3),
+        volumes::testing::FacingTriangle(0.07 * light_point.normalized(), light_point, 0.02)};
+    c.viewer = Perspective(45.0 * std::numbers::pi / 180.0, 1.0, 0.1, 50.0) *
+               LookAt(Vec3::Zero(), Vec3(0, 0, -1), Vec3::UnitY());
+    c.light = Point(light_point);
+    const std::vector<int> truth = TruthMask(c);
+    for (CountingChoice counting :
+         {CountingChoice::kAuto, CountingChoice::kZPass, CountingChoice::kZFail}) {
+        const Rendered r = RenderMask(c, counting);
+        const Comparison cmp = Compare(c, r.mask, truth);
+        EXPECT_GT(cmp.compared, c.viewport.width * c.viewport.height / 2);
+        EXPECT_GT(cmp.shadowed, 100);
+        EXPECT_EQ(cmp.wrong, 0) << "counting " << static_cast<int>(counting);
+        std::printf("[ measured ] eye in a volume, counting %d (%s): %d wrong of %d\n",
+                    static_cast<int>(counting), CountingModeName(r.info.mode), cmp.wrong,
+                    cmp.compared);
+        if (counting == CountingChoice::kAuto) {
+            EXPECT_EQ(r.info.modes,
+                      (std::vector<CountingMode>{CountingMode::kZPass, CountingMode::kZPass,
+                                                 CountingMode::kZFail}));
+            EXPECT_EQ(r.info.mode, CountingMode::kZFail);
+        }
+    }
+}
+
+TEST(VolumePassMask, DeepStacksDoNotWrapTheCount) {
+    // Issue 16.2: under 128 stacked closed boxes (two faces each) or 256 open sheets a shadow ray
+    // crosses 256 faces; an 8-bit wrapping count reads 0 there, lit. Judged on the floor only
+    // (the stacks' own thin sides are all boundary).
+    std::vector<Mesh> boxes;
+    std::vector<Mesh> sheets;
+    for (int i = 0; i < 128; ++i) {
+        const double y = 1.0 + 0.012 * i;
+        boxes.push_back(volumes::testing::Box(Vec3(-0.5, y, -0.5), Vec3(0.5, y + 0.006, 0.5)));
+    }
+    for (int i = 0; i < 256; ++i) sheets.push_back(volumes::testing::Square(0.5, 1.0 + 0.005 * i));
+    for (const Mesh& stack : {Merge(boxes), Merge(sheets)}) {
+        MaskCase c;
+        c.meshes = {volumes::testing::Square(4.0, 0.0), stack};
+        c.viewer = Viewer(Vec3(0.5, 4.5, 5.0), Vec3(0.0, 0.5, 0.0));
+        c.light = Point(Vec3(1.5, 8.0, 1.0));
+        std::vector<int> truth = TruthMask(c);
+        // Keep floor pixels only: those whose view ray meets y = 0 before any stack face.
+        const Mat4 inverse = PixelMatrix(c.viewer, c.viewport).inverse();
+        for (int y = 0; y < c.viewport.height; ++y) {
+            for (int x = 0; x < c.viewport.width; ++x) {
+                const Vec4 n = inverse * Vec4(x + 0.5, y + 0.5, 0.0, 1.0);
+                const Vec4 f = inverse * Vec4(x + 0.5, y + 0.5, 1.0, 1.0);
+                const Vec3 o = n.head<3>() / n.w();
+                const Vec3 d = f.head<3>() / f.w() - o;
+                const double floor_t = -o.y() / d.y();
+                const double stack_t = volumes::testing::NearestHit(stack, o, d);
+                int& t = truth[static_cast<std::size_t>(y) * c.viewport.width + x];
+                if (!(floor_t > 0.0 && floor_t < stack_t)) t = kIgnored;
+            }
+        }
+        for (CountingChoice counting : {CountingChoice::kZPass, CountingChoice::kZFail}) {
+            const Rendered r = RenderMask(c, counting);
+            const Comparison cmp = Compare(c, r.mask, truth);
+            EXPECT_GT(cmp.compared, 1000);
+            EXPECT_GT(cmp.shadowed, 100);
+            EXPECT_EQ(cmp.wrong, 0)
+                << stack.positions.size() << " vertices, " << CountingModeName(r.info.mode);
+            std::printf("[ measured ] %zu-triangle stack, %s: %d wrong of %d (%d shadowed)\n",
+                        stack.TriangleCount(), CountingModeName(r.info.mode), cmp.wrong,
+                        cmp.compared, cmp.shadowed);
+        }
+    }
 }
 
 TEST(VolumePassMask, LightInATrianglesPlaneCastsNothing) {

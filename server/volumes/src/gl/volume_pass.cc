@@ -1,5 +1,6 @@
-// Depth, stencil counting, lit marking. GL state is restored to the renderer's defaults (depth
-// test LESS with writes, no stencil, no depth clamp, colour writes on) after each call.
+// Depth, counting, lit marking. GL state is restored to the renderer's defaults (depth test LESS
+// with writes, no stencil, no depth clamp, no blending with blend function (ONE, ZERO), colour
+// writes on, texture unit 0 unbound) after each call.
 #include <lixel/render/map_transform.h>
 #include <lixel/solver/camera.h>
 #include <lixel/volumes/gl/volume_pass.h>
@@ -7,6 +8,8 @@
 #include <lixel/volumes/multiplicity.h>
 
 #include <algorithm>
+#include <optional>
+#include <span>
 #include <string>
 
 namespace lixel::volumes::gl {
@@ -16,6 +19,14 @@ namespace {
 // that surface (z-fail counts faces behind a pixel), or every lit surface would shadow itself.
 constexpr float kCapOffsetFactor = 1.0f;
 constexpr float kCapOffsetUnits = 4.0f;
+
+// The count target (issue 16.2): R32F with additive blending of +-1 is exact for any count of
+// magnitude up to 2^24 (every partial sum is an integer float represents exactly), so no
+// realistic depth complexity wraps it; R16F would stop at 2^11, an 8-bit stencil wraps at 2^8.
+// Integer formats cannot blend.
+constexpr GLenum kCountFormat = GL_R32F;
+// The texture unit the lit draw reads the count from.
+constexpr GLuint kCountUnit = 0;
 
 // Largest indexed GL_PATCHES draw llvmpipe gets right (see Create).
 constexpr std::size_t kSoftwarePatchIndicesPerDraw = 1024;
@@ -63,6 +74,9 @@ Result<VolumePass> VolumePass::Create(render::GlContext& context) {
     const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     gl.NamedFramebufferDrawBuffers(fbo, 3, buffers);
     pass.framebuffer_ = render::GlFramebuffer(gl, fbo);
+    gl.CreateFramebuffers(1, &fbo);
+    gl.NamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
+    pass.count_framebuffer_ = render::GlFramebuffer(gl, fbo);
     // PatchMultiplicities draws with rasterisation off, but still needs a complete framebuffer.
     gl.CreateFramebuffers(1, &fbo);
     pass.discard_framebuffer_ = render::GlFramebuffer(gl, fbo);
@@ -79,31 +93,42 @@ Result<VolumePass> VolumePass::Create(render::GlContext& context) {
     return pass;
 }
 
-void VolumePass::DrawPatches(const VolumeScene& volumes) {
+void VolumePass::DrawPatches(const VolumeScene& volumes, std::span<const CountingMode> modes,
+                             std::optional<CountingMode> mode) {
     const render::GlApi& gl = context_->gl();
-    const auto per_patch = static_cast<std::size_t>(volumes.patch_vertices());
-    const std::size_t count = volumes.patch_count();
-    const std::size_t chunk = patch_indices_per_draw_ == 0
-                                  ? count
-                                  : std::max<std::size_t>(1, patch_indices_per_draw_ / per_patch);
     const GLuint p = sides_.id();
-    api_.PatchParameteri(GL_PATCH_VERTICES, volumes.patch_vertices());
     gl.BindVertexArray(volumes.patches());
-    for (std::size_t first = 0; first < count; first += chunk) {
-        const std::size_t n = std::min(chunk, count - first);
-        // gl_PrimitiveID restarts with every draw; u_patch_base keeps recorded ids global.
-        gl.ProgramUniform1i(p, sides_.Uniform("u_patch_base"), static_cast<GLint>(first));
-        gl.DrawElements(GL_PATCHES, static_cast<GLsizei>(n * per_patch), GL_UNSIGNED_INT,
-                        reinterpret_cast<const void*>(first * per_patch * sizeof(GLuint)));
+    std::size_t first_index = 0;
+    for (const PatchGroup& group : volumes.patch_groups()) {
+        const auto per_patch = static_cast<std::size_t>(group.vertices);
+        const std::size_t group_index = first_index;
+        first_index += group.patches * per_patch;
+        if (mode && modes[group.mesh] != *mode) continue;
+        const std::size_t chunk =
+            patch_indices_per_draw_ == 0
+                ? group.patches
+                : std::max<std::size_t>(1, patch_indices_per_draw_ / per_patch);
+        api_.PatchParameteri(GL_PATCH_VERTICES, group.vertices);
+        for (std::size_t first = 0; first < group.patches; first += chunk) {
+            const std::size_t n = std::min(chunk, group.patches - first);
+            // gl_PrimitiveID restarts with every draw; u_patch_base keeps recorded ids global.
+            gl.ProgramUniform1i(p, sides_.Uniform("u_patch_base"),
+                                static_cast<GLint>(group.first_patch + first));
+            const std::size_t offset = group_index + first * per_patch;
+            gl.DrawElements(GL_PATCHES, static_cast<GLsizei>(n * per_patch), GL_UNSIGNED_INT,
+                            reinterpret_cast<const void*>(offset * sizeof(GLuint)));
+        }
     }
 }
 
 void VolumePass::DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
-                             CountingMode mode, const Eigen::Matrix4f& viewer,
-                             const Eigen::Vector4f& light, VolumeRenderInfo& info) {
+                             std::span<const CountingMode> modes, CountingMode mode,
+                             const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
+                             VolumeRenderInfo& info) {
     const render::GlApi& gl = context_->gl();
     const bool caps = mode == CountingMode::kZFail;
     if (volume != nullptr) {
+        if (modes.empty() || modes[0] != mode) return;
         const GLuint p = mesh_.id();
         gl.UseProgram(p);
         gl.ProgramUniformMatrix4fv(p, mesh_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
@@ -117,7 +142,7 @@ void VolumePass::DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* vo
                             GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(volume->side_indices() * sizeof(GLuint)));
             gl.Disable(GL_POLYGON_OFFSET_FILL);
-            info.cap_triangles = volume->cap_indices() / 3;
+            info.cap_triangles += volume->cap_indices() / 3;
         }
         return;
     }
@@ -126,8 +151,10 @@ void VolumePass::DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* vo
     gl.ProgramUniformMatrix4fv(p, sides_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
     gl.ProgramUniform4fv(p, sides_.Uniform("u_light"), 1, light.data());
     gl.ProgramUniform1i(p, sides_.Uniform("u_record"), 0);
-    DrawPatches(volumes);
-    info.patches = volumes.patch_count();
+    DrawPatches(volumes, modes, mode);
+    for (const PatchGroup& group : volumes.patch_groups()) {
+        if (modes[group.mesh] == mode) info.patches += group.patches;
+    }
     if (!caps) return;
     p = caps_.id();
     gl.UseProgram(p);
@@ -136,10 +163,14 @@ void VolumePass::DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* vo
     gl.Enable(GL_POLYGON_OFFSET_FILL);
     api_.PolygonOffset(kCapOffsetFactor, kCapOffsetUnits);
     gl.BindVertexArray(volumes.caps());
-    gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * volumes.cap_triangles()),
-                    GL_UNSIGNED_INT, nullptr);
+    for (std::size_t m = 0; m < volumes.cap_ranges().size(); ++m) {
+        const CapRange& range = volumes.cap_ranges()[m];
+        if (modes[m] != mode || range.triangles == 0) continue;
+        gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * range.triangles), GL_UNSIGNED_INT,
+                        reinterpret_cast<const void*>(3 * range.first_triangle * sizeof(GLuint)));
+        info.cap_triangles += range.triangles;
+    }
     gl.Disable(GL_POLYGON_OFFSET_FILL);
-    info.cap_triangles = volumes.cap_triangles();
 }
 
 Result<VolumeRenderInfo> VolumePass::Render(const render::GpuScene& surfaces,
@@ -165,22 +196,35 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
         return Error{"origin", "surfaces and volumes were uploaded with different origins"};
     }
     VolumeRenderInfo info;
-    // Which counting: z-pass only where no occluder can reach the near plane's volume.
+    // Which counting, per caster: z-pass only for casters that cannot reach the eye or the near
+    // rectangle (counting_mode.h). A CPU-built volume is one caster, its occluders the scene's
+    // meshes and its own finite triangles.
+    const std::size_t casters = volume != nullptr ? 1 : volumes.adjacency().size();
     if (request.counting == CountingChoice::kAuto) {
         std::vector<const EdgeAdjacency*> meshes;
         for (const EdgeAdjacency& a : volumes.adjacency()) meshes.push_back(&a);
-        auto mode = ChooseCountingMode(meshes, request.light, request.viewer);
-        if (!mode) return mode.error();
-        info.mode = *mode;
-        if (volume != nullptr && info.mode == CountingMode::kZPass) {
-            mode = ChooseCountingMode(volume->source(), request.light, request.viewer);
+        if (volume == nullptr) {
+            auto modes = ChooseCountingModes(meshes, request.light, request.viewer);
+            if (!modes) return modes.error();
+            info.modes = std::move(modes.value());
+        } else {
+            auto mode = ChooseCountingMode(meshes, request.light, request.viewer);
             if (!mode) return mode.error();
-            info.mode = *mode;
+            if (*mode == CountingMode::kZPass) {
+                mode = ChooseCountingMode(volume->source(), request.light, request.viewer);
+                if (!mode) return mode.error();
+            }
+            info.modes = {*mode};
         }
     } else {
-        info.mode = request.counting == CountingChoice::kZPass ? CountingMode::kZPass
-                                                               : CountingMode::kZFail;
+        info.modes.assign(casters, request.counting == CountingChoice::kZPass
+                                       ? CountingMode::kZPass
+                                       : CountingMode::kZFail);
     }
+    const auto any = [&](CountingMode m) {
+        return std::find(info.modes.begin(), info.modes.end(), m) != info.modes.end();
+    };
+    info.mode = any(CountingMode::kZFail) ? CountingMode::kZFail : CountingMode::kZPass;
     if (volume != nullptr && info.mode == CountingMode::kZFail && volume->cap_indices() == 0 &&
         volume->side_indices() > 0) {
         return Error{"volume.caps", "z-fail needs a volume built with Caps::kLightAndDark"};
@@ -202,16 +246,25 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
         target.depth = render::CreateTexture2D(gl, GL_DEPTH32F_STENCIL8, size.width, size.height);
         own_depth_ = target.depth.id();
     }
+    if (!count_ || size.width != count_size_.width || size.height != count_size_.height) {
+        count_ = render::CreateTexture2D(gl, kCountFormat, size.width, size.height);
+        count_size_ = size;
+    }
     target.viewport = size;
     const GLuint fbo = framebuffer_.id();
     gl.NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT0, target.mask.id(), 0);
     gl.NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT1, target.preview.id(), 0);
     gl.NamedFramebufferTexture(fbo, GL_COLOR_ATTACHMENT2, target.map_index.id(), 0);
     gl.NamedFramebufferTexture(fbo, GL_DEPTH_STENCIL_ATTACHMENT, target.depth.id(), 0);
-    const GLenum status = gl.CheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-        return Error{"volume pass",
-                     "framebuffer incomplete (status " + std::to_string(status) + ")"};
+    const GLuint count_fbo = count_framebuffer_.id();
+    gl.NamedFramebufferTexture(count_fbo, GL_COLOR_ATTACHMENT0, count_.id(), 0);
+    gl.NamedFramebufferTexture(count_fbo, GL_DEPTH_STENCIL_ATTACHMENT, target.depth.id(), 0);
+    for (const GLuint f : {fbo, count_fbo}) {
+        const GLenum status = gl.CheckNamedFramebufferStatus(f, GL_FRAMEBUFFER);
+        if (status != GL_FRAMEBUFFER_COMPLETE) {
+            return Error{"volume pass",
+                         "framebuffer incomplete (status " + std::to_string(status) + ")"};
+        }
     }
     const Vec3& origin = volumes.origin();
     const Eigen::Matrix4f viewer = render::RelativeMatrix(request.viewer, origin);
@@ -222,17 +275,20 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     gl.Viewport(0, 0, size.width, size.height);
     const float no_surface[4] = {render::kNoSurface, 0.0f, 0.0f, 0.0f};
     const float background[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     const GLint no_map[4] = {render::kNoMap, 0, 0, 0};
     gl.ClearNamedFramebufferfv(fbo, GL_COLOR, 0, no_surface);
     gl.ClearNamedFramebufferfv(fbo, GL_COLOR, 1, background);
     gl.ClearNamedFramebufferiv(fbo, GL_COLOR, 2, no_map);
     api_.ClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, static_cast<float>(kClipDepthFar), 0);
+    gl.ClearNamedFramebufferfv(count_fbo, GL_COLOR, 0, zero);
 
     // 1. Depth of the visible surfaces; every surface pixel starts as shadowed (mask 0).
     const GLuint sp = surface_.id();
     gl.ProgramUniformMatrix4fv(sp, surface_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
     gl.ProgramUniform4fv(sp, surface_.Uniform("u_light"), 1, light.data());
     gl.ProgramUniform1f(sp, surface_.Uniform("u_lit"), 0.0f);
+    gl.ProgramUniform1i(sp, surface_.Uniform("u_count"), kCountUnit);
     gl.Enable(GL_DEPTH_TEST);
     gl.DepthFunc(GL_LESS);
     gl.DepthMask(GL_TRUE);
@@ -249,36 +305,49 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     };
     draw_surfaces();
 
-    // 2. Volumes into the stencil buffer, wrapping (Everitt and Kilgard). Depth clamp keeps the
-    // dark caps and the far ends of the sides, at infinity, from being clipped.
-    gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    // 2. Volumes into the count target: each fragment adds +1 or -1 (shadow_volume.frag), in
+    // float, exact for any count below 2^24 where an 8-bit stencil would wrap at 256 (issue
+    // 16.2). Z-pass casters count the fragments in front of the surface (depth LESS) with the
+    // near plane clipping, so the count starts at the near rectangle, which their proof covers;
+    // z-fail casters count those behind it (GEQUAL: exactly where LESS fails), front faces -1,
+    // with caps and depth clamp, which keeps the dark caps and the sides' far ends, at infinity,
+    // from being clipped. Each caster's count is exact for its own volumes, so the sum is too.
+    gl.BindFramebuffer(GL_FRAMEBUFFER, count_fbo);
+    gl.ColorMask(GL_TRUE, GL_FALSE, GL_FALSE, GL_FALSE);
     gl.DepthMask(GL_FALSE);
-    gl.Enable(GL_DEPTH_CLAMP);
-    gl.Enable(GL_STENCIL_TEST);
+    gl.Enable(GL_BLEND);
+    api_.BlendEquation(GL_FUNC_ADD);
+    api_.BlendFunc(GL_ONE, GL_ONE);
     gl.FrontFace(GL_CCW);
-    api_.StencilMask(0xff);
-    api_.StencilFunc(GL_ALWAYS, 0, 0xff);
-    if (info.mode == CountingMode::kZPass) {
-        api_.StencilOpSeparate(GL_FRONT, GL_KEEP, GL_KEEP, GL_INCR_WRAP);
-        api_.StencilOpSeparate(GL_BACK, GL_KEEP, GL_KEEP, GL_DECR_WRAP);
-    } else {
-        api_.StencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
-        api_.StencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+    for (const CountingMode mode : {CountingMode::kZPass, CountingMode::kZFail}) {
+        if (!any(mode)) continue;
+        const bool zfail = mode == CountingMode::kZFail;
+        const float sign = zfail ? -1.0f : 1.0f;  // added by front faces; back faces add -sign
+        for (const render::Program* program : {&sides_, &caps_, &mesh_}) {
+            gl.ProgramUniform1f(program->id(), program->Uniform("u_front"), sign);
+        }
+        if (zfail) {
+            gl.Enable(GL_DEPTH_CLAMP);
+        } else {
+            gl.Disable(GL_DEPTH_CLAMP);
+        }
+        gl.DepthFunc(zfail ? GL_GEQUAL : GL_LESS);
+        DrawVolumes(volumes, volume, info.modes, mode, viewer, light, info);
     }
-    DrawVolumes(volumes, volume, info.mode, viewer, light, info);
+    gl.Disable(GL_DEPTH_CLAMP);
+    gl.Disable(GL_BLEND);
 
     // 3. Lit where the count is zero: the same surfaces, same depth (invariant), mask 1.
-    gl.Disable(GL_DEPTH_CLAMP);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
     gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    api_.StencilFunc(GL_EQUAL, 0, 0xff);
-    api_.StencilOpSeparate(GL_FRONT_AND_BACK, GL_KEEP, GL_KEEP, GL_KEEP);
     gl.DepthFunc(GL_EQUAL);
+    gl.BindTextureUnit(kCountUnit, count_.id());
     gl.ProgramUniform1f(sp, surface_.Uniform("u_lit"), 1.0f);
     draw_surfaces();
+    gl.BindTextureUnit(kCountUnit, 0);
 
-    // Overdraw: every volume fragment, depth and stencil tests off, nothing written.
+    // Overdraw: every volume fragment, depth test off, nothing written.
     if (request.measure_overdraw) {
-        gl.Disable(GL_STENCIL_TEST);
         gl.Disable(GL_DEPTH_TEST);
         gl.Enable(GL_DEPTH_CLAMP);
         gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
@@ -286,7 +355,9 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
         api_.CreateQueries(GL_SAMPLES_PASSED, 1, &query);
         api_.BeginQuery(GL_SAMPLES_PASSED, query);
         VolumeRenderInfo ignored;
-        DrawVolumes(volumes, volume, info.mode, viewer, light, ignored);
+        for (const CountingMode mode : {CountingMode::kZPass, CountingMode::kZFail}) {
+            if (any(mode)) DrawVolumes(volumes, volume, info.modes, mode, viewer, light, ignored);
+        }
         api_.EndQuery(GL_SAMPLES_PASSED);
         GLuint64 samples = 0;
         api_.GetQueryObjectui64v(query, GL_QUERY_RESULT, &samples);
@@ -302,6 +373,7 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     gl.Enable(GL_DEPTH_TEST);
     gl.DepthFunc(GL_LESS);
     gl.DepthMask(GL_TRUE);
+    api_.BlendFunc(GL_ONE, GL_ZERO);
     gl.BindVertexArray(0);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
     if (auto ok = context_->Check(std::string("volume pass (") + CountingModeName(info.mode) + ")");
@@ -333,7 +405,7 @@ Result<std::vector<int>> VolumePass::PatchMultiplicities(const VolumeScene& volu
     gl.ProgramUniform1i(p, sides_.Uniform("u_record"), 1);
     gl.BindFramebuffer(GL_FRAMEBUFFER, discard_framebuffer_.id());
     gl.Enable(GL_RASTERIZER_DISCARD);
-    DrawPatches(volumes);
+    DrawPatches(volumes, {}, std::nullopt);
     gl.Disable(GL_RASTERIZER_DISCARD);
     gl.ProgramUniform1i(p, sides_.Uniform("u_record"), 0);
     gl.BindVertexArray(0);

@@ -52,20 +52,15 @@ Result<VolumeScene> UploadVolumeScene(render::GlContext& context, std::span<cons
 
     VolumeScene scene;
     scene.origin_ = origin;
-    std::size_t most = 1;
     for (std::size_t m = 0; m < meshes.size(); ++m) {
         auto adjacency = BuildEdgeAdjacency(meshes[m]);
         if (!adjacency) {
             return Error{"meshes[" + std::to_string(m) + "]." + adjacency.error().field,
                          adjacency.error().reason};
         }
-        most = std::max(most, adjacency->stats.max_opposites);
         scene.adjacency_.push_back(std::move(adjacency.value()));
     }
-    // The patch size is the scene's largest fan, capped: a manifold scene draws 4-vertex patches.
-    const auto per_patch = static_cast<std::uint32_t>(
-        std::min<std::size_t>(most, static_cast<std::size_t>(per_patch_limit)));
-    scene.patch_vertices_ = static_cast<int>(per_patch) + 2;
+    const auto limit_opposites = static_cast<std::uint32_t>(per_patch_limit);
 
     std::vector<float> points;
     std::vector<std::uint32_t> patches;
@@ -82,24 +77,42 @@ Result<VolumeScene> UploadVolumeScene(render::GlContext& context, std::span<cons
             const Vec3 relative = p.cast<double>() - origin;
             for (int k = 0; k < 3; ++k) points.push_back(static_cast<float>(relative[k]));
         }
+        // Each edge's opposite points in chunks of at most limit_opposites (the last one
+        // shorter), every chunk one patch of its own size: grouped by size, so a manifold mesh
+        // draws 4-vertex patches however wide another mesh's fans are.
+        struct Chunk {
+            std::uint32_t edge;
+            std::uint32_t first;
+        };
+        std::vector<std::vector<Chunk>> by_size(limit_opposites + 1);
         for (std::uint32_t e = 0; e < adj.edges.size(); ++e) {
-            const Edge& edge = adj.edges[e];
-            const auto opposites = adj.Opposites(edge);
-            if (opposites.size() > per_patch) ++scene.split_edges_;
-            for (std::size_t first = 0; first < opposites.size(); first += per_patch) {
-                patches.push_back(b + edge.a);
-                patches.push_back(b + edge.b);
-                for (std::uint32_t k = 0; k < per_patch; ++k) {
-                    // Unused slots repeat A, which Alg. 4 maps to exactly 0.
-                    patches.push_back(first + k < opposites.size() ? b + opposites[first + k]
-                                                                   : b + edge.a);
-                }
-                scene.patch_edges_.push_back({static_cast<std::uint32_t>(m), e});
+            const std::uint32_t count = adj.edges[e].count;
+            if (count > limit_opposites) ++scene.split_edges_;
+            for (std::uint32_t first = 0; first < count; first += limit_opposites) {
+                by_size[std::min(limit_opposites, count - first)].push_back({e, first});
             }
         }
+        for (std::uint32_t size = 1; size <= limit_opposites; ++size) {
+            if (by_size[size].empty()) continue;
+            scene.patch_groups_.push_back({static_cast<std::uint32_t>(m),
+                                           static_cast<int>(size) + 2, scene.patch_edges_.size(),
+                                           by_size[size].size()});
+            scene.patch_vertices_ = std::max(scene.patch_vertices_, static_cast<int>(size) + 2);
+            for (const Chunk& c : by_size[size]) {
+                const Edge& edge = adj.edges[c.edge];
+                const auto opposites = adj.Opposites(edge);
+                patches.push_back(b + edge.a);
+                patches.push_back(b + edge.b);
+                for (std::uint32_t k = 0; k < size; ++k)
+                    patches.push_back(b + opposites[c.first + k]);
+                scene.patch_edges_.push_back({static_cast<std::uint32_t>(m), c.edge});
+            }
+        }
+        scene.cap_ranges_.push_back({caps.size() / 3, adj.source.size()});
         for (std::uint32_t w : adj.triangles) caps.push_back(b + w);
         scene.cap_triangles_ += adj.source.size();
     }
+    scene.patch_index_count_ = patches.size();
     const render::GlApi& gl = context.gl();
     scene.points_ = MakeBuffer(gl, points.data(), points.size() * sizeof(float));
     scene.patch_indices_ = MakeBuffer(gl, patches.data(), patches.size() * sizeof(std::uint32_t));

@@ -72,6 +72,9 @@ struct SmoothStats {
 struct SmoothSilhouette {
     std::vector<SmoothLoop> loops;
     std::vector<AccurateSegment> segments;
+    // Per kept triangle, OrientTriangles (orientation.h): the windings the loops were traced in,
+    // which ExtrudeSmoothVolume winds its caps by.
+    std::vector<std::int8_t> orientation;
     SmoothStats stats;
 };
 
@@ -86,9 +89,11 @@ Vec3 EdgePoint(const EdgeAdjacency& adjacency, std::uint32_t edge, double x);
 // (one > 0, the other <= 0): x = fa / (fa - fb).
 inline double CrossingParameter(double fa, double fb) { return fa / (fa - fb); }
 
+// The loops do not depend on the input's windings: each connected component is wound
+// consistently from its geometry first (OrientTriangles).
 // Errors: "mesh.normals" (missing or wrong count, or a zero / non-finite normal), "light",
 // "options.epsilon" (not > 0), "options.normal_offset" (< 0), "options.max_depth",
-// "adjacency" (not built from this mesh).
+// "adjacency" (not built from this mesh), "mesh" (not orientable).
 Result<SmoothSilhouette> ComputeSmoothSilhouette(const Mesh& mesh, const EdgeAdjacency& adjacency,
                                                  const Vec4& light, const SmoothOptions& options);
 

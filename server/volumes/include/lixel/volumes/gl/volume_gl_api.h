@@ -1,5 +1,5 @@
-// GL 4.5 entry points the stencil-volume passes need beyond lixel::render::GlApi (stencil,
-// tessellation, polygon offset, storage buffers, queries), loaded from the same backend.
+// GL 4.5 entry points the shadow-volume passes need beyond lixel::render::GlApi
+// (blending, tessellation, polygon offset, storage buffers, queries), loaded from the same backend.
 //
 // These belong in render::GlApi's LIXEL_GL_FUNCTIONS list; until the renderer adds them, this
 // table loads them through eglGetProcAddress or OSMesaGetProcAddress, whichever backend the
@@ -14,10 +14,9 @@ namespace lixel::volumes::gl {
 
 #define LIXEL_VOLUME_GL_FUNCTIONS(X)                    \
     X(PatchParameteri, PATCHPARAMETERI)                 \
-    X(StencilOpSeparate, STENCILOPSEPARATE)             \
-    X(StencilFunc, STENCILFUNC)                         \
-    X(StencilMask, STENCILMASK)                         \
     X(PolygonOffset, POLYGONOFFSET)                     \
+    X(BlendFunc, BLENDFUNC)                             \
+    X(BlendEquation, BLENDEQUATION)                     \
     X(BindBufferBase, BINDBUFFERBASE)                   \
     X(GetNamedBufferSubData, GETNAMEDBUFFERSUBDATA)     \
     X(ClearNamedFramebufferfi, CLEARNAMEDFRAMEBUFFERFI) \

@@ -1,7 +1,7 @@
-// The stencil shadow-volume view (DESIGN §5-6, paper 001): the viewer's depth, then every
-// volume counted into the stencil buffer (z-pass, or z-fail with caps), then the pixels whose
-// count is zero marked lit. The result is the view pass's interface (render::ViewImages): a
-// lit-fraction mask of exactly 0 or 1, a preview, no maps.
+// The shadow-volume view (DESIGN §5-6, paper 001): the viewer's depth, then every volume
+// counted per pixel into a float count target (each caster z-pass, or z-fail with caps), then
+// the pixels whose count is zero marked lit. The result is the view pass's interface
+// (render::ViewImages): a lit-fraction mask of exactly 0 or 1, a preview, no maps.
 #pragma once
 
 #include <lixel/render/context.h>
@@ -16,13 +16,15 @@
 #include <lixel/volumes/gl/volume_scene.h>
 
 #include <cstdint>
+#include <optional>
+#include <span>
 #include <vector>
 
 namespace lixel::volumes::gl {
 
 enum class CountingChoice {
-    kAuto,   // z-pass where ChooseCountingMode proves it safe, else z-fail
-    kZPass,  // forced (wrong where the near plane cuts a volume; for tests and timing)
+    kAuto,   // per caster: z-pass where ChooseCountingModes proves it safe, else z-fail
+    kZPass,  // forced (wrong where a volume holds part of the near rectangle; tests, timing)
     kZFail,  // forced
 };
 
@@ -37,7 +39,10 @@ struct VolumeRequest {
 };
 
 struct VolumeRenderInfo {
+    // kZFail when any caster was counted z-fail, kZPass when all were z-pass.
     CountingMode mode = CountingMode::kZFail;
+    // Per caster: each mesh of the VolumeScene, or the one GpuVolumeMesh.
+    std::vector<CountingMode> modes;
     std::size_t patches = 0;             // edge patches drawn (robust silhouettes)
     std::size_t cap_triangles = 0;       // triangles drawn for caps (z-fail)
     std::uint64_t volume_fragments = 0;  // with measure_overdraw
@@ -72,8 +77,13 @@ class VolumePass {
     Result<VolumeRenderInfo> Draw(const render::GpuScene& surfaces, const VolumeScene& volumes,
                                   const GpuVolumeMesh* volume, const VolumeRequest& request,
                                   render::ViewImages& target);
-    void DrawPatches(const VolumeScene& volumes);
-    void DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume, CountingMode mode,
+    // The patch groups of the meshes whose `modes` entry is `mode` (every group without one).
+    void DrawPatches(const VolumeScene& volumes, std::span<const CountingMode> modes,
+                     std::optional<CountingMode> mode);
+    // The volumes of the casters counted with `mode` (modes: per mesh, or one for `volume`),
+    // with caps for z-fail.
+    void DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
+                     std::span<const CountingMode> modes, CountingMode mode,
                      const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
                      VolumeRenderInfo& info);
 
@@ -84,12 +94,16 @@ class VolumePass {
     render::Program caps_;
     render::Program mesh_;
     render::GlFramebuffer framebuffer_;
+    // The per-pixel volume count (volume_pass.cc, kCountFormat) and its framebuffer, which
+    // shares the target's depth.
+    render::GlFramebuffer count_framebuffer_;
+    render::GlTexture count_;
+    Viewport count_size_;
     render::GlFramebuffer discard_framebuffer_;
     render::GlTexture discard_target_;
-    GLuint own_depth_ = 0;
+    GLuint own_depth_ = 0;  // the depth-stencil texture this pass last put in a ViewImages
     // Indices per GL_PATCHES draw; 0 draws every patch in one call (see volume_pass.cc).
-    std::size_t patch_indices_per_draw_ =
-        0;  // the depth-stencil texture this pass last put in a ViewImages
+    std::size_t patch_indices_per_draw_ = 0;
 };
 
 }  // namespace lixel::volumes::gl

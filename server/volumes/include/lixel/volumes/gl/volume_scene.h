@@ -25,17 +25,40 @@ struct PatchEdge {
     std::uint32_t edge = 0;  // into adjacency[mesh].edges
 };
 
+// Patches of one mesh with one size, contiguous in the patch index buffer and in patch_edges():
+// each holds A, B and exactly `vertices - 2` opposite points of its edge, so no patch is padded
+// to another edge's fan (issue 16.6).
+struct PatchGroup {
+    std::uint32_t mesh = 0;
+    int vertices = 0;             // GL_PATCH_VERTICES for the group, >= 3
+    std::size_t first_patch = 0;  // into patch_edges()
+    std::size_t patches = 0;
+};
+
+// A mesh's kept triangles in the cap index buffer, for its z-fail caps.
+struct CapRange {
+    std::size_t first_triangle = 0;
+    std::size_t triangles = 0;
+};
+
 class VolumeScene {
   public:
     const Vec3& origin() const noexcept { return origin_; }
     const std::vector<EdgeAdjacency>& adjacency() const noexcept { return adjacency_; }
-    // Vertices per patch: A, B and up to patch_vertices() - 2 opposite points.
+    // The largest patch of any group (A, B and up to patch_vertices() - 2 opposite points); 0
+    // when the scene has no edges.
     int patch_vertices() const noexcept { return patch_vertices_; }
     std::size_t patch_count() const noexcept { return patch_edges_.size(); }
+    // Ordered by mesh, then size; their patches cover patch_edges() in order.
+    const std::vector<PatchGroup>& patch_groups() const noexcept { return patch_groups_; }
+    // One per mesh.
+    const std::vector<CapRange>& cap_ranges() const noexcept { return cap_ranges_; }
     // Which edge each patch draws; an edge with more opposite points than a patch holds is split
     // over several patches, whose multiplicities add up.
     const std::vector<PatchEdge>& patch_edges() const noexcept { return patch_edges_; }
     std::size_t split_edges() const noexcept { return split_edges_; }
+    // Indices in the patch buffer: sum over patches of their size.
+    std::size_t patch_index_count() const noexcept { return patch_index_count_; }
     std::size_t cap_triangles() const noexcept { return cap_triangles_; }
     GLuint patches() const noexcept { return patch_vao_.id(); }  // position at location 0
     GLuint caps() const noexcept { return cap_vao_.id(); }
@@ -47,7 +70,10 @@ class VolumeScene {
     std::vector<EdgeAdjacency> adjacency_;
     int patch_vertices_ = 0;
     std::vector<PatchEdge> patch_edges_;
+    std::vector<PatchGroup> patch_groups_;
+    std::vector<CapRange> cap_ranges_;
     std::size_t split_edges_ = 0;
+    std::size_t patch_index_count_ = 0;
     std::size_t cap_triangles_ = 0;
     render::GlBuffer points_;
     render::GlBuffer patch_indices_;
