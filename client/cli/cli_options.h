@@ -19,6 +19,9 @@
 // Connection, every command: --target, --token, --token_file, --tls_ca, --tls_cert, --tls_key,
 // --tls_server_name, --deadline (seconds per call, (0, 86400]).
 ABSL_DECLARE_FLAG(std::string, target);
+ABSL_DECLARE_FLAG(int, cascades);
+ABSL_DECLARE_FLAG(double, split_lambda);
+ABSL_DECLARE_FLAG(bool, stable_cascades);
 ABSL_DECLARE_FLAG(std::string, token);
 ABSL_DECLARE_FLAG(std::string, token_file);
 ABSL_DECLARE_FLAG(std::string, tls_ca);

@@ -90,7 +90,7 @@ const std::set<std::string>* CommandFlags(const std::string& command) {
           "volumes", "out", "pfm"}},
         {"view",
          {"scene", "scene_file", "budget", "fallback_floor", "method", "filter", "evaluate",
-          "timings", "out"}},
+          "timings", "out", "cascades", "split_lambda", "stable_cascades"}},
         {"report",
          {"scene", "scene_file", "all", "full", "repeats", "out", "budgets", "depth_only"}},
     };
@@ -237,6 +237,12 @@ int ViewCommand(client::Client& client, const Flags& flags) {
     request.set_filter(*ViewFilter());
     request.set_evaluate(absl::GetFlag(FLAGS_evaluate));
     request.set_timings(absl::GetFlag(FLAGS_timings));
+    if (request.method() == v1::METHOD_CSM) {
+        request.mutable_cascades()->set_count(
+            static_cast<std::uint32_t>(absl::GetFlag(FLAGS_cascades)));
+        request.mutable_cascades()->set_lambda(absl::GetFlag(FLAGS_split_lambda));
+        request.mutable_cascades()->set_stabilize(absl::GetFlag(FLAGS_stable_cascades));
+    }
     auto view = client.View(request);
     if (!view) return Fail(view.error());
     render::FloatImage mask{static_cast<int>(view->width()), static_cast<int>(view->height()), 1,

@@ -1,21 +1,28 @@
 // lixel report: the error-vs-run-time sweep (DESIGN §7) driven through the service. For each
-// scene, method (fitting x shadow test) and budget it asks View for the mask with evaluation
-// against exact visibility and per-stage timings, repeats for medians, and writes report.csv,
-// report.md, error_vs_time.png and a mask grid per scene with lixel::eval's writers.
+// scene, method (fitting x shadow test) and budget it asks View once, untimed, for the mask with
+// evaluation against exact visibility (the warm-up), then --repeats times for per-stage timings
+// with the cost baselines measured in the same call (cost.h), and writes report.csv, report.md,
+// error_vs_time.png, a labelled mask grid and a shaded preview per scene with lixel::eval's
+// writers.
 #include <absl/flags/flag.h>
-#include <lixel/eval/evaluate.h>
+#include <lixel/eval/cost.h>
+#include <lixel/eval/mask_figure.h>
 #include <lixel/eval/methods.h>
+#include <lixel/eval/png_image.h>
 #include <lixel/eval/progress.h>
 #include <lixel/eval/report.h>
+#include <lixel/eval/timing.h>
+#include <lixel/scene/builtin_scenes.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
-#include <map>
+#include <optional>
 
 #include "commands.h"
+#include "report_rows.h"
 
 namespace lixel::cli {
 
@@ -29,6 +36,7 @@ v1::Method ProtoMethod(eval::Fitting fitting) {
         case eval::Fitting::kUniform: return v1::METHOD_UNIFORM;
         case eval::Fitting::kPsm: return v1::METHOD_PSM;
         case eval::Fitting::kLispsm: return v1::METHOD_LISPSM;
+        case eval::Fitting::kCsm: return v1::METHOD_CSM;
     }
     return v1::METHOD_PLANE_OPTIMAL;
 }
@@ -43,38 +51,16 @@ v1::Filter ProtoFilter(eval::ShadowTest test) {
     return v1::FILTER_DEPTH;
 }
 
-double Median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-}
-
-eval::AliasingStats Stats(const v1::AliasingStats& s) {
-    eval::AliasingStats out;
-    out.pixels = static_cast<std::int64_t>(s.pixels());
-    out.mean = s.mean();
-    out.p95 = s.p95();
-    out.over_threshold = s.over_threshold();
-    return out;
-}
-
-eval::Mask MaskOf(const v1::ViewResponse& view) {
-    eval::Mask mask{static_cast<int>(view.width()), static_cast<int>(view.height()), {}};
-    mask.lit.resize(view.mask().size() / sizeof(float));
-    std::memcpy(mask.lit.data(), view.mask().data(), view.mask().size());
-    for (float& v : mask.lit) v = v < 0.0f ? 1.0f : v;  // no surface: nothing to shadow
-    return mask;
-}
-
-eval::GroundTruth TruthOf(const v1::ViewResponse& view) {
-    eval::GroundTruth truth;
-    truth.width = static_cast<int>(view.width());
-    truth.height = static_cast<int>(view.height());
-    truth.state.resize(view.truth().size());
-    for (std::size_t i = 0; i < truth.state.size(); ++i) {
-        truth.state[i] = static_cast<eval::Truth>(view.truth()[i]);
+// The budget the preview is taken at: the one nearest the paper's 512².
+std::int64_t PreviewBudget(const std::vector<std::int64_t>& budgets) {
+    std::int64_t best = budgets.front();
+    for (const std::int64_t b : budgets) {
+        if (std::abs(std::log(double(b) / (512.0 * 512.0))) <
+            std::abs(std::log(double(best) / (512.0 * 512.0)))) {
+            best = b;
+        }
     }
-    return truth;
+    return best;
 }
 
 struct SceneRun {
@@ -92,7 +78,7 @@ int ReportCommand(client::Client& client, const Flags& flags) {
     // Scenes: the one named (default floor_wall), or with --all / --full every built-in one.
     std::vector<std::string> names;
     if (absl::GetFlag(FLAGS_all) || absl::GetFlag(FLAGS_full)) {
-        names = {"floor_wall", "table_floor", "sphere_grid", "thin_plates", "sphere_torus", "pins"};
+        names = scene::BuiltinSceneNames();
     } else {
         names = {flags.Given("scene_file") ? absl::GetFlag(FLAGS_scene_file)
                                            : absl::GetFlag(FLAGS_scene)};
@@ -123,11 +109,14 @@ int ReportCommand(client::Client& client, const Flags& flags) {
     if (!budgets) return UsageError(budgets.error());
     eval::ProgressBar bar(
         static_cast<std::int64_t>(scenes.size() * methods.size() * budgets->size()), "report");
+    const std::int64_t preview_budget = PreviewBudget(*budgets);
     std::vector<eval::ReportRow> rows;
     std::vector<std::string> notes;
+    eval::ReportInfo info;
     for (const SceneRun& scene : scenes) {
-        std::vector<eval::Mask> grid_masks;
-        eval::GroundTruth grid_truth;
+        std::optional<eval::MaskFigure> figure;  // made from the first evaluated call's truth
+        std::vector<std::string> skipped_first;  // rows skipped before there was one
+        bool previewed = false;
         for (std::int64_t budget : *budgets) {
             for (const Run& method : methods) {
                 v1::ViewRequest request;
@@ -136,98 +125,110 @@ int ReportCommand(client::Client& client, const Flags& flags) {
                 request.set_method(method.method);
                 request.set_filter(method.filter);
                 request.set_timings(true);
-                std::map<std::string, std::vector<double>> stage_ms;
-                v1::ViewResponse evaluated;
-                bool failed = false;
-                for (int r = 0; r < runs; ++r) {
-                    request.set_evaluate(r == 0);
+                request.set_cost_baselines(true);
+                // The warm-up, untimed (the server's shader variants and caches, the client's
+                // channel): also the one evaluated call, and the preview's.
+                const bool preview = !previewed && budget == preview_budget;
+                request.set_evaluate(true);
+                request.set_preview(preview);
+                auto evaluated = client.View(request);
+                const auto skip = [&](const Error& error) {
+                    notes.push_back(scene.name + ", " + method.name + ", " +
+                                    std::to_string(budget) + " lixels: skipped (" +
+                                    error.Message() + ")");
+                    if (figure) {
+                        figure->Skip(method.name);
+                    } else {
+                        skipped_first.push_back(method.name);
+                    }
+                    bar.Advance(1, scene.name + " " + method.name);
+                };
+                if (!evaluated) {
+                    skip(evaluated.error());
+                    continue;
+                }
+                request.set_evaluate(false);
+                request.set_preview(false);
+                eval::StageTimes stage_times;
+                std::vector<eval::CostRepeat> costs;
+                const bool has_maps = method.filter != v1::FILTER_VOLUMES;
+                std::optional<Error> failed;
+                for (int r = 0; r < runs && !failed; ++r) {
                     const auto start = Clock::now();
                     auto view = client.View(request);
                     const double round_trip =
                         std::chrono::duration<double, std::milli>(Clock::now() - start).count();
                     if (!view) {
-                        notes.push_back(scene.name + ", " + method.name + ", " +
-                                        std::to_string(budget) + " lixels: skipped (" +
-                                        view.error().Message() + ")");
-                        failed = true;
+                        failed = view.error();
                         break;
                     }
-                    // The evaluation's stages (building the ray scene, ground truth and its
-                    // metrics) are not the method's cost.
-                    const auto evaluation = [](const std::string& stage) {
-                        return stage == "truth" || stage == "ray_scene";
-                    };
-                    double server_ms = 0.0;
-                    double truth_ms = 0.0;
-                    for (const v1::StageTime& t : view->timings()) {
-                        if (evaluation(t.stage())) {
-                            truth_ms += 1e3 * t.seconds();
-                            continue;
-                        }
-                        const std::string stage = t.stage() == "maps" ? "passes" : t.stage();
-                        stage_ms[stage].push_back(1e3 * t.seconds());
-                        server_ms += 1e3 * t.seconds();
-                    }
-                    stage_ms["transfer"].push_back(std::max(0.0, round_trip - server_ms - truth_ms));
-                    if (r == 0) evaluated = std::move(view).value();
+                    const auto stages = StagesOfView(*view, round_trip);
+                    for (const auto& [stage, ms] : MethodStages(stages)) stage_times.Add(stage, ms);
+                    costs.push_back(eval::CostOfRepeat(stages, has_maps));
+                }
+                if (failed) {
+                    skip(*failed);
+                    continue;
                 }
                 bar.Advance(1, scene.name + " " + method.name);
-                if (failed) continue;
-                const v1::Evaluation& e = evaluated.evaluation();
-                eval::ReportRow row;
-                row.scene = scene.name;
-                row.method = method.name;
-                row.budget = budget;
-                row.total_lixels = static_cast<std::int64_t>(evaluated.total_lixels());
-                row.maps = static_cast<int>(evaluated.maps());
-                row.error.decided = static_cast<std::int64_t>(e.decided_pixels());
-                row.error.wrong = static_cast<std::int64_t>(e.wrong_pixels());
-                row.error.band_decided = static_cast<std::int64_t>(e.band_decided_pixels());
-                row.error.band_wrong = static_cast<std::int64_t>(e.band_wrong_pixels());
-                row.error.false_lit = static_cast<std::int64_t>(e.false_lit_pixels());
-                row.error.false_shadow = static_cast<std::int64_t>(e.false_shadow_pixels());
-                row.error.planes_decided = static_cast<std::int64_t>(e.planes_decided_pixels());
-                row.error.planes_wrong = static_cast<std::int64_t>(e.planes_wrong_pixels());
-                row.aliasing_planes = Stats(e.aliasing_planes());
-                row.aliasing_elsewhere = Stats(e.aliasing_elsewhere());
-                row.lixel_use = e.lixel_use();
-                for (const char* stage : {"plan", "passes", "view", "readback", "transfer"}) {
-                    if (stage_ms.contains(stage)) {
-                        row.stage_ms.emplace_back(stage, Median(stage_ms[stage]));
-                    }
-                }
+                eval::ReportRow row = RowOfView(scene.name, method.name, budget, *evaluated);
+                row.stage_ms = stage_times.Medians();
                 row.repeats = runs;
+                row.cost = eval::SummariseCosts(costs);
                 rows.push_back(row);
-                if (budget == 512 * 512 && method.filter != v1::FILTER_VOLUMES) {
-                    grid_masks.push_back(MaskOf(evaluated));
-                    grid_truth = TruthOf(evaluated);
+                if (info.gl_renderer.empty()) info.gl_renderer = evaluated->gl_renderer();
+
+                const eval::GroundTruth truth = TruthOf(*evaluated);
+                if (!figure) {
+                    figure.emplace(scene.name, eval::TruthImage(truth), *budgets);
+                    for (const std::string& m : skipped_first) figure->Skip(m);
+                }
+                figure->Add(method.name, budget, eval::DifferenceImage(truth, MaskOf(*evaluated)));
+                if (preview) {
+                    previewed = true;
+                    if (auto image = PreviewOf(*evaluated)) {
+                        const std::string path = out + "/" + scene.name + "_preview.png";
+                        if (auto w = eval::WritePng(path, *image); !w) return Fail(w.error());
+                        figure->SetPreview(*image, method.name + ", " +
+                                                       eval::BudgetLabel(budget) + " lixels");
+                    }
                 }
             }
         }
-        if (!grid_masks.empty()) {
-            std::vector<const eval::Mask*> pointers;
-            for (const eval::Mask& m : grid_masks) pointers.push_back(&m);
-            const std::string path = out + "/" + scene.name + "_masks.png";
-            if (auto w = eval::WritePng(path, eval::MaskGrid(grid_truth, pointers)); !w) {
-                return Fail(w.error());
+        if (figure) {
+            const std::string grid = scene.name + "_masks.png";
+            if (eval::GnuplotAvailable()) {
+                if (auto w = eval::PlotMaskFigure(out, *figure); !w) return Fail(w.error());
+            } else {
+                if (auto w = eval::WritePng(out + "/" + grid, eval::UnlabelledMaskFigure(*figure));
+                    !w) {
+                    return Fail(w.error());
+                }
+                notes.push_back(grid + " is unlabelled (gnuplot not found): the preview and the "
+                                       "truth, then a row per method in the tables' order and a "
+                                       "column per budget");
             }
         }
     }
     bar.Finish();
     if (rows.empty()) return Fail(Error{"report", "no method produced a row"});
-    notes.push_back("Served by " + absl::GetFlag(FLAGS_target) +
-                    "; stage times are medians of " + std::to_string(runs) +
-                    " runs; transfer is the round trip less the server's stages.");
-    notes.push_back("Mask grids (<scene>_masks.png) show the 512^2 budget: per fitting a row "
-                    "pair, truth first, then depth, PCF, second depth, silhouette map; the lower "
-                    "row is each mask's difference from the truth (red: lit but in shadow, blue: "
-                    "shadowed but lit).");
+    notes.push_back("Served by " + absl::GetFlag(FLAGS_target) + " on " +
+                    (info.gl_renderer.empty() ? std::string("an unnamed GL renderer")
+                                              : info.gl_renderer) +
+                    "; per row one untimed warm-up call (the evaluated one), then " +
+                    std::to_string(runs) +
+                    " timed calls: stage times and costs are their medians; transfer is the "
+                    "round trip less the server's stages, the baselines' included.");
+    notes.push_back("Mask grids (<scene>_masks.png): a row per method, a column per budget, each "
+                    "cell the mask's difference from the truth (grey agrees, red: lit but in "
+                    "shadow, blue: shadowed but lit, yellow: undecided), the shaded preview "
+                    "(<scene>_preview.png) and the truth above them.");
     if (auto w = eval::WriteReportCsv(out + "/report.csv", rows); !w) return Fail(w.error());
-    if (auto w = eval::WriteReportMarkdown(out + "/report.md", rows, notes); !w) {
+    if (auto w = eval::WriteReportMarkdown(out + "/report.md", rows, notes, info); !w) {
         return Fail(w.error());
     }
     if (eval::GnuplotAvailable()) {
-        if (auto w = eval::PlotErrorVsTime(out, rows); !w) return Fail(w.error());
+        if (auto w = eval::PlotErrorVsTime(out, rows, info); !w) return Fail(w.error());
     } else {
         std::fprintf(stderr, "lixel: gnuplot not found; error_vs_time.png skipped\n");
     }

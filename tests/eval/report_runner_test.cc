@@ -4,10 +4,14 @@
 #include <lixel/eval/png_image.h>
 #include <lixel/eval/report_runner.h>
 
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace lixel::eval {
 namespace {
@@ -63,6 +67,11 @@ TEST(RunReport, EndToEndOnASmallScene) {
             // Exact shadows: they agree with the ray-cast truth up to a few silhouette pixels.
             EXPECT_LT(r.error.Percent(), 1.0);
             EXPECT_EQ(r.total_lixels, 0);
+            // No map cost; the lookup cost against the same bare view pass.
+            EXPECT_FALSE(r.cost.has_maps);
+            EXPECT_FALSE(r.cost.map_ratio.valid());
+            EXPECT_GT(r.cost.lookup_ratio.median, 0.0);
+            EXPECT_TRUE(r.cost.measured());
             continue;
         }
         EXPECT_LE(r.total_lixels, r.budget) << r.method;
@@ -70,6 +79,17 @@ TEST(RunReport, EndToEndOnASmallScene) {
         EXPECT_GE(r.error.Percent(), 0.0);
         EXPECT_LE(r.error.Percent(), 100.0);
         EXPECT_EQ(r.repeats, 1);
+        // Every run measured its costs and both baselines in the same repeat.
+        EXPECT_TRUE(r.cost.measured()) << r.method;
+        EXPECT_GT(r.cost.map_ratio.median, 0.0) << r.method;
+        EXPECT_GT(r.cost.lookup_ratio.median, 0.0) << r.method;
+        EXPECT_GT(r.cost.baseline_depth_ms.median, 0.0) << r.method;
+        EXPECT_DOUBLE_EQ(r.cost.cost_ratio.median,
+                         r.cost.map_ratio.median + r.cost.lookup_ratio.median);
+        // The baselines are not stages of the method.
+        for (const auto& [stage, ms] : r.stage_ms) {
+            EXPECT_EQ(stage.rfind("baseline", 0), std::string::npos) << stage;
+        }
         // Every run timed its plan, its depth pass, its view and its read-back.
         std::set<std::string> stages;
         for (const auto& [stage, ms] : r.stage_ms) {
@@ -81,16 +101,75 @@ TEST(RunReport, EndToEndOnASmallScene) {
         }
     }
     EXPECT_TRUE(fs::exists(out / "report.md"));
+    // The CSV carries the costs.
+    std::ifstream csv_again(out / "report.csv");
+    std::getline(csv_again, line);
+    EXPECT_NE(line.find(",map_cost_ratio,"), std::string::npos) << line;
+    // The shaded preview at the budget nearest 512², full size.
+    auto preview = ReadPng((out / "floor_wall_preview.png").string());
+    ASSERT_TRUE(preview.ok()) << preview.error().Message();
+    EXPECT_EQ(preview->width, 96);
+    EXPECT_EQ(preview->height, 96);
     auto grid = ReadPng((out / "floor_wall_masks.png").string());
     ASSERT_TRUE(grid.ok()) << grid.error().Message();
-    // A row pair per fitting (mask row, difference row), the truth then four tests across, and
-    // one more pair for the volumes when they ran.
-    const int pairs = 4 + (volume_rows ? 1 : 0);
-    EXPECT_EQ(grid->width, 5 * 96 + 6 * 4);
-    EXPECT_EQ(grid->height, 2 * pairs * 96 + (2 * pairs + 1) * 4);
+    // A row per method, a column per budget, below the preview and the truth: labelled by
+    // gnuplot (a label column of 230 px beside the 96 px tiles) or, without it, tiles only.
+    const int methods = static_cast<int>(options.methods.size()) + (volume_rows ? 1 : 0);
     if (GnuplotAvailable()) {
         EXPECT_TRUE(fs::exists(out / "error_vs_time.png"));
+        EXPECT_EQ(grid->width, 230 + 6 + 3 * (96 + 6));
+        EXPECT_EQ(grid->height, 34 + 34 + 96 + 6 + 22 + methods * (96 + 6) + 6);
+    } else {
+        EXPECT_EQ(grid->width, 3 * 96 + 4 * 4);
+        EXPECT_EQ(grid->height, (1 + methods) * 96 + (2 + methods) * 4);
     }
+}
+
+// Issue 12: two sweeps in a row give every cost ratio within ±20 %. It holds on a quiet machine
+// (docs/eval.md: 7 to 13 % on llvmpipe, 2 cores) but not under load: with two CPU hogs on the
+// same 2 cores llvmpipe's threads and the millisecond passes are time-sliced and ratios moved by
+// up to 4x. Nothing in a test can bound the load of a shared CI machine, so this runs only when
+// asked (LIXEL_STABILITY=1, ~4 s) and docs/eval.md records the figures of the documented runs.
+TEST(RunReport, CostRatiosOfTwoSweepsAgreeWithinTwentyPercent) {
+    if (std::getenv("LIXEL_STABILITY") == nullptr) {
+        GTEST_SKIP() << "set LIXEL_STABILITY=1 to run (a timing test: needs an idle machine)";
+    }
+    ReportOptions options;
+    options.scenes = {"floor_wall"};
+    options.viewport = Viewport{256, 256};
+    options.budgets = {128 * 128, 256 * 256};
+    options.methods = DepthMethods();
+    options.repeats = 5;
+    options.progress = false;
+    options.plot = false;
+    std::vector<ReportSummary> sweeps;
+    for (int sweep = 0; sweep < 2; ++sweep) {
+        options.output = (fs::path(::testing::TempDir()) /
+                          ("lixel_report_stability_" + std::to_string(sweep)))
+                             .string();
+        auto summary = RunReport(options);
+        ASSERT_TRUE(summary.ok()) << summary.error().Message();
+        sweeps.push_back(std::move(summary.value()));
+    }
+    ASSERT_EQ(sweeps[0].rows.size(), sweeps[1].rows.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < sweeps[0].rows.size(); ++i) {
+        const ReportRow& a = sweeps[0].rows[i];
+        const ReportRow& b = sweeps[1].rows[i];
+        ASSERT_EQ(a.method, b.method);
+        for (const auto& [name, x, y] :
+             {std::tuple{"map", a.cost.map_ratio, b.cost.map_ratio},
+              std::tuple{"lookup", a.cost.lookup_ratio, b.cost.lookup_ratio},
+              std::tuple{"cost", a.cost.cost_ratio, b.cost.cost_ratio}}) {
+            if (!x.valid() && !y.valid()) continue;  // the volumes' map ratio
+            const double change = std::abs(y.median / x.median - 1.0);
+            worst = std::max(worst, change);
+            EXPECT_LE(change, 0.2) << a.method << " at " << a.budget << ": " << name
+                                   << " ratio " << x.median << " then " << y.median;
+        }
+    }
+    std::printf("largest change of a cost ratio between the two sweeps: %.1f %%\n",
+                100.0 * worst);
 }
 
 TEST(RunReport, RefusesEmptyOrUnknownInput) {

@@ -64,7 +64,7 @@ TEST(ParetoFront, KeepsRowsNoOtherBeats) {
     const std::vector<std::pair<double, double>> points = {{1.0, 10.0}, {2.0, 12.0}, {3.0, 5.0},
                                                            {3.0, 4.0},  {4.0, 4.0},  {5.0, 1.0}};
     EXPECT_EQ(ParetoFront(points), (std::vector<std::size_t>{0, 3, 5}));
-    EXPECT_TRUE(ParetoFront({}).empty());
+    EXPECT_TRUE(ParetoFront(std::vector<std::pair<double, double>>{}).empty());
 }
 
 TEST(BestPerBudget, FewestErrorsThenFastest) {
@@ -128,6 +128,138 @@ TEST(ReportPlot, GnuplotWritesThePng) {
     const std::string data = Read(dir / "error_vs_time.dat");
     // floor_wall's front: (2 ms, 4%), (3 ms, 1%) — the 4 and 5 ms rows are dominated.
     EXPECT_NE(data.find("# floor_wall / Pareto front\n2 4 -\n3 1 -\n"), std::string::npos) << data;
+}
+
+// Rows with costs: the cheapest in ms is not the cheapest in ratio (its baselines were fast).
+std::vector<ReportRow> CostRows() {
+    std::vector<ReportRow> rows = {Row("floor_wall", "uniform + depth", 512 * 512, 40, 2.0),
+                                   Row("floor_wall", "plane-optimal + PCF", 512 * 512, 10, 3.0),
+                                   Row("floor_wall", "silhouette volumes", 512 * 512, 1, 9.0)};
+    const struct {
+        double map, lookup, depth, view;
+        bool maps;
+    } costs[] = {{1.0, 1.0, 0.25, 0.5, true},  // ratios 4 + 2 = 6, 2 ms
+                 {2.0, 1.0, 1.0, 1.0, true},   // ratios 2 + 1 = 3, 3 ms
+                 {0.0, 9.0, 0.0, 1.0, false}}; // no maps: 9, 9 ms
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        std::vector<CostRepeat> repeats;
+        for (int r = 0; r < 3; ++r) {
+            CostRepeat c;
+            c.has_maps = costs[i].maps;
+            c.map_ms = costs[i].map * (1.0 + 0.1 * r);
+            c.lookup_ms = costs[i].lookup;
+            c.baseline_depth_ms = costs[i].depth;
+            c.baseline_view_ms = costs[i].view;
+            repeats.push_back(c);
+        }
+        rows[i].cost = SummariseCosts(repeats);
+        rows[i].repeats = 3;
+    }
+    rows[2].total_lixels = 0;
+    rows[2].maps = 0;
+    return rows;
+}
+
+TEST(ParetoFront, OfRowsUsesCostRatiosByDefault) {
+    const std::vector<ReportRow> rows = CostRows();
+    EXPECT_DOUBLE_EQ(CostOf(rows[0]), 4.4 + 2.0);  // the median repeat's map ratio is 1.1 / 0.25
+    EXPECT_DOUBLE_EQ(CostOf(rows[2]), 9.0);
+    EXPECT_DOUBLE_EQ(CostOf(rows[1], CostAxis::kMilliseconds), 2.2 + 1.0);
+    // By ratio the PCF row (3.2) is cheaper and less wrong than the uniform one (6.4): it
+    // dominates; by ms the uniform row (2.1 ms) is the cheapest and stays on the front.
+    EXPECT_EQ(ParetoFront(rows), (std::vector<std::size_t>{1, 2}));
+    EXPECT_EQ(ParetoFront(rows, CostAxis::kMilliseconds), (std::vector<std::size_t>{0, 1, 2}));
+    // Rows without measured costs have no ratio and are left out; in ms, floor_wall's front is
+    // (2 ms, 4%), (3 ms, 1%).
+    const std::vector<ReportRow> all = Rows();
+    const std::vector<ReportRow> floor_wall(all.begin(), all.begin() + 4);
+    EXPECT_TRUE(ParetoFront(floor_wall).empty());
+    EXPECT_EQ(ParetoFront(floor_wall, CostAxis::kMilliseconds), (std::vector<std::size_t>{0, 1}));
+}
+
+TEST(ReportCsv, CostColumnsWithSpreadEmptyWhereNotMeasured) {
+    const fs::path dir = FreshDir("csv_costs");
+    std::vector<ReportRow> rows = CostRows();
+    rows.push_back(Rows().front());  // no costs
+    ASSERT_TRUE(WriteReportCsv((dir / "report.csv").string(), rows).ok());
+    std::istringstream lines(Read(dir / "report.csv"));
+    std::string header;
+    std::getline(lines, header);
+    EXPECT_NE(header.find(",total_ms,map_ms,map_ms_min,map_ms_max,lookup_ms,lookup_ms_min,"
+                          "lookup_ms_max,baseline_depth_ms,baseline_depth_ms_min,"
+                          "baseline_depth_ms_max,baseline_view_ms,baseline_view_ms_min,"
+                          "baseline_view_ms_max,map_cost_ratio,map_cost_ratio_min,"
+                          "map_cost_ratio_max,lookup_cost_ratio,lookup_cost_ratio_min,"
+                          "lookup_cost_ratio_max,cost_ratio,cost_ratio_min,cost_ratio_max"),
+              std::string::npos)
+        << header;
+    std::vector<std::string> out;
+    for (std::string line; std::getline(lines, line);) out.push_back(line);
+    ASSERT_EQ(out.size(), 4u);
+    // uniform: map 1.1 [1, 1.2] ms, lookup 1, baselines 0.25 and 0.5, map ratio 4.4 [4, 4.8],
+    // lookup ratio 2, cost ratio 6.4 [6, 6.8].
+    EXPECT_NE(out[0].find(",1.1,1,1.2,1,1,1,0.25,0.25,0.25,0.5,0.5,0.5,4.4,4,4.8,2,2,2,6.4,6,6.8"),
+              std::string::npos)
+        << out[0];
+    // The volumes: no map cost, no depth baseline, cost ratio = lookup ratio.
+    EXPECT_NE(out[2].find(",,,,9,9,9,,,,1,1,1,,,,9,9,9,9,9,9"), std::string::npos) << out[2];
+    EXPECT_NE(out[3].find(",,,,,,,,,,,,,,,,,,,,,"), std::string::npos) << out[3];
+    const auto commas = [](const std::string& s) { return std::count(s.begin(), s.end(), ','); };
+    for (const std::string& line : out) EXPECT_EQ(commas(line), commas(header)) << line;
+}
+
+TEST(ReportMarkdown, CostRatiosWithTheRendererAndFewRepeatsNoted) {
+    const fs::path dir = FreshDir("md_costs");
+    ReportInfo info;
+    info.gl_renderer = "llvmpipe (LLVM 15.0.6, 256 bits), GL 4.5";
+    ASSERT_TRUE(
+        WriteReportMarkdown((dir / "report.md").string(), CostRows(), {}, info).ok());
+    const std::string md = Read(dir / "report.md");
+    EXPECT_NE(md.find("| map × | lookup × | cost × | map ms | lookup ms |"), std::string::npos);
+    EXPECT_NE(md.find("measured on llvmpipe (LLVM 15.0.6, 256 bits), GL 4.5"), std::string::npos);
+    EXPECT_NE(md.find("| 4.40 [4.00–4.80] | 2.00 [2.00–2.00] | 6.40 [6.00–6.80] | 1.10 | 1.00 |"),
+              std::string::npos)
+        << md;
+    // The volumes: no map cost.
+    EXPECT_NE(md.find("| – | 9.00 [9.00–9.00] | 9.00 [9.00–9.00] | – | 9.00 |"),
+              std::string::npos);
+    EXPECT_NE(md.find("no map cost"), std::string::npos);
+    EXPECT_NE(md.find("**Fewer than 5 timed repeats (3)**"), std::string::npos);
+    EXPECT_NE(md.find("costs and baselines (ms on llvmpipe"), std::string::npos);
+    // Five repeats: no such note.
+    std::vector<ReportRow> five = CostRows();
+    for (ReportRow& r : five) r.cost.repeats = 5;
+    ASSERT_TRUE(WriteReportMarkdown((dir / "five.md").string(), five, {}, info).ok());
+    EXPECT_EQ(Read(dir / "five.md").find("Fewer than"), std::string::npos);
+    // Rows without costs keep the total-ms column.
+    ASSERT_TRUE(WriteReportMarkdown((dir / "old.md").string(), Rows()).ok());
+    EXPECT_NE(Read(dir / "old.md").find("| use | total ms |"), std::string::npos);
+}
+
+TEST(ReportPlot, CostRatioAxisWithOneKeyEntryPerFittingAndTest) {
+    if (!GnuplotAvailable()) GTEST_SKIP() << "gnuplot not installed";
+    const fs::path dir = FreshDir("plot_costs");
+    ReportInfo info;
+    info.gl_renderer = "llvmpipe";
+    auto r = PlotErrorVsTime(dir.string(), CostRows(), info);
+    ASSERT_TRUE(r.ok()) << r.error().Message();
+    ASSERT_TRUE(fs::exists(dir / "error_vs_time.png"));
+    const std::string script = Read(dir / "error_vs_time.gp");
+    EXPECT_NE(script.find("cost ratio = map cost / bare depth pass + lookup cost / bare view pass"),
+              std::string::npos);
+    EXPECT_NE(script.find("times on llvmpipe"), std::string::npos);
+    EXPECT_NE(script.find("xerrorbars"), std::string::npos);
+    // The key: a colour per fitting, a shape per shadow test, the front; the methods untitled.
+    for (const char* entry : {"title \"uniform\"", "title \"plane-optimal\"",
+                              "title \"silhouette volumes\"", "title \"depth\"",
+                              "title \"PCF\"", "title \"no map\"", "title \"Pareto front\""}) {
+        EXPECT_NE(script.find(entry), std::string::npos) << entry;
+    }
+    EXPECT_EQ(script.find("title \"uniform + depth\""), std::string::npos);
+    const std::string data = Read(dir / "error_vs_time.dat");
+    // The front on ratios: PCF (3.2, 1%) then the volumes (9, 0.1%); uniform is dominated.
+    EXPECT_NE(data.find("# floor_wall / Pareto front\n3.2 1 -\n9 0.1 -\n"), std::string::npos)
+        << data;
 }
 
 TEST(Png, RoundTripKeepsRowsBottomUp) {

@@ -3,6 +3,8 @@
 // plane of interest (Chong & Gortler §4), most clearly on an elongated shadow under grazing light.
 #include <lixel/render/image_io.h>
 #include <lixel/render/view_pass.h>
+#include <lixel/solver/baseline_plan.h>
+#include <lixel/solver/extent_hull.h>
 #include <lixel/solver/scheduler.h>
 
 #include <cstdio>
@@ -75,6 +77,42 @@ TEST(ViewPlan, ShaderPicksTheMapLookupMapPicks) {
     // only pixels on a rule's boundary may go either way.
     EXPECT_LE(differ, compared / 500);
     EXPECT_GT(used[1], compared / 2) << "the floor's plane map holds most pixels";
+}
+
+// Cascaded shadow maps pick a map by the view depth limit of the lookup rule (world_limit):
+// the shader's choice is LookupMap's, and the view's depth range spreads its pixels over
+// several cascades, nearer ones first.
+TEST(ViewPlan, ShaderPicksTheCascadeLookupMapPicks) {
+    TestScene s = testing::SquareOverFloor(128);
+    for (const Vec4& light : {s.light, Direction(Vec3(0.3, 1.0, 0.2))}) {
+        s.light = light;
+        const PlanRequest request = RequestFor(s, {}, 128 * 128);
+        auto hull = ComputeExtentHull(request.viewer, request.light, request.scene_bounds);
+        ASSERT_TRUE(hull.ok()) << hull.error().Message();
+        auto plan = PlanBaseline(request, BaselineFitting::kCsm, *hull);
+        ASSERT_TRUE(plan.ok()) << plan.error().Message();
+        ASSERT_GE(plan->maps.size(), 2u);
+        const auto view = testing::RenderView(s, plan->maps, ShadowMethod::kDepth);
+        const auto hits = testing::PrimaryHits(s.shapes, s.viewer, s.viewport);
+        int compared = 0;
+        int differ = 0;
+        std::vector<int> used(plan->maps.size() + 1, 0);
+        for (std::size_t i = 0; i < hits.size(); ++i) {
+            if (hits[i].shape < 0 || view.mask.pixels[i] < 0.0f) continue;
+            ++compared;
+            const int expected = LookupMap(*plan, Point(hits[i].point));
+            ++used[static_cast<std::size_t>(expected + 1)];
+            if (view.map_index[i] != expected) ++differ;
+        }
+        std::printf("[ measured ] %zu cascades: shader and LookupMap differ on %d of %d pixels\n",
+                    plan->maps.size(), differ, compared);
+        EXPECT_GT(compared, 128 * 64);
+        EXPECT_LE(differ, compared / 500);
+        EXPECT_EQ(used[0], 0) << "every visible pixel has a cascade";
+        int cascades_used = 0;
+        for (std::size_t k = 1; k < used.size(); ++k) cascades_used += used[k] > 0;
+        EXPECT_GE(cascades_used, 2);
+    }
 }
 
 TEST(ViewPlan, HalfPlanesAndFallbackFollowTheRule) {

@@ -9,7 +9,9 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <numbers>
+#include <set>
 
 #include "service_fixture.h"
 
@@ -347,6 +349,106 @@ TEST_F(ServiceTest, ViewReturnsAMaskAndItsEvaluation) {
         ASSERT_TRUE(baseline.ok()) << baseline.error().Message();
         EXPECT_EQ(baseline->maps(), 1u);
     }
+}
+
+// METHOD_CSM: its cascades (Cascades.count of them at most, each a share of the budget) over
+// the wire, a mask close to the truth, and bad settings refused naming the field; the scene
+// stays usable after them.
+TEST_F(ServiceTest, ViewServesCascadedShadowMapsAndRefusesBadSettings) {
+    v1::ViewRequest request;
+    *request.mutable_plan() = ScenePlan();
+    request.set_method(v1::METHOD_CSM);
+    request.set_evaluate(true);
+    auto view = client_->View(request);
+    ASSERT_TRUE(view.ok()) << view.error().Message();
+    EXPECT_GE(view->maps(), 2u);
+    EXPECT_LE(view->maps(), 4u);  // the default count
+    EXPECT_LE(view->total_lixels(), request.plan().lixel_budget());
+    EXPECT_LT(view->evaluation().misclassified_percent(), 5.0);
+    request.mutable_cascades()->set_count(2);
+    request.mutable_cascades()->set_lambda(1.0);
+    request.mutable_cascades()->set_stabilize(false);
+    auto two = client_->View(request);
+    ASSERT_TRUE(two.ok()) << two.error().Message();
+    EXPECT_LE(two->maps(), 2u);
+    struct Bad {
+        std::uint32_t count;
+        double lambda;
+        const char* field;
+    };
+    for (const Bad& bad : {Bad{9, 0.5, "cascades.count"}, Bad{4, -0.5, "cascades.lambda"},
+                           Bad{4, 1.5, "cascades.lambda"},
+                           Bad{4, std::numeric_limits<double>::quiet_NaN(), "cascades.lambda"}}) {
+        request.mutable_cascades()->set_count(bad.count);
+        request.mutable_cascades()->set_lambda(bad.lambda);
+        auto refused = client_->View(request);
+        ASSERT_FALSE(refused.ok());
+        EXPECT_EQ(refused.error().field, "INVALID_ARGUMENT");
+        EXPECT_NE(refused.error().Message().find(bad.field), std::string::npos)
+            << refused.error().Message();
+    }
+    request.clear_cascades();
+    auto again = client_->View(request);
+    ASSERT_TRUE(again.ok()) << again.error().Message();
+    EXPECT_EQ(again->mask(), view->mask());
+}
+
+// The report's cost baselines (ViewRequest.cost_baselines) and preview, only when asked.
+TEST_F(ServiceTest, ViewTimesTheCostBaselinesAndSendsThePreviewWhenAsked) {
+    const auto stages = [](const v1::ViewResponse& v) {
+        std::map<std::string, double> out;
+        for (const v1::StageTime& t : v.timings()) out[t.stage()] = t.seconds();
+        return out;
+    };
+    v1::ViewRequest request;
+    *request.mutable_plan() = ScenePlan();
+    request.set_timings(true);
+    auto plain = client_->View(request);
+    ASSERT_TRUE(plain.ok()) << plain.error().Message();
+    EXPECT_FALSE(stages(*plain).contains("baseline_depth"));
+    EXPECT_FALSE(stages(*plain).contains("baseline_view"));
+    EXPECT_TRUE(plain->preview().empty());
+    // The renderer the times hold for, on every response.
+    EXPECT_NE(plain->gl_renderer().find(", GL "), std::string::npos) << plain->gl_renderer();
+
+    request.set_cost_baselines(true);
+    request.set_preview(true);
+    auto asked = client_->View(request);
+    ASSERT_TRUE(asked.ok()) << asked.error().Message();
+    const auto timed = stages(*asked);
+    for (const char* s : {"plan", "maps", "view", "readback", "baseline_depth", "baseline_view"}) {
+        ASSERT_TRUE(timed.contains(s)) << s;
+        EXPECT_GT(timed.at(s), 0.0) << s;
+    }
+    // The mask is the method's, whatever the baselines drew afterwards.
+    EXPECT_EQ(asked->mask(), plain->mask());
+    // RGB8, bottom row first, a shaded image: not one flat colour.
+    ASSERT_EQ(asked->preview().size(), 3u * asked->width() * asked->height());
+    std::set<char> values(asked->preview().begin(), asked->preview().end());
+    EXPECT_GT(values.size(), 8u);
+
+    // Without timings the baselines come alone.
+    request.set_timings(false);
+    request.set_preview(false);
+    auto alone = client_->View(request);
+    ASSERT_TRUE(alone.ok()) << alone.error().Message();
+    const auto only = stages(*alone);
+    EXPECT_EQ(only.size(), 2u);
+    EXPECT_TRUE(only.contains("baseline_depth") && only.contains("baseline_view"));
+
+    // Silhouette volumes allocate no lixels: no depth baseline to divide a map cost by.
+    request.set_timings(true);
+    request.set_filter(v1::FILTER_VOLUMES);
+    auto volumes = client_->View(request);
+    ASSERT_TRUE(volumes.ok()) << volumes.error().Message();
+    EXPECT_FALSE(stages(*volumes).contains("baseline_depth"));
+    EXPECT_TRUE(stages(*volumes).contains("baseline_view"));
+    // A baseline method's single map: the depth baseline at its lixels.
+    request.set_filter(v1::FILTER_PCF);
+    request.set_method(v1::METHOD_LISPSM);
+    auto lispsm = client_->View(request);
+    ASSERT_TRUE(lispsm.ok()) << lispsm.error().Message();
+    EXPECT_TRUE(stages(*lispsm).contains("baseline_depth"));
 }
 
 TEST_F(ServiceTest, SilhouettesReturnEdgesWithMultiplicitiesAndSmoothLoops) {

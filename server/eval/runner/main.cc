@@ -19,7 +19,8 @@ int Usage(const char* error) {
                  "                    [--methods depth|all] [--budgets N,N,...] [--repeats N]\n"
                  "                    [--size WxH] [--gl egl|osmesa] [--no-plot] [--quiet]\n"
                  "  default: the floor_wall scene, every method, budgets 256^2, 512^2, 1024^2\n"
-                 "  --sweep: every built-in scene\n");
+                 "  --sweep: every built-in scene\n"
+                 "  --repeats: timed repeats per run after one untimed warm-up (default 5)\n");
     return error ? 2 : 0;
 }
 

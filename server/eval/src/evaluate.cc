@@ -35,25 +35,4 @@ Result<ReportRow> EvaluateRun(const scene::Scene& scene, const GroundTruth& trut
     return row;
 }
 
-RgbImage MaskGrid(const GroundTruth& truth, const std::vector<const Mask*>& masks,
-                  int masks_per_row, int max_tile_side) {
-    const std::size_t per_row = static_cast<std::size_t>(std::max(1, masks_per_row));
-    const std::size_t columns = 1 + std::min(per_row, std::max<std::size_t>(1, masks.size()));
-    const RgbImage key = Shrink(TruthImage(truth), max_tile_side);
-    const RgbImage blank(key.width, key.height, 255);
-    std::vector<RgbImage> tiles;
-    for (std::size_t first = 0; first == 0 || first < masks.size(); first += per_row) {
-        std::vector<RgbImage> upper = {key}, lower = {key};
-        for (std::size_t k = first; k < first + per_row && k < masks.size(); ++k) {
-            upper.push_back(Shrink(MaskImage(truth, *masks[k]), max_tile_side));
-            lower.push_back(Shrink(DifferenceImage(truth, *masks[k]), max_tile_side));
-        }
-        upper.resize(columns, blank);
-        lower.resize(columns, blank);
-        tiles.insert(tiles.end(), upper.begin(), upper.end());
-        tiles.insert(tiles.end(), lower.begin(), lower.end());
-    }
-    return ImageGrid(tiles, static_cast<int>(columns));
-}
-
 }  // namespace lixel::eval

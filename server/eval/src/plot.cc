@@ -1,10 +1,6 @@
 // error_vs_time.png through gnuplot (report.h): the data and a generated script are written
 // next to the image, then gnuplot runs as a child process.
-#include <fcntl.h>
 #include <lixel/eval/report.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,42 +10,12 @@
 #include <utility>
 #include <vector>
 
-#ifndef LIXEL_GNUPLOT_PATH
-#define LIXEL_GNUPLOT_PATH "gnuplot"
-#endif
-
-extern char** environ;
+#include "gnuplot.h"
 
 namespace lixel::eval {
 namespace {
 
-// Runs `program args...` with stdout and stderr into `log`; returns the exit status or -1.
-int Run(const std::vector<std::string>& argv, const std::string& log) {
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-    std::vector<char*> args;
-    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    pid_t pid = 0;
-    const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (spawned != 0) return -1;
-    int status = 0;
-    if (waitpid(pid, &status, 0) != pid) return -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string Quoted(const std::string& s) {
-    std::string out = "\"";
-    for (const char c : s) {
-        if (c == '"' || c == '\\') out += '\\';
-        out += c;
-    }
-    return out + "\"";
-}
+std::string Quoted(const std::string& s) { return detail::GnuplotQuoted(s); }
 
 // "uniform + PCF" -> ("uniform", "PCF"); a name without " + " is all fitting.
 std::pair<std::string, std::string> SplitMethod(const std::string& method) {
@@ -66,12 +32,6 @@ int IndexOf(const std::vector<T>& v, const T& x) {
 // Errors are drawn on a log axis; a perfect run (0%) sits on this floor instead of vanishing.
 constexpr double kErrorFloorPercent = 1e-3;
 
-std::string BudgetLabel(std::int64_t budget) {
-    const auto side = static_cast<std::int64_t>(std::llround(std::sqrt(double(budget))));
-    if (side * side == budget) return std::to_string(side) + "²";
-    return std::to_string(budget);
-}
-
 template <class T>
 std::vector<T> Unique(const std::vector<ReportRow>& rows, T ReportRow::*field) {
     std::vector<T> out;
@@ -83,51 +43,54 @@ std::vector<T> Unique(const std::vector<ReportRow>& rows, T ReportRow::*field) {
 
 }  // namespace
 
-bool GnuplotAvailable() { return Run({LIXEL_GNUPLOT_PATH, "--version"}, "/dev/null") == 0; }
-
-Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<ReportRow>& rows) {
+Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<ReportRow>& rows,
+                             const ReportInfo& info) {
     if (rows.empty()) return Error{"rows", "nothing to plot"};
     const std::vector<std::string> scenes = Unique(rows, &ReportRow::scene);
     const std::vector<std::string> methods = Unique(rows, &ReportRow::method);
     const std::string data_path = folder + "/error_vs_time.dat";
     const std::string script_path = folder + "/error_vs_time.gp";
     const std::string png_path = folder + "/error_vs_time.png";
+    // Ratios when every row has them (a driver that measured costs); else one axis for all,
+    // total milliseconds, as rows with stage times only allow.
+    const bool ratios = std::all_of(rows.begin(), rows.end(),
+                                    [](const ReportRow& r) { return r.cost.measured(); });
+    const CostAxis axis = ratios ? CostAxis::kRatio : CostAxis::kMilliseconds;
+    auto low = [&](const ReportRow& r) { return ratios ? r.cost.cost_ratio.min : CostOf(r, axis); };
+    auto high = [&](const ReportRow& r) {
+        return ratios ? r.cost.cost_ratio.max : CostOf(r, axis);
+    };
 
     // Data: per scene, one index block per method (points) and a last block for the front.
     std::ostringstream data;
-    data << "# time_ms misclassified_pct budget_label   (blocks: scene-major, method, front)\n";
+    data << "# cost misclassified_pct budget_label cost_min cost_max   (cost: "
+         << (ratios ? "cost ratio" : "total ms") << "; blocks: scene-major, method, front)\n";
     for (const std::string& scene : scenes) {
-        std::vector<std::pair<double, double>> points;
-        std::vector<const ReportRow*> scene_rows;
+        std::vector<ReportRow> scene_rows;
         for (const ReportRow& r : rows) {
-            if (r.scene == scene) {
-                points.emplace_back(r.TotalMs(), r.error.Percent());
-                scene_rows.push_back(&r);
-            }
+            if (r.scene == scene) scene_rows.push_back(r);
         }
         for (const std::string& method : methods) {
             data << "# " << scene << " / " << method << "\n";
-            bool any = false;
             std::vector<const ReportRow*> mine;
-            for (const ReportRow* r : scene_rows) {
-                if (r->method == method) mine.push_back(r);
+            for (const ReportRow& r : scene_rows) {
+                if (r.method == method) mine.push_back(&r);
             }
             // By budget, so the thin line through a method's points runs small to large.
             std::sort(mine.begin(), mine.end(),
                       [](const ReportRow* a, const ReportRow* b) { return a->budget < b->budget; });
             for (const ReportRow* r : mine) {
-                data << r->TotalMs() << " " << std::max(r->error.Percent(), kErrorFloorPercent)
-                     << " " << BudgetLabel(r->budget) << "\n";
-                any = true;
+                data << CostOf(*r, axis) << " " << std::max(r->error.Percent(), kErrorFloorPercent)
+                     << " " << BudgetLabel(r->budget) << " " << low(*r) << " " << high(*r) << "\n";
             }
             // An empty block would shift gnuplot's index numbering: keep a NaN row.
-            if (!any) data << "NaN NaN -\n";
+            if (mine.empty()) data << "NaN NaN - NaN NaN\n";
             data << "\n\n";
         }
         data << "# " << scene << " / Pareto front\n";
-        for (const std::size_t i : ParetoFront(points)) {
-            data << points[i].first << " " << std::max(points[i].second, kErrorFloorPercent)
-                 << " -\n";
+        for (const std::size_t i : ParetoFront(scene_rows, axis)) {
+            data << CostOf(scene_rows[i], axis) << " "
+                 << std::max(scene_rows[i].error.Percent(), kErrorFloorPercent) << " -\n";
         }
         data << "\n\n";
     }
@@ -138,6 +101,8 @@ Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<Report
         if (!file.flush()) return Error{data_path, "write failed"};
     }
 
+    int repeats = 0;
+    for (const ReportRow& r : rows) repeats = std::max(repeats, r.cost.repeats);
     const int columns = std::min<int>(3, static_cast<int>(scenes.size()));
     const int panel_rows = (static_cast<int>(scenes.size()) + columns - 1) / columns;
     std::ostringstream gp;
@@ -146,15 +111,26 @@ Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<Report
        << " font \"sans,9\"\n"
        << "set output " << Quoted(png_path) << "\n"
        << "set datafile missing \"NaN\"\n"
-       << "set multiplot layout " << panel_rows << "," << columns
-       << " title \"Shadow error against run time (one point per method and budget)\"\n"
+       << "set multiplot layout " << panel_rows << "," << columns << " title "
+       << Quoted(std::string("Shadow error against ") + (ratios ? "cost ratio" : "run time") +
+                 " (one point per method and budget)" +
+                 (info.gl_renderer.empty() ? std::string()
+                                           : "\ntimes on " + info.gl_renderer))
+       << "\n"
        << "set termoption noenhanced\n"
-       << "set xlabel \"total time per frame, ms (sum of stage medians)\"\n"
+       << "set xlabel "
+       << Quoted(ratios ? "cost ratio = map cost / bare depth pass + lookup cost / bare view pass"
+                          " (median of " + std::to_string(repeats) + ", bars: min-max)"
+                        : std::string("total time per frame, ms (sum of stage medians)"))
+       << "\n"
+       // Points at the ends of the autoscaled range would sit on the frame.
+       << "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n"
        << "set ylabel \"misclassified pixels, % (log scale)\"\n"
        << "set logscale y\n"
-       << "set key outside bottom center horizontal maxrows 4 font \",8\"\n"
+       << "set key outside bottom center horizontal maxrows 3 font \",8\"\n"
        << "set grid\n";
-    // Colour by fitting, point shape by shadow test: 16 methods stay tellable apart.
+    // Colour by fitting, point shape by shadow test, each named once in the key: 17 methods
+    // read as 5 colours and 5 shapes instead of 17 entries.
     std::vector<std::string> fittings, tests;
     for (const std::string& m : methods) {
         const auto [fitting, test] = SplitMethod(m);
@@ -171,10 +147,10 @@ Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<Report
         double lo = INFINITY, hi = 0.0;
         for (const ReportRow& r : rows) {
             if (r.scene != scenes[s]) continue;
-            lo = std::min(lo, r.TotalMs());
-            hi = std::max(hi, r.TotalMs());
+            lo = std::min(lo, low(r));
+            hi = std::max(hi, high(r));
         }
-        // Log time axis when the methods' costs span more than a decade.
+        // Log cost axis when the methods' costs span more than a decade.
         gp << (lo > 0 && hi / lo > 10 ? "set logscale x\n" : "unset logscale x\n");
         gp << "set title " << Quoted(scenes[s]) << "\nplot ";
         const int base = static_cast<int>(s) * blocks_per_scene;
@@ -182,12 +158,24 @@ Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<Report
             const auto [fitting, test] = SplitMethod(methods[m]);
             const char* colour = kColours[IndexOf(fittings, fitting) % 8];
             const int point = kPointTypes[IndexOf(tests, test) % 8];
-            gp << Quoted(data_path) << " index " << base + m
-               << " using 1:2 with linespoints lw 0.5 pt " << point << " ps 1.1 lc rgb \"" << colour
-               << "\" title " << Quoted(methods[m]) << ", \\\n     " << Quoted(data_path)
-               << " index " << base + m
+            const std::string block = Quoted(data_path) + " index " + std::to_string(base + m);
+            gp << block << " using 1:2 with linespoints lw 0.5 pt " << point
+               << " ps 1.1 lc rgb \"" << colour << "\" notitle, \\\n     ";
+            if (ratios) {
+                gp << block << " using 1:2:4:5 with xerrorbars pt 0 lw 0.5 lc rgb \"" << colour
+                   << "\" notitle, \\\n     ";
+            }
+            gp << block
                << " using 1:2:3 with labels offset 0.9,0.5 font \",6\" tc rgb \"#606060\" "
                   "notitle, \\\n     ";
+        }
+        for (std::size_t f = 0; f < fittings.size(); ++f) {
+            gp << "NaN with lines lw 4 lc rgb \"" << kColours[f % 8] << "\" title "
+               << Quoted(fittings[f]) << ", \\\n     ";
+        }
+        for (std::size_t t = 0; t < tests.size(); ++t) {
+            gp << "NaN with points pt " << kPointTypes[t % 8] << " ps 1.1 lc rgb \"black\" title "
+               << Quoted(tests[t].empty() ? std::string("no map") : tests[t]) << ", \\\n     ";
         }
         gp << Quoted(data_path) << " index " << base + static_cast<int>(methods.size())
            << " using 1:2 with steps lw 2 dt 2 lc rgb \"black\" title \"Pareto front\"\n";
@@ -199,16 +187,7 @@ Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<Report
         file << gp.str();
         if (!file.flush()) return Error{script_path, "write failed"};
     }
-    const std::string log = folder + "/error_vs_time.log";
-    const int status = Run({LIXEL_GNUPLOT_PATH, script_path}, log);
-    if (status != 0) {
-        std::ifstream in(log);
-        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        return Error{script_path, "gnuplot exited with " + std::to_string(status) +
-                                      (text.empty() ? std::string() : ": " + text)};
-    }
-    std::remove(log.c_str());
-    return true;
+    return detail::RunGnuplot(script_path);
 }
 
 }  // namespace lixel::eval

@@ -38,14 +38,6 @@ std::string CsvField(const std::string& s) {
     return out + "\"";
 }
 
-// "262144" -> "512²" when it is a square, else "256k" style.
-std::string BudgetLabel(std::int64_t budget) {
-    const auto side = static_cast<std::int64_t>(std::llround(std::sqrt(double(budget))));
-    if (side * side == budget) return std::to_string(side) + "²";
-    if (budget % 1024 == 0) return std::to_string(budget / 1024) + "k";
-    return std::to_string(budget);
-}
-
 std::vector<std::string> StageUnion(const std::vector<ReportRow>& rows) {
     std::vector<std::string> stages;
     for (const ReportRow& row : rows) {
@@ -68,6 +60,13 @@ Result<bool> WriteText(const std::string& path, const std::string& text) {
 }
 
 }  // namespace
+
+std::string BudgetLabel(std::int64_t budget) {
+    const auto side = static_cast<std::int64_t>(std::llround(std::sqrt(double(budget))));
+    if (side * side == budget) return std::to_string(side) + "²";
+    if (budget % 1024 == 0) return std::to_string(budget / 1024) + "k";
+    return std::to_string(budget);
+}
 
 double ReportRow::TotalMs() const {
     double total = 0.0;
@@ -97,6 +96,32 @@ std::vector<std::size_t> ParetoFront(const std::vector<std::pair<double, double>
     return front;
 }
 
+double CostOf(const ReportRow& row, CostAxis axis) {
+    if (axis == CostAxis::kRatio) {
+        return row.cost.measured() ? row.cost.cost_ratio.median
+                                   : std::numeric_limits<double>::quiet_NaN();
+    }
+    if (row.cost.repeats > 0 && row.cost.lookup_ms.valid()) {
+        return (row.cost.map_ms.valid() ? row.cost.map_ms.median : 0.0) +
+               row.cost.lookup_ms.median;
+    }
+    return row.TotalMs();
+}
+
+std::vector<std::size_t> ParetoFront(const std::vector<ReportRow>& rows, CostAxis axis) {
+    std::vector<std::pair<double, double>> points;
+    std::vector<std::size_t> index;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const double cost = CostOf(rows[i], axis);
+        if (std::isnan(cost)) continue;
+        points.emplace_back(cost, rows[i].error.Percent());
+        index.push_back(i);
+    }
+    std::vector<std::size_t> front = ParetoFront(points);
+    for (std::size_t& i : front) i = index[i];
+    return front;
+}
+
 std::vector<bool> BestPerBudget(const std::vector<ReportRow>& rows) {
     std::map<std::pair<std::string, std::int64_t>, std::size_t> best;
     for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -108,7 +133,10 @@ std::vector<bool> BestPerBudget(const std::vector<ReportRow>& rows) {
         }
         const ReportRow& b = rows[it->second];
         const double e = rows[i].error.Percent(), eb = b.error.Percent();
-        if (e < eb || (e == eb && rows[i].TotalMs() < b.TotalMs())) it->second = i;
+        const CostAxis axis = rows[i].cost.measured() && b.cost.measured()
+                                  ? CostAxis::kRatio
+                                  : CostAxis::kMilliseconds;
+        if (e < eb || (e == eb && CostOf(rows[i], axis) < CostOf(b, axis))) it->second = i;
     }
     std::vector<bool> flags(rows.size(), false);
     for (const auto& [key, index] : best) flags[index] = true;
@@ -125,7 +153,14 @@ Result<bool> WriteReportCsv(const std::string& path, const std::vector<ReportRow
            "m_elsewhere_pixels,m_elsewhere_mean,m_elsewhere_p95,m_elsewhere_over_1_5,"
            "lixel_use,repeats";
     for (const std::string& s : stages) out << "," << CsvField(s + "_ms");
-    out << ",total_ms\n";
+    out << ",total_ms";
+    // The costs of cost.h: absolute medians with their spread, the same-run baselines, and each
+    // ratio as the median (with min and max) of the repeats' own ratios. Empty when not measured.
+    for (const char* c : {"map_ms", "lookup_ms", "baseline_depth_ms", "baseline_view_ms",
+                          "map_cost_ratio", "lookup_cost_ratio", "cost_ratio"}) {
+        out << "," << c << "," << c << "_min," << c << "_max";
+    }
+    out << "\n";
     for (const ReportRow& r : rows) {
         out << CsvField(r.scene) << "," << CsvField(r.method) << "," << r.budget << ","
             << r.total_lixels << "," << r.maps << "," << r.error.decided << ","
@@ -145,13 +180,21 @@ Result<bool> WriteReportCsv(const std::string& path, const std::vector<ReportRow
                                          [&](const auto& p) { return p.first == s; });
             out << "," << (it == r.stage_ms.end() ? std::string() : Number(it->second, 6));
         }
-        out << "," << Number(r.TotalMs(), 6) << "\n";
+        out << "," << Number(r.TotalMs(), 6);
+        for (const Spread* c : {&r.cost.map_ms, &r.cost.lookup_ms, &r.cost.baseline_depth_ms,
+                                &r.cost.baseline_view_ms, &r.cost.map_ratio,
+                                &r.cost.lookup_ratio, &r.cost.cost_ratio}) {
+            for (const double v : {c->median, c->min, c->max}) {
+                out << "," << (std::isnan(v) ? std::string() : Number(v, 6));
+            }
+        }
+        out << "\n";
     }
     return WriteText(path, out.str());
 }
 
 Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<ReportRow>& rows,
-                                 const std::vector<std::string>& notes) {
+                                 const std::vector<std::string>& notes, const ReportInfo& info) {
     const std::vector<bool> best = BestPerBudget(rows);
     std::vector<std::string> scenes;
     for (const ReportRow& r : rows) {
@@ -159,6 +202,21 @@ Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<Repo
             scenes.push_back(r.scene);
         }
     }
+    // Rows from a driver that measured no costs (stage times only) keep the old total-ms column.
+    const bool costs = std::any_of(rows.begin(), rows.end(),
+                                   [](const ReportRow& r) { return r.cost.measured(); });
+    int fewest = std::numeric_limits<int>::max(), most = 0;
+    for (const ReportRow& r : rows) {
+        const int n = r.cost.repeats > 0 ? r.cost.repeats : r.repeats;
+        fewest = std::min(fewest, n);
+        most = std::max(most, n);
+    }
+    const std::string repeats = rows.empty()      ? std::string("0")
+                                : fewest == most ? std::to_string(most)
+                                                 : std::to_string(fewest) + " to " +
+                                                       std::to_string(most);
+    const std::string on = info.gl_renderer.empty() ? std::string("an unnamed GL renderer")
+                                                    : info.gl_renderer;
     std::ostringstream out;
     out << "# lixel shadow report: error against run time\n\n"
         << "Misclassified: % of decided visible pixels whose lit/shadow answer differs from "
@@ -169,14 +227,50 @@ Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<Repo
            "(mean / 95th percentile / share above "
         << Number(kAliasingThreshold)
         << "), on the planes of interest and elsewhere. Use: share of allocated lixels some "
-           "visible pixel reads. Times: medians of repeats, ms. **Bold**: fewest misclassified "
-           "pixels at that budget.\n\n"
-        << "![error against time](error_vs_time.png)\n";
+           "visible pixel reads. **Bold**: fewest misclassified pixels at that budget.\n\n";
+    if (costs) {
+        out << "Costs (docs/eval.md), GPU-inclusive (glFinish before each clock stops), after one "
+               "untimed warm-up, over "
+            << repeats
+            << " timed repeats: **map cost** = solve + plan + every map pass; **lookup cost** = "
+               "the view pass. Silhouette volumes draw no map: they have no map cost (–) and "
+               "their lookup cost is the stencil volume pass. **map ×** = map cost ÷ one bare "
+               "depth pass of the scene into one square map of the same total lixels; **lookup "
+               "×** = lookup cost ÷ the bare view pass of the same view (same geometry and "
+               "viewport, no map lookup, no shadow test); both baselines are measured in the "
+               "same repeat on the same GL context, each ratio is the median over the repeats "
+               "of the repeat's own ratio, [min–max]. **cost ×** = map × + lookup × (2: as "
+               "cheap as the two baselines; the volumes: lookup × alone) is the x axis of the "
+               "plot and of its Pareto front. Absolute ms (medians) were measured on "
+            << on
+            << " and hold only there. The mask read-back is in neither cost (it is the "
+               "measurement's transfer; see the stages).\n\n";
+        if (fewest < kMinCostRepeats) {
+            out << "**Fewer than " << kMinCostRepeats << " timed repeats (" << fewest
+                << ")**: the medians, minima and maxima are indicative only.\n\n";
+        }
+    } else {
+        out << "Times: medians of " << repeats << " repeats, ms, on " << on << ".\n\n";
+    }
+    out << "![error against cost](error_vs_time.png)\n";
+    auto ratio = [](const Spread& s) {
+        if (!s.valid()) return std::string("–");
+        return Fixed(s.median, 2) + " [" + Fixed(s.min, 2) + "–" + Fixed(s.max, 2) + "]";
+    };
+    auto ms = [](const Spread& s) {
+        return s.valid() ? Fixed(s.median, 2) : std::string("–");
+    };
+    auto ms_spread = [](const Spread& s) {
+        if (!s.valid()) return std::string("–");
+        return Fixed(s.median, 3) + " [" + Fixed(s.min, 3) + "–" + Fixed(s.max, 3) + "]";
+    };
     for (const std::string& scene : scenes) {
         out << "\n## " << scene << "\n\n"
             << "| budget | method | lixels | maps | misclassified % | planes % | elsewhere % | "
-               "band % | m planes | m elsewhere | use | total ms |\n"
-            << "|---:|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|\n";
+               "band % | m planes | m elsewhere | use |"
+            << (costs ? " map × | lookup × | cost × | map ms | lookup ms |\n" : " total ms |\n")
+            << "|---:|---|---:|---:|---:|---:|---:|---:|---|---|---:|"
+            << (costs ? "---:|---:|---:|---:|---:|\n" : "---:|\n");
         std::vector<std::size_t> order;
         for (std::size_t i = 0; i < rows.size(); ++i) {
             if (rows[i].scene == scene) order.push_back(i);
@@ -198,7 +292,28 @@ Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<Repo
                 << Fixed(r.error.ElsewherePercent(), 3) << " | "
                 << Fixed(r.error.BandPercent(), 2) << " | "
                 << aliasing(r.aliasing_planes) << " | " << aliasing(r.aliasing_elsewhere) << " | "
-                << Fixed(100.0 * r.lixel_use, 1) << "% | " << Fixed(r.TotalMs(), 2) << " |\n";
+                << Fixed(100.0 * r.lixel_use, 1) << "% |";
+            if (costs) {
+                out << " " << ratio(r.cost.map_ratio) << " | " << ratio(r.cost.lookup_ratio)
+                    << " | " << ratio(r.cost.cost_ratio) << " | " << ms(r.cost.map_ms) << " | "
+                    << ms(r.cost.lookup_ms) << " |\n";
+            } else {
+                out << " " << Fixed(r.TotalMs(), 2) << " |\n";
+            }
+        }
+        if (costs) {
+            out << "\n<details><summary>costs and baselines (ms on " << on
+                << ", median [min–max])</summary>\n\n"
+                << "| budget | method | map cost | lookup cost | bare depth pass | bare view "
+                   "pass | repeats |\n|---:|---|---:|---:|---:|---:|---:|\n";
+            for (const std::size_t i : order) {
+                const ReportRow& r = rows[i];
+                out << "| " << BudgetLabel(r.budget) << " | " << r.method << " | "
+                    << ms_spread(r.cost.map_ms) << " | " << ms_spread(r.cost.lookup_ms) << " | "
+                    << ms_spread(r.cost.baseline_depth_ms) << " | "
+                    << ms_spread(r.cost.baseline_view_ms) << " | " << r.cost.repeats << " |\n";
+            }
+            out << "\n</details>\n";
         }
         // Stage breakdown of the same rows.
         const std::vector<std::string> stages = StageUnion(rows);

@@ -136,6 +136,8 @@ std::string ContextInfo::Summary() const {
            (khr_debug ? "; KHR_debug on" : "; KHR_debug off");
 }
 
+std::string ContextInfo::RendererName() const { return renderer + ", GL " + version; }
+
 Result<std::unique_ptr<GlContext>> GlContext::Create(const ContextOptions& options) {
     auto backend = options.backend == Backend::kEgl
                        ? CreateEglBackend(options.egl_platform, options.debug)

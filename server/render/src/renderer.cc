@@ -56,14 +56,24 @@ Result<std::vector<RenderedMap>> Renderer::RenderMaps(const GpuScene& scene,
     return out;
 }
 
-Result<ViewImages> Renderer::RenderView(const GpuScene& scene, std::span<const RenderedMap> maps,
-                                        const ViewSettings& settings) {
+namespace {
+
+// The view request `settings` describe, without maps.
+ViewRequest RequestOf(const ViewSettings& settings) {
     ViewRequest request;
     request.viewer = settings.viewer;
     request.viewport = settings.viewport;
     request.light = settings.light;
     request.method = settings.method;
     request.options = settings.options;
+    return request;
+}
+
+}  // namespace
+
+Result<ViewImages> Renderer::RenderView(const GpuScene& scene, std::span<const RenderedMap> maps,
+                                        const ViewSettings& settings) {
+    ViewRequest request = RequestOf(settings);
     for (const RenderedMap& m : maps) {
         ViewMap v;
         v.map = m.map;
@@ -75,6 +85,18 @@ Result<ViewImages> Renderer::RenderView(const GpuScene& scene, std::span<const R
     }
     ViewImages images;
     if (auto ok = view_.Render(scene, request, images); !ok) return ok.error();
+    return images;
+}
+
+Result<ViewImages> Renderer::RenderBareView(const GpuScene& scene, const ViewSettings& settings) {
+    if (!bare_view_) {
+        auto bare = ViewPass::Create(*context_, ViewVariant::kBare);
+        if (!bare) return bare.error();
+        bare_view_.emplace(std::move(bare.value()));
+    }
+    const ViewRequest request = RequestOf(settings);
+    ViewImages images;
+    if (auto ok = bare_view_->Render(scene, request, images); !ok) return ok.error();
     return images;
 }
 

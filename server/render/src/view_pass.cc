@@ -67,6 +67,9 @@ Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size, bool ne
         for (const Eigen::Vector3d& h : m.lookup.half_planes) {
             if (!h.allFinite()) return Error{MapField(i, ".lookup.half_planes"), "not finite"};
         }
+        if (!m.lookup.world_limit.allFinite()) {
+            return Error{MapField(i, ".lookup.world_limit"), "not finite"};
+        }
         const DepthMap* needed = nullptr;
         const char* name = "";
         switch (r.method) {
@@ -241,6 +244,7 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     std::vector<float> rectangle(4 * kMaxViewMaps, 0.0f);
     std::vector<GLint> half_plane_count(kMaxViewMaps, 0);
     std::vector<float> half_planes(3 * kMaxViewMaps * kMaxHalfPlanes, 0.0f);
+    std::vector<float> world_limit(4 * kMaxViewMaps, 0.0f);
     for (std::size_t i = 0; i < request.maps.size(); ++i) {
         const ViewMap& m = request.maps[i];
         const MapTransform t = MakeMapTransform(m.map, origin);
@@ -257,6 +261,10 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
                 half_planes[3 * (i * kMaxHalfPlanes + k) + c] = static_cast<float>(h[c]);
             }
         }
+        // The world plane on relative positions p = X - origin: (a, b, c, d + n . origin).
+        const Vec4& h = m.lookup.world_limit;
+        const Vec4 relative(h.x(), h.y(), h.z(), h.w() + h.head<3>().dot(origin));
+        for (int c = 0; c < 4; ++c) world_limit[4 * i + c] = static_cast<float>(relative[c]);
     }
     if (!request.maps.empty()) {
         if (auto ok = FillAtlases(request); !ok) return ok;
@@ -272,6 +280,8 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
                          half_plane_count.data());
     gl.ProgramUniform3fv(program, shader.Uniform("u_map_half_planes"),
                          kMaxViewMaps * kMaxHalfPlanes, half_planes.data());
+    gl.ProgramUniform4fv(program, shader.Uniform("u_map_world_limit"), kMaxViewMaps,
+                         world_limit.data());
 
     const Mat4f viewer = RelativeMatrix(request.viewer, origin);
     gl.ProgramUniformMatrix4fv(program, shader.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());

@@ -217,8 +217,36 @@ Scene PinsScene() {
     return scene;
 }
 
+Scene LongFloorScene() {
+    Scene scene;
+    scene.name = "long_floor";
+    // 400 m along the view (z from 10 down to -390), 400 m across.
+    scene.meshes.push_back(
+        MakeQuad("floor", Vec3(-200, 0, 10), Vec3(400, 0, 0), Vec3(0, 0, -400), 8));
+    // Posts 20 cm square and 2 m tall, alternating sides, at view distances doubling from 4 m
+    // to 128 m: casters at every depth the splits and warps distribute lixels over.
+    int index = 0;
+    for (double distance = 4.0; distance <= 128.0; distance *= 2.0, ++index) {
+        const double side = index % 2 == 0 ? -1.5 : 1.5;
+        scene.meshes.push_back(MakeBox("post " + std::to_string(index),
+                                       Aabb{Vec3(side - 0.1, 0.0, -distance - 0.1),
+                                            Vec3(side + 0.1, 2.0, -distance + 0.1)}));
+    }
+    scene.planes = {Floor()};
+    scene.camera.eye = Vec3(0.0, 1.7, 0.0);
+    scene.camera.target = Vec3(0.0, 1.7, -10.0);  // along the floor, level
+    scene.camera.fovy_degrees = 60.0;
+    scene.camera.near = 0.5;
+    scene.camera.far = 200.0;
+    scene.camera.viewport = {1024, 1024};
+    // From above and behind the viewer (+z), a little to the side.
+    scene.light = Direction(Vec3(0.3, 1.0, 0.6).normalized());
+    return scene;
+}
+
 std::vector<std::string> BuiltinSceneNames() {
-    return {"floor_wall", "table_floor", "sphere_grid", "thin_plates", "sphere_torus", "pins"};
+    return {"floor_wall", "table_floor", "sphere_grid", "thin_plates", "sphere_torus", "pins",
+            "long_floor"};
 }
 
 Result<Scene> BuiltinScene(const std::string& name) {
@@ -228,6 +256,7 @@ Result<Scene> BuiltinScene(const std::string& name) {
     if (name == "thin_plates") return ThinPlatesScene();
     if (name == "sphere_torus") return SphereTorusScene();
     if (name == "pins") return PinsScene();
+    if (name == "long_floor") return LongFloorScene();
     std::string known;
     for (const std::string& n : BuiltinSceneNames()) known += (known.empty() ? "" : ", ") + n;
     return Error{"scene", "unknown built-in scene '" + name + "' (known: " + known + ")"};

@@ -21,6 +21,16 @@ double FinishedSeconds(GpuWorker& worker, std::chrono::steady_clock::time_point 
 
 Error Cancelled() { return Error{"request", "cancelled or past its deadline"}; }
 
+// The view's shaded preview as RGB8 into `out`, when asked for (untimed: no stage pays for it).
+Result<bool> ReadPreviewInto(GpuWorker& worker, const render::ViewImages& view,
+                             render::Rgb8Image* out) {
+    if (out == nullptr) return true;
+    auto preview = render::ReadPreview(*worker.context, view);
+    if (!preview) return Error{"preview." + preview.error().field, preview.error().reason};
+    *out = std::move(preview).value();
+    return true;
+}
+
 }  // namespace
 
 Result<bool> StartGpuWorker(GpuWorker& worker) {
@@ -130,7 +140,7 @@ Result<bool> RenderPlanImages(GpuWorker& worker, const render::GpuScene& scene, 
 
 Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene& scene,
                                       const MaskJob& job, const CancelCheck& cancelled,
-                                      MaskTimes* times) {
+                                      MaskTimes* times, render::Rgb8Image* preview) {
     auto start = std::chrono::steady_clock::now();
     std::vector<render::RenderedMap> rendered;
     for (const PlannedMap& planned : job.maps) {
@@ -157,13 +167,14 @@ Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene&
     start = std::chrono::steady_clock::now();
     auto mask = render::ReadMask(*worker.context, *view);
     if (times != nullptr) times->readback_seconds = Seconds(start);
+    if (auto ok = ReadPreviewInto(worker, *view, preview); !ok) return ok.error();
     return mask;
 }
 
 Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string& id,
                                             const SceneRecord& record,
                                             const render::GpuScene& scene, const MaskJob& job,
-                                            MaskTimes* times) {
+                                            MaskTimes* times, render::Rgb8Image* preview) {
     auto start = std::chrono::steady_clock::now();
     if (worker.volume_pass == nullptr) {
         auto pass = volumes::gl::VolumePass::Create(*worker.context);
@@ -198,7 +209,31 @@ Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string
     start = std::chrono::steady_clock::now();
     auto mask = render::ReadMask(*worker.context, images);
     if (times != nullptr) times->readback_seconds = Seconds(start);
+    if (auto ok = ReadPreviewInto(worker, images, preview); !ok) return ok.error();
     return mask;
+}
+
+Result<BaselineTimes> TimeCostBaselines(GpuWorker& worker, const render::GpuScene& scene,
+                                        const MaskJob& job,
+                                        const std::optional<LightMap>& depth_map) {
+    BaselineTimes times;
+    // Nothing queued from the method's own passes may land in the baselines' clocks.
+    worker.context->gl().Finish();
+    if (depth_map) {
+        const auto start = std::chrono::steady_clock::now();
+        auto depth = worker.renderer->depth().Render(scene, *depth_map, render::FaceSelection::kBoth);
+        if (!depth) return Error{"baseline_depth." + depth.error().field, depth.error().reason};
+        times.depth_seconds = FinishedSeconds(worker, start);
+    }
+    render::ViewSettings settings;
+    settings.viewer = job.viewer;
+    settings.viewport = job.viewport;
+    settings.light = job.light;
+    const auto start = std::chrono::steady_clock::now();
+    auto bare = worker.renderer->RenderBareView(scene, settings);
+    if (!bare) return Error{"baseline_view." + bare.error().field, bare.error().reason};
+    times.view_seconds = FinishedSeconds(worker, start);
+    return times;
 }
 
 }  // namespace lixel::service

@@ -1,11 +1,12 @@
 // The work behind each RPC: decode, call the library, encode.
+#include <lixel/eval/cost.h>
 #include <lixel/eval/ground_truth.h>
 #include <lixel/eval/misclassification.h>
 #include <lixel/eval/plan_metrics.h>
 #include <lixel/solver/camera.h>
 #include <lixel/scene/upload.h>
 #include <lixel/service/jobs.h>
-#include <lixel/solver/baselines.h>
+#include <lixel/solver/baseline_plan.h>
 #include <lixel/solver/map_diagnostics.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/plane_map.h>
@@ -476,23 +477,16 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     } else if (request.method() == v1::METHOD_PLANE_OPTIMAL) {
         job.maps = plan->maps;
     } else {
-        const BaselineMethod baseline = request.method() == v1::METHOD_UNIFORM ? BaselineMethod::kUniform
-                                        : request.method() == v1::METHOD_PSM   ? BaselineMethod::kPsm
-                                                                               : BaselineMethod::kLispsm;
-        BaselineInput input{decoded->viewer, decoded->viewport, decoded->light,
-                            decoded->lixel_budget, {}};
-        // The receivers the warps focus on (Kozlov; Filament, Ogre): every object's box.
-        for (const SceneObject& o : decoded->objects) input.receivers.push_back(o.bounds);
-        auto fitted = FitBaseline(baseline, input, plan->hull);
-        if (!fitted) return InvalidArgument(fitted.error());
-        PlannedMap m;
-        m.role = MapRole::kFallback;
-        m.name = BaselineName(baseline);
-        m.map = fitted->map;
-        m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
-        m.diagnostics = DiagnoseMap(m.map, decoded->light, decoded->viewer, decoded->viewport,
-                                    ViewReceivers(*decoded));
-        job.maps = {m};
+        const BaselineFitting fitting = request.method() == v1::METHOD_UNIFORM ? BaselineFitting::kUniform
+                                        : request.method() == v1::METHOD_PSM ? BaselineFitting::kPsm
+                                        : request.method() == v1::METHOD_LISPSM
+                                            ? BaselineFitting::kLispsm
+                                            : BaselineFitting::kCsm;
+        auto cascades = DecodeCascades(request.cascades(), "cascades");
+        if (!cascades) return InvalidArgument(cascades.error());
+        auto baseline = PlanBaseline(*decoded, fitting, plan->hull, *cascades);
+        if (!baseline) return InvalidArgument(baseline.error());
+        job.maps = std::move(baseline->maps);
     }
     // The filter decides the one pass every map needs, casters or not: second depth and the
     // silhouette map's corner depths stand in for the first depth, which they never read.
@@ -522,9 +516,12 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     auto gpu_scene = SceneOnGpu(worker, plan_message.scene_id(), *scene);
     if (!gpu_scene) return InvalidArgument(gpu_scene.error());
     MaskTimes mask_times;
+    render::Rgb8Image preview;
+    render::Rgb8Image* const want_preview = request.preview() ? &preview : nullptr;
     auto mask = volumes ? RenderVolumeMask(worker, plan_message.scene_id(), *scene, **gpu_scene,
-                                           job, &mask_times)
-                        : RenderMask(worker, **gpu_scene, job, cancelled, &mask_times);
+                                           job, &mask_times, want_preview)
+                        : RenderMask(worker, **gpu_scene, job, cancelled, &mask_times,
+                                     want_preview);
     if (!mask) {
         if (cancelled()) return CancelledStatus();
         // The maps together larger than the view pass takes (more than it holds, or more than
@@ -545,8 +542,36 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     response->set_height(static_cast<std::uint32_t>(mask->height));
     response->set_mask(reinterpret_cast<const char*>(mask->pixels.data()),
                        mask->pixels.size() * sizeof(float));
+    if (request.preview()) {
+        response->set_preview(reinterpret_cast<const char*>(preview.pixels.data()),
+                              preview.pixels.size());
+    }
+    response->set_gl_renderer(worker.context->info().RendererName());
     state.metrics.MapsRendered(static_cast<double>(job.maps.size()),
                                static_cast<double>(bytes));
+    if (request.cost_baselines()) {
+        if (cancelled()) return CancelledStatus();
+        // The depth baseline draws at the lixels the method allocated; a method with none (the
+        // volumes) has no map cost to divide. The method's maps are freed by now, so the
+        // baselines stay within the memory the cap above allowed.
+        std::optional<LightMap> depth_map;
+        if (lixels > 0) {
+            auto square = eval::BaselineDepthMap(*decoded, plan->hull,
+                                                 static_cast<std::int64_t>(lixels), job.maps);
+            if (!square) {
+                return grpc::Status(grpc::StatusCode::INTERNAL,
+                                    "cost_baselines: " + square.error().Message());
+            }
+            depth_map = *square;
+        }
+        auto baselines = TimeCostBaselines(worker, **gpu_scene, job, depth_map);
+        if (!baselines) {
+            return grpc::Status(grpc::StatusCode::INTERNAL,
+                                "cost_baselines: " + baselines.error().Message());
+        }
+        if (depth_map) times.emplace_back(eval::kBaselineDepthStage, baselines->depth_seconds);
+        times.emplace_back(eval::kBaselineViewStage, baselines->view_seconds);
+    }
 
     if (request.evaluate()) {
         if (cancelled()) return CancelledStatus();
@@ -606,8 +631,13 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         e->set_lixel_use(eval::ComputeLixelUse(*truth, evaluated).Share());
         times.emplace_back("truth", Since(start));
     }
-    if (request.timings()) {
+    if (request.timings() || request.cost_baselines()) {
         for (const auto& [stage, seconds] : times) {
+            // Baselines asked for without timings come alone.
+            if (!request.timings() && eval::CostPartOf(stage) != eval::CostPart::kBaselineDepth &&
+                eval::CostPartOf(stage) != eval::CostPart::kBaselineView) {
+                continue;
+            }
             v1::StageTime* t = response->add_timings();
             t->set_stage(stage);
             t->set_seconds(seconds);

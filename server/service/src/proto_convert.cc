@@ -70,6 +70,27 @@ Result<DecodedCamera> DecodeCamera(const v1::Camera& camera, bool present,
                                            static_cast<int>(camera.height())}};
 }
 
+Result<CascadeOptions> DecodeCascades(const v1::Cascades& cascades, const std::string& field) {
+    CascadeOptions options;
+    if (cascades.count() != 0) {
+        if (cascades.count() > static_cast<std::uint32_t>(kMaxCascades)) {
+            return Error{field + ".count", "must be in [1, " + std::to_string(kMaxCascades) +
+                                               "] (0 means " + std::to_string(kDefaultCascades) +
+                                               "), got " + std::to_string(cascades.count())};
+        }
+        options.count = static_cast<int>(cascades.count());
+    }
+    if (cascades.has_lambda()) {
+        if (!(cascades.lambda() >= 0.0 && cascades.lambda() <= 1.0)) {
+            return Error{field + ".lambda",
+                         "must be in [0, 1], got " + std::to_string(cascades.lambda())};
+        }
+        options.lambda = cascades.lambda();
+    }
+    if (cascades.has_stabilize()) options.stabilize = cascades.stabilize();
+    return options;
+}
+
 Result<Vec4> DecodeLight(const v1::Light& light, bool present, const std::string& field) {
     if (!present || !light.has_position()) return Error{field + ".position", "is required"};
     auto position = DecodeVec4(light.position(), field + ".position");
@@ -363,6 +384,14 @@ void EncodePlan(const Plan& plan, v1::PlanResponse* out) {
         pm->set_expected_pixels(m.expected_pixels);
         pm->set_kept_for(m.kept_for);
         pm->set_guard(static_cast<std::uint32_t>(m.lookup.guard));
+        if (!m.lookup.world_limit.isZero()) {
+            const Vec4& h = m.lookup.world_limit;
+            v1::Vec4* limit = pm->mutable_world_limit();
+            limit->set_x(h.x());
+            limit->set_y(h.y());
+            limit->set_z(h.z());
+            limit->set_w(h.w());
+        }
         if (m.diagnostics.samples > 0) EncodeDiagnostics(m.diagnostics, pm->mutable_diagnostics());
     }
     for (const LeftOut& l : plan.left_out) {

@@ -1,8 +1,11 @@
 // The sweep behind report_runner.h: ground truth once per scene, then per budget and method the
-// plan, the passes, the view and the read-back, each timed with glFinish so GPU work is counted.
+// plan, the passes, the view and the read-back, each timed with glFinish so GPU work is counted,
+// and in every repeat the two cost baselines of cost.h on the same context.
 #include <lixel/scene/builtin_scenes.h>
+#include <lixel/eval/cost.h>
 #include <lixel/eval/evaluate.h>
 #include <lixel/eval/ground_truth.h>
+#include <lixel/eval/mask_figure.h>
 #include <lixel/eval/png_image.h>
 #include <lixel/eval/progress.h>
 #include <lixel/eval/report_runner.h>
@@ -55,6 +58,7 @@ class RepeatTimes {
     void CommitTo(StageTimes& times) const {
         for (const auto& [name, total] : stages_) times.Add(name, total);
     }
+    const std::vector<std::pair<std::string, double>>& stages() const { return stages_; }
 
   private:
     std::vector<std::pair<std::string, double>> stages_;
@@ -76,8 +80,39 @@ struct RunOutput {
     Plan plan;
     Mask mask;
     StageTimes times;
+    std::vector<CostRepeat> costs;  // per timed repeat
+    std::optional<RgbImage> preview;  // the last repeat's, when asked for
     std::int64_t gl_visible_mismatch = 0;  // pixels where GL and Embree disagree on coverage
 };
+
+// One timed repeat into `out`: the method's stages, and its costs against the baselines `b`
+// timed in the same repeat.
+void CommitRepeat(const RepeatTimes& t, const RepeatTimes& b, bool has_maps, RunOutput& out) {
+    t.CommitTo(out.times);
+    std::vector<std::pair<std::string, double>> stages = t.stages();
+    stages.insert(stages.end(), b.stages().begin(), b.stages().end());
+    out.costs.push_back(CostOfRepeat(stages, has_maps));
+}
+
+// The view pass's shaded preview as an eval image (same row order).
+Result<RgbImage> PreviewOf(render::GlContext& context, const render::ViewImages& view) {
+    auto read = render::ReadPreview(context, view);
+    if (!read) return Error{"preview: " + read.error().field, read.error().reason};
+    RgbImage image;
+    image.width = read->width;
+    image.height = read->height;
+    image.rgb = std::move(read->pixels);
+    return image;
+}
+
+// The bare view pass of `settings`' view (cost.h's lookup baseline), GPU-finished.
+Result<bool> TimeBareView(render::Renderer& renderer, const render::GpuScene& gpu,
+                          const render::ViewSettings& settings, RepeatTimes& t) {
+    auto bare = Timed(renderer.context(), t, kBaselineViewStage,
+                      [&] { return renderer.RenderBareView(gpu, settings); });
+    if (!bare) return Error{"baseline view: " + bare.error().field, bare.error().reason};
+    return true;
+}
 
 // The renderer's mask as a lixel::eval Mask; counts pixels where GL and Embree disagree on
 // whether there is a surface at all.
@@ -96,18 +131,27 @@ Mask ToMask(const render::FloatImage& image, const GroundTruth& truth, std::int6
 }
 
 // One method at one budget: an untimed warm-up (llvmpipe compiles shader variants on first
-// use, which would otherwise land in the first repeat), then `repeats` timed repeats. The mask of
-// the last repeat is kept (they are identical: the pipeline is deterministic).
+// use, which would otherwise land in the first repeat), then `repeats` timed repeats, each with
+// the two cost baselines after it. The mask of the last repeat is kept (they are identical: the
+// pipeline is deterministic), and its shaded preview when `preview` is set.
 Result<RunOutput> RunMethod(render::Renderer& renderer, const render::GpuScene& gpu,
                             const Scene& scene, const GroundTruth& truth, const Method& method,
-                            std::int64_t budget, int repeats) {
+                            std::int64_t budget, int repeats, bool preview) {
     render::GlContext& context = renderer.context();
     RunOutput out;
+    std::optional<LightMap> baseline_map;
     for (int r = -1; r < repeats; ++r) {
         RepeatTimes t;
         auto plan =
             Timed(context, t, "plan+solve", [&] { return PlanMethod(scene, method, budget); });
         if (!plan) return plan.error();
+        if (!baseline_map) {
+            // The plan is deterministic: one baseline map serves every repeat.
+            auto m = BaselineDepthMap(scene.MakePlanRequest(budget), plan->hull,
+                                      plan->total_lixels, plan->maps);
+            if (!m) return Error{"baseline depth: " + m.error().field, m.error().reason};
+            baseline_map = *m;
+        }
         const Vec4 light = plan->hull.light;
         std::vector<render::RenderedMap> maps;
         for (std::size_t i = 0; i < plan->maps.size(); ++i) {
@@ -155,7 +199,19 @@ Result<RunOutput> RunMethod(render::Renderer& renderer, const render::GpuScene& 
         if (!view) return Error{"view: " + view.error().field, view.error().reason};
         auto mask = Timed(context, t, "transfer", [&] { return render::ReadMask(context, *view); });
         if (!mask) return Error{"transfer: " + mask.error().field, mask.error().reason};
-        if (r >= 0) t.CommitTo(out.times);
+        if (r + 1 == repeats && preview) {
+            auto image = PreviewOf(context, *view);
+            if (!image) return image.error();
+            out.preview = std::move(image.value());
+        }
+        // The baselines, apart from the method's stages (they are no stage of it).
+        RepeatTimes b;
+        auto depth = Timed(context, b, kBaselineDepthStage, [&] {
+            return renderer.depth().Render(gpu, *baseline_map, render::FaceSelection::kBoth);
+        });
+        if (!depth) return Error{"baseline depth: " + depth.error().field, depth.error().reason};
+        if (auto ok = TimeBareView(renderer, gpu, settings, b); !ok) return ok.error();
+        if (r >= 0) CommitRepeat(t, b, /*has_maps=*/true, out);
         if (r + 1 == repeats) {
             out.plan = std::move(plan.value());
             out.mask = ToMask(*mask, truth, out.gl_visible_mismatch);
@@ -168,10 +224,16 @@ Result<RunOutput> RunMethod(render::Renderer& renderer, const render::GpuScene& 
 constexpr const char* kVolumesName = "silhouette volumes";
 
 // Exact robust silhouette volumes (paper 001) over the view: no maps, a stencil count per pixel.
-Result<RunOutput> RunVolumes(render::GlContext& context, volumes::gl::VolumePass& pass,
+// No map cost; the lookup baseline is the same bare view pass as the maps' methods'.
+Result<RunOutput> RunVolumes(render::Renderer& renderer, volumes::gl::VolumePass& pass,
                              const render::GpuScene& gpu, const volumes::gl::VolumeScene& volumes,
                              const Scene& scene, const GroundTruth& truth, int repeats) {
+    render::GlContext& context = renderer.context();
     RunOutput out;
+    render::ViewSettings bare;
+    bare.viewer = scene.camera.Viewer();
+    bare.viewport = scene.camera.viewport;
+    bare.light = scene.light;
     volumes::gl::VolumeRequest request;
     request.viewer = scene.camera.Viewer();
     request.viewport = scene.camera.viewport;
@@ -185,7 +247,9 @@ Result<RunOutput> RunVolumes(render::GlContext& context, volumes::gl::VolumePass
         auto mask =
             Timed(context, t, "transfer", [&] { return render::ReadMask(context, images); });
         if (!mask) return Error{"transfer: " + mask.error().field, mask.error().reason};
-        if (r >= 0) t.CommitTo(out.times);
+        RepeatTimes b;
+        if (auto ok = TimeBareView(renderer, gpu, bare, b); !ok) return ok.error();
+        if (r >= 0) CommitRepeat(t, b, /*has_maps=*/false, out);
         if (r + 1 == repeats) out.mask = ToMask(*mask, truth, out.gl_visible_mismatch);
     }
     return out;
@@ -234,6 +298,8 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
     auto context = render::ThreadContext(options.gl);
     if (!context) return context.error();
     summary.notes.push_back("GL: " + (*context)->info().Summary());
+    ReportInfo info;
+    info.gl_renderer = (*context)->info().RendererName();
     auto renderer = render::Renderer::Create(**context);
     if (!renderer) return renderer.error();
     const std::int64_t runs =
@@ -268,14 +334,14 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
         auto gpu = render::UploadScene(**context, scene.meshes, scene.camera.eye);
         if (!gpu) return Error{scene.name + ": " + gpu.error().field, gpu.error().reason};
 
-        std::vector<Mask> grid_masks;
+        MaskFigure figure(scene.name, TruthImage(*truth), options.budgets);
         std::optional<ReportRow> volume_row;
-        std::optional<Mask> volume_mask;
+        std::optional<RgbImage> volume_difference;
 #ifdef LIXEL_HAVE_VOLUMES
         if (volumes) {
             auto uploaded =
                 volumes::gl::UploadVolumeScene(**context, scene.meshes, scene.camera.eye);
-            auto run = uploaded ? RunVolumes(**context, *volume_pass, *gpu, *uploaded, scene,
+            auto run = uploaded ? RunVolumes(**renderer, *volume_pass, *gpu, *uploaded, scene,
                                              *truth, options.repeats)
                                 : Result<RunOutput>(uploaded.error());
             if (bar) bar->Advance(1, scene.name + " " + kVolumesName);
@@ -283,8 +349,9 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
                 auto row =
                     EvaluateRun(scene, *truth, kVolumesName, 0, Plan{}, run->mask, run->times);
                 if (!row) return row.error();
+                row->cost = SummariseCosts(run->costs);
                 volume_row = std::move(row.value());
-                volume_mask = std::move(run->mask);
+                volume_difference = DifferenceImage(*truth, run->mask);
             } else {
                 summary.notes.push_back(scene.name + ", " + kVolumesName +
                                         ": skipped: " + run.error().Message());
@@ -293,19 +360,23 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
 #endif
         for (const std::int64_t budget : options.budgets) {
             for (const Method& method : options.methods) {
-                auto run =
-                    RunMethod(**renderer, *gpu, scene, *truth, method, budget, options.repeats);
+                // The preview beside the masks: the first method that runs at the budget
+                // nearest 512².
+                const bool preview = budget == grid_budget && !figure.preview();
+                auto run = RunMethod(**renderer, *gpu, scene, *truth, method, budget,
+                                     options.repeats, preview);
                 if (bar) bar->Advance(1, scene.name + " " + method.Name());
                 if (!run) {
                     summary.notes.push_back(scene.name + ", " + method.Name() + ", " +
                                             std::to_string(budget) +
                                             " lixels: skipped: " + run.error().Message());
-                    if (budget == grid_budget) grid_masks.push_back(truth->AsMask());
+                    figure.Skip(method.Name());
                     continue;
                 }
                 auto row =
                     EvaluateRun(scene, *truth, method, budget, run->plan, run->mask, run->times);
                 if (!row) return row.error();
+                row->cost = SummariseCosts(run->costs);
                 summary.rows.push_back(std::move(row.value()));
                 for (const std::string& w : run->plan.warnings) {
                     const std::string note = scene.name + ", " + method.Name() + ": " + w;
@@ -319,7 +390,18 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
                         scene.name + ", " + method.Name() + ": GL and Embree disagree on " +
                         std::to_string(run->gl_visible_mismatch) + " covered pixels");
                 }
-                if (budget == grid_budget) grid_masks.push_back(std::move(run->mask));
+                figure.Add(method.Name(), budget, DifferenceImage(*truth, run->mask));
+                if (run->preview) {
+                    const std::string name = scene.name + "_preview.png";
+                    if (auto ok = WritePng((fs::path(options.output) / name).string(),
+                                           *run->preview);
+                        !ok) {
+                        return ok.error();
+                    }
+                    summary.files.push_back(name);
+                    figure.SetPreview(*run->preview,
+                                      method.Name() + ", " + BudgetLabel(budget) + " lixels");
+                }
             }
             if (volume_row) {
                 ReportRow row = *volume_row;
@@ -327,31 +409,30 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
                 summary.rows.push_back(std::move(row));
             }
         }
-        if (volume_mask) grid_masks.push_back(std::move(*volume_mask));
-        std::vector<const Mask*> pointers;
-        for (const Mask& m : grid_masks) pointers.push_back(&m);
+        if (volume_difference) figure.AddToEveryBudget(kVolumesName, *volume_difference);
         const std::string grid_name = scene.name + "_masks.png";
-        // Four shadow tests per fitting in AllMethods(): a row pair per fitting.
-        const int per_row =
-            options.methods.size() % 4 == 0 ? 4 : static_cast<int>(options.methods.size());
-        if (auto ok = WritePng((fs::path(options.output) / grid_name).string(),
-                               MaskGrid(*truth, pointers, per_row));
-            !ok) {
-            return ok.error();
+        if (options.plot && GnuplotAvailable()) {
+            if (auto ok = PlotMaskFigure(options.output, figure); !ok) return ok.error();
+            summary.notes.push_back(
+                grid_name + ": a row per method, a column per budget, each cell the mask's "
+                            "difference from the truth (legend in the figure); the shaded "
+                            "preview and the truth above" +
+                std::string(volume_difference ? "; silhouette volumes use no lixels, so "
+                                                "their row repeats one run"
+                                              : ""));
+        } else {
+            if (auto ok = WritePng((fs::path(options.output) / grid_name).string(),
+                                   UnlabelledMaskFigure(figure));
+                !ok) {
+                return ok.error();
+            }
+            summary.notes.push_back(
+                grid_name + " is unlabelled (gnuplot not available or off): the preview and the "
+                            "truth, then a row per method in the tables' order and a column per "
+                            "budget; grey agrees, red false lit, blue false shadow, yellow "
+                            "undecided");
         }
         summary.files.push_back(grid_name);
-        std::string columns = scene.name + " mask grid (" + std::to_string(grid_budget) +
-                              " lixels): row pairs of " + std::to_string(per_row) +
-                              " masks, each pair the truth then the masks above the truth then "
-                              "their differences (red: false lit, blue: false shadow, yellow: "
-                              "undecided); in order:";
-        for (const Method& m : options.methods) {
-            columns += ' ';
-            columns += m.Name();
-            columns += ';';
-        }
-        if (volume_mask) columns += " silhouette volumes (no lixels; its row repeats per budget);";
-        summary.notes.push_back(columns);
     }
     if (bar) bar->Finish();
 
@@ -361,18 +442,20 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
     }
     summary.files.push_back("report.csv");
     if (options.plot && GnuplotAvailable()) {
-        if (auto ok = PlotErrorVsTime(out.string(), summary.rows); !ok) return ok.error();
+        if (auto ok = PlotErrorVsTime(out.string(), summary.rows, info); !ok) return ok.error();
         summary.files.push_back("error_vs_time.png");
     } else {
         summary.notes.push_back("error_vs_time.png not drawn: gnuplot not available or off");
     }
     summary.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    char took[96];
-    std::snprintf(took, sizeof(took), "sweep took %.1f s, %d repeats per run", summary.seconds,
-                  options.repeats);
+    char took[128];
+    std::snprintf(took, sizeof(took),
+                  "sweep took %.1f s, %d timed repeats per run after one untimed warm-up",
+                  summary.seconds, options.repeats);
     summary.notes.push_back(took);
-    if (auto ok = WriteReportMarkdown((out / "report.md").string(), summary.rows, summary.notes);
+    if (auto ok = WriteReportMarkdown((out / "report.md").string(), summary.rows, summary.notes,
+                                      info);
         !ok) {
         return ok.error();
     }

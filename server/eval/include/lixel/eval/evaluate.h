@@ -28,11 +28,4 @@ Result<ReportRow> EvaluateRun(const scene::Scene& scene, const GroundTruth& trut
                               const std::string& method_name, std::int64_t budget, const Plan& plan,
                               const Mask& mask, const StageTimes& times);
 
-// The side-by-side image of one scene. Masks go `masks_per_row` to a row pair: the upper row
-// holds the truth then the masks, the lower row the truth again then each mask's difference
-// from the truth (png_image.h's palette). With AllMethods() and 4 per row, a row pair is one
-// fitting and a column one shadow test. Tiles are shrunk so no side exceeds `max_tile_side`.
-RgbImage MaskGrid(const GroundTruth& truth, const std::vector<const Mask*>& masks,
-                  int masks_per_row = 4, int max_tile_side = 384);
-
 }  // namespace lixel::eval

@@ -1,5 +1,5 @@
 // The methods the report compares (issue 6): a light-matrix fitting (plane-optimal with
-// fallback, uniform, PSM, LiSPSM) times a shadow test (plain depth, PCF, second depth,
+// fallback, uniform, PSM, LiSPSM, cascaded shadow maps with their defaults) times a shadow test (plain depth, PCF, second depth,
 // silhouette map), each planned for a scene and a lixel budget without GL.
 #pragma once
 
@@ -13,7 +13,7 @@
 
 namespace lixel::eval {
 
-enum class Fitting { kPlaneOptimal, kUniform, kPsm, kLispsm };
+enum class Fitting { kPlaneOptimal, kUniform, kPsm, kLispsm, kCsm };
 
 // Mirrors lixel::render::ShadowMethod (same order) without depending on GL.
 enum class ShadowTest { kDepth, kPcf, kSecondDepth, kSilhouette };
@@ -39,9 +39,9 @@ std::vector<Method> DepthMethods();
 std::vector<std::int64_t> DefaultBudgets();
 
 // A plan for `method` on `scene` within `budget` lixels. Plane-optimal goes through the
-// scheduler (PlanShadowMaps). A baseline is one map fitted to the extent hull (FitBaseline),
-// wrapped as a plan whose single map accepts every point inside it; it is refused when the light
-// is inside the hull (one map cannot hold C_tot). Errors name the method.
+// scheduler (PlanShadowMaps); a baseline through PlanBaseline (baseline_plan.h): one map, or
+// for CSM its cascades, refused when the light is inside the hull (one map cannot hold C_tot).
+// Errors name the method.
 Result<Plan> PlanMethod(const scene::Scene& scene, const Method& method, std::int64_t budget);
 
 }  // namespace lixel::eval

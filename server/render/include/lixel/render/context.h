@@ -58,6 +58,9 @@ struct ContextInfo {
     bool khr_debug = false;      // debug output is installed
 
     std::string Summary() const;  // one line for logs
+    // GL_RENDERER and GL_VERSION, e.g. "llvmpipe (LLVM 15.0.6, 256 bits), GL 4.5 (Core Profile)
+    // Mesa 22.3.6": what the report names as the machine its times hold for.
+    std::string RendererName() const;
 };
 
 class GlContext {

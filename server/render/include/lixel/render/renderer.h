@@ -55,6 +55,11 @@ class Renderer {
     Result<ViewImages> RenderView(const GpuScene& scene, std::span<const RenderedMap> maps,
                                   const ViewSettings& settings);
 
+    // The same view with no map lookup and no shadow test (ViewVariant::kBare: the same draw,
+    // viewport and outputs): the baseline the report's lookup cost is divided by. Its program
+    // is built on first use, so a renderer that never asks pays nothing.
+    Result<ViewImages> RenderBareView(const GpuScene& scene, const ViewSettings& settings);
+
   private:
     Renderer(GlContext& context, DepthPass depth, SilhouettePass silhouette, ViewPass view)
         : context_(&context),
@@ -66,6 +71,7 @@ class Renderer {
     DepthPass depth_;
     SilhouettePass silhouette_;
     ViewPass view_;
+    std::optional<ViewPass> bare_view_;  // RenderBareView's, once asked for
 };
 
 }  // namespace lixel::render

@@ -35,11 +35,17 @@ Scene SphereTorusScene();
 // Lathe-turned pins standing on a floor: curved receivers that no plane of interest covers.
 Scene PinsScene();
 
+// The perspective-aliasing test bed of Lloyd et al. (2008): a 400 m floor, the viewer 1.7 m
+// above it looking along it (near 0.5 m, far 200 m), a directional light from above and behind,
+// and posts as casters from 4 m to 128 m away (docs/eval.md compares the measured aliasing of
+// every method with their analysis).
+Scene LongFloorScene();
+
 // Names accepted by BuiltinScene, in a fixed order; the first is the default scene.
 std::vector<std::string> BuiltinSceneNames();
 
 // A built-in scene by name ("floor_wall", "table_floor", "sphere_grid", "thin_plates",
-// "sphere_torus", "pins") with its default parameters. Error names the scene.
+// "sphere_torus", "pins", "long_floor") with its default parameters. Error names the scene.
 Result<Scene> BuiltinScene(const std::string& name);
 
 }  // namespace lixel::scene

@@ -17,6 +17,7 @@
 #include <functional>
 #include <list>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -102,14 +103,27 @@ struct MaskTimes {
     double view_seconds = 0.0;
     double readback_seconds = 0.0;
 };
+// With `preview` set, the view's shaded preview is read back too, after the timed mask read-back.
 Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene& scene,
                                       const MaskJob& job, const CancelCheck& cancelled,
-                                      MaskTimes* times);
+                                      MaskTimes* times, render::Rgb8Image* preview = nullptr);
 
 // The exact mask of silhouette shadow volumes (paper 001) for the scene uploaded as `id`.
 Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string& id,
                                             const SceneRecord& record,
                                             const render::GpuScene& scene, const MaskJob& job,
-                                            MaskTimes* times);
+                                            MaskTimes* times,
+                                            render::Rgb8Image* preview = nullptr);
+
+// The report's cost baselines (lixel::eval cost.h) for `job`'s view, on this worker's context,
+// each timed with glFinish: a bare depth pass of every triangle into `depth_map` (skipped when
+// absent: a method without lixels), then the bare view pass of job's viewer, viewport and light.
+struct BaselineTimes {
+    double depth_seconds = 0.0;  // 0 when skipped
+    double view_seconds = 0.0;
+};
+Result<BaselineTimes> TimeCostBaselines(GpuWorker& worker, const render::GpuScene& scene,
+                                        const MaskJob& job,
+                                        const std::optional<LightMap>& depth_map);
 
 }  // namespace lixel::service

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <lixel/scene/scene.h>
+#include <lixel/solver/cascades.h>
 #include <lixel/solver/light_map.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/result.h>
@@ -35,6 +36,9 @@ struct DecodedCamera {
 Result<DecodedCamera> DecodeCamera(const v1::Camera& camera, bool present,
                                    const std::string& field);
 Result<Vec4> DecodeLight(const v1::Light& light, bool present, const std::string& field);
+// METHOD_CSM's settings with the proto's defaults for what is unset (count 0: 4 cascades);
+// errors name field.count or field.lambda.
+Result<CascadeOptions> DecodeCascades(const v1::Cascades& cascades, const std::string& field);
 // A bounded plane's polygon: strictly convex and counter-clockwise seen from the side `normal`
 // points to; else the first vertex that breaks it (field[k]) or the polygon's winding.
 Result<bool> CheckConvexCounterClockwise(const std::vector<Vec3>& polygon, const Vec3& normal,

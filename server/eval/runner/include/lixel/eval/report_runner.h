@@ -1,7 +1,8 @@
 // The error-vs-run-time sweep (issue 6, DESIGN §7): for every scene, method and budget, plan
 // the maps, render them and the view with lixel::render, read the mask back, and score it
-// against Embree ground truth. Writes report.csv, report.md, error_vs_time.png and a mask grid
-// per scene into one folder. This is the one lixel::eval piece that needs GL.
+// against Embree ground truth; every repeat also times the cost baselines of cost.h. Writes
+// report.csv, report.md, error_vs_time.png, and per scene a labelled mask grid and a shaded
+// preview into one folder. This is the one lixel::eval piece that needs GL.
 #pragma once
 
 #include <lixel/eval/methods.h>
@@ -25,13 +26,16 @@ struct ReportOptions {
     // per scene, its row repeated under every budget since it allocates no lixels.
     bool volumes = true;
     std::vector<std::int64_t> budgets = DefaultBudgets();
-    int repeats = 3;                   // timed repeats per run; stage times are their medians, >= 1
+    // Timed repeats per run after one untimed warm-up, >= 1; stage times and costs are their
+    // medians with min and max. Fewer than kMinCostRepeats (5) is allowed and noted in report.md.
+    int repeats = kMinCostRepeats;
     std::optional<Viewport> viewport;  // overrides every scene's default viewer image
     std::string output = "report";     // folder, created when missing
     render::ContextOptions gl;
     bool progress = true;  // progress bar on stderr
     bool plot = true;      // error_vs_time.png through gnuplot
-    // Mask grids show the budget closest to this one (the paper's 512^2).
+    // The mask grid shows every budget; its shaded preview (<scene>_preview.png) is the first
+    // method's at the budget closest to this one (the paper's 512^2).
     std::int64_t grid_budget = 512 * 512;
 };
 
