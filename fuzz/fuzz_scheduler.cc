@@ -1,9 +1,11 @@
 // fuzz_scheduler: PlanShadowMaps on structured random requests (FuzzedDataProvider): a viewer,
 // a light, up to 8 objects (some with a box mesh), up to 4 planes (some bounded), budgets,
 // texture limits and passes. No crash; an ok() plan is finite, within its budget, and its
-// lookup answers an index into its maps.
+// lookup answers an index into its maps. The same request's baselines (uniform, PSM, LiSPSM,
+// cascades with random settings) from the plan's hull keep the same promises.
 #include "fuzz_input.h"
 
+#include <lixel/solver/baseline_plan.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/mesh.h>
 #include <lixel/solver/scheduler.h>
@@ -83,6 +85,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     FuzzedDataProvider in(data, size);
     const lixel::PlanRequest request = lixel::fuzz::PickRequest(in);
     const auto plan = lixel::PlanShadowMaps(request);
-    if (plan) lixel::fuzz::CheckPlan(request, *plan, in);
+    if (!plan) return 0;
+    lixel::fuzz::CheckPlan(request, *plan, in);
+    const auto fitting = static_cast<lixel::BaselineFitting>(in.ConsumeIntegralInRange<int>(0, 3));
+    lixel::CascadeOptions cascades;
+    cascades.count = in.ConsumeIntegralInRange<int>(0, lixel::kMaxCascades + 1);
+    cascades.lambda = in.ConsumeBool() ? lixel::fuzz::PickDouble(in) : 0.5;
+    cascades.stabilize = in.ConsumeBool();
+    const auto baseline = lixel::PlanBaseline(request, fitting, plan->hull, cascades);
+    if (baseline) lixel::fuzz::CheckPlan(request, *baseline, in);
     return 0;
 }
