@@ -2,8 +2,12 @@
 #include "fixtures.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <utility>
 
@@ -38,7 +42,224 @@ bool Hits(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3
     return t > 1e-9 && t < t_max;
 }
 
+// A signed big integer, little-endian 32-bit limbs: enough for exact determinants of doubles.
+struct Big {
+    bool negative = false;
+    std::vector<std::uint32_t> limbs;  // no leading zeros; empty is zero
+
+    void Trim() {
+        while (!limbs.empty() && limbs.back() == 0) limbs.pop_back();
+        if (limbs.empty()) negative = false;
+    }
+    int Sign() const { return limbs.empty() ? 0 : (negative ? -1 : 1); }
+};
+
+int CompareMagnitude(const Big& a, const Big& b) {
+    if (a.limbs.size() != b.limbs.size()) return a.limbs.size() < b.limbs.size() ? -1 : 1;
+    for (std::size_t i = a.limbs.size(); i-- > 0;) {
+        if (a.limbs[i] != b.limbs[i]) return a.limbs[i] < b.limbs[i] ? -1 : 1;
+    }
+    return 0;
+}
+
+Big AddMagnitudes(const Big& a, const Big& b, bool negative) {
+    Big r;
+    r.negative = negative;
+    std::uint64_t carry = 0;
+    for (std::size_t i = 0; i < std::max(a.limbs.size(), b.limbs.size()) || carry; ++i) {
+        const std::uint64_t x = i < a.limbs.size() ? a.limbs[i] : 0;
+        const std::uint64_t y = i < b.limbs.size() ? b.limbs[i] : 0;
+        const std::uint64_t sum = x + y + carry;
+        r.limbs.push_back(static_cast<std::uint32_t>(sum));
+        carry = sum >> 32;
+    }
+    r.Trim();
+    return r;
+}
+
+// |a| - |b| for |a| >= |b|.
+Big SubtractMagnitudes(const Big& a, const Big& b, bool negative) {
+    Big r;
+    r.negative = negative;
+    std::int64_t borrow = 0;
+    for (std::size_t i = 0; i < a.limbs.size(); ++i) {
+        std::int64_t d = static_cast<std::int64_t>(a.limbs[i]) - borrow -
+                         (i < b.limbs.size() ? static_cast<std::int64_t>(b.limbs[i]) : 0);
+        borrow = d < 0 ? 1 : 0;
+        if (d < 0) d += std::int64_t{1} << 32;
+        r.limbs.push_back(static_cast<std::uint32_t>(d));
+    }
+    r.Trim();
+    return r;
+}
+
+Big operator+(const Big& a, const Big& b) {
+    if (a.negative == b.negative) return AddMagnitudes(a, b, a.negative);
+    if (CompareMagnitude(a, b) >= 0) return SubtractMagnitudes(a, b, a.negative);
+    return SubtractMagnitudes(b, a, b.negative);
+}
+
+Big operator-(const Big& a, const Big& b) {
+    Big nb = b;
+    nb.negative = !b.negative;
+    nb.Trim();
+    return a + nb;
+}
+
+Big operator*(const Big& a, const Big& b) {
+    Big r;
+    r.limbs.assign(a.limbs.size() + b.limbs.size() + 1, 0);
+    for (std::size_t i = 0; i < a.limbs.size(); ++i) {
+        std::uint64_t carry = 0;
+        for (std::size_t j = 0; j < b.limbs.size() || carry; ++j) {
+            const std::uint64_t y = j < b.limbs.size() ? b.limbs[j] : 0;
+            const std::uint64_t cur =
+                r.limbs[i + j] + static_cast<std::uint64_t>(a.limbs[i]) * y + carry;
+            r.limbs[i + j] = static_cast<std::uint32_t>(cur);
+            carry = cur >> 32;
+        }
+    }
+    r.negative = a.negative != b.negative;
+    r.Trim();
+    return r;
+}
+
+// x = mantissa * 2^exponent with a 53-bit integer mantissa (exponent of 0 for x = 0).
+std::pair<std::int64_t, int> Decompose(double x) {
+    if (x == 0.0) return {0, 0};
+    int e = 0;
+    const double f = std::frexp(x, &e);  // x = f 2^e, 0.5 <= |f| < 1
+    return {static_cast<std::int64_t>(std::ldexp(f, 53)), e - 53};
+}
+
+Big ShiftLeft(const Big& a, int shift) {
+    Big r;
+    r.negative = a.negative;
+    r.limbs.assign(static_cast<std::size_t>(shift / 32), 0);
+    const int bits = shift % 32;
+    std::uint32_t carry = 0;
+    for (const std::uint32_t limb : a.limbs) {
+        r.limbs.push_back(bits == 0 ? limb : (limb << bits) | carry);
+        carry = bits == 0 ? 0 : limb >> (32 - bits);
+    }
+    r.limbs.push_back(carry);
+    r.Trim();
+    return r;
+}
+
+// mantissa * 2^shift, shift >= 0.
+Big FromMantissa(std::int64_t mantissa, int shift) {
+    Big r;
+    r.negative = mantissa < 0;
+    const std::uint64_t m =
+        mantissa < 0 ? static_cast<std::uint64_t>(-mantissa) : static_cast<std::uint64_t>(mantissa);
+    r.limbs = {static_cast<std::uint32_t>(m), static_cast<std::uint32_t>(m >> 32)};
+    r.Trim();
+    return ShiftLeft(r, shift);
+}
+
 }  // namespace
+
+int ExactLightFacing(const Vec3& a, const Vec3& b, const Vec3& c, const Vec4& l) {
+    // Every input is an integer times 2^e for the smallest exponent e among them.
+    const double values[13] = {a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), c.x(),
+                               c.y(), c.z(), l.x(), l.y(), l.z(), l.w()};
+    int e_min = std::numeric_limits<int>::max();
+    for (double v : values) {
+        if (v != 0.0) e_min = std::min(e_min, Decompose(v).second);
+    }
+    if (e_min == std::numeric_limits<int>::max()) return 0;
+    Big big[13];
+    for (int k = 0; k < 13; ++k) {
+        const auto [m, e] = Decompose(values[k]);
+        big[k] = FromMantissa(m, m == 0 ? 0 : e - e_min);
+    }
+    // u = b - a, v = c - a scaled by 2^-e; m = l_xyz - l_w a scaled by 2^-2e (positive factors).
+    Big u[3], v[3], m[3];
+    for (int k = 0; k < 3; ++k) {
+        u[k] = big[3 + k] - big[k];
+        v[k] = big[6 + k] - big[k];
+        const Big wa = big[12] * big[k];
+        m[k] = e_min <= 0 ? ShiftLeft(big[9 + k], -e_min) - wa : big[9 + k] - ShiftLeft(wa, e_min);
+    }
+    const Big nx = v[1] * m[2] - v[2] * m[1];
+    const Big ny = v[2] * m[0] - v[0] * m[2];
+    const Big nz = v[0] * m[1] - v[1] * m[0];
+    return (nx * u[0] + ny * u[1] + nz * u[2]).Sign();
+}
+
+Watertightness CountWatertightness(const VolumeMesh& volume) {
+    Watertightness out;
+    // Identity by position: -0 and +0 are one coordinate.
+    std::map<std::array<std::uint64_t, 4>, std::uint32_t> ids;
+    std::vector<std::uint32_t> id(volume.vertices.size());
+    std::vector<Eigen::Vector4d> points;
+    for (std::size_t i = 0; i < volume.vertices.size(); ++i) {
+        std::array<std::uint64_t, 4> key;
+        for (int k = 0; k < 4; ++k)
+            key[k] = std::bit_cast<std::uint64_t>(volume.vertices[i][k] + 0.0);
+        const auto [it, fresh] = ids.emplace(key, static_cast<std::uint32_t>(points.size()));
+        if (fresh) {
+            points.push_back(volume.vertices[i]);
+        } else {
+            ++out.shared_positions;
+        }
+        id[i] = it->second;
+    }
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    for (const std::vector<std::uint32_t>* list : {&volume.sides, &volume.caps}) {
+        for (std::size_t t = 0; t + 2 < list->size(); t += 3) {
+            const std::uint32_t v[3] = {id[(*list)[t]], id[(*list)[t + 1]], id[(*list)[t + 2]]};
+            if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;
+            ++out.triangles;
+            for (int k = 0; k < 3; ++k) ++directed[{v[k], v[(k + 1) % 3]}];
+        }
+    }
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+    for (const auto& [edge, count] : directed) {
+        const auto [i, j] = edge;
+        auto reverse = directed.find({j, i});
+        const int back = reverse == directed.end() ? 0 : reverse->second;
+        if (i > j && back != 0) continue;  // counted from (j, i)
+        ++out.edges;
+        edges.push_back(edge);
+        out.unbalanced += count != back;
+        out.not_manifold += count != 1 || back != 1;
+    }
+    // T-junctions: a finite vertex inside a finite edge, or a point at infinity strictly inside
+    // the cone of an edge at infinity.
+    for (const auto& [i, j] : edges) {
+        const Eigen::Vector4d& p = points[i];
+        const Eigen::Vector4d& q = points[j];
+        if ((p.w() == 0.0) != (q.w() == 0.0)) continue;
+        const bool finite = p.w() != 0.0;
+        const Vec3 a = p.head<3>();
+        const Vec3 d = q.head<3>() - a;
+        for (std::uint32_t k = 0; k < points.size(); ++k) {
+            if (k == i || k == j || (points[k].w() == 0.0) == finite) continue;
+            const Vec3 x = points[k].head<3>();
+            if (finite) {
+                const double len2 = d.squaredNorm();
+                const double s = (x - a).dot(d) / len2;
+                if (!(s > 1e-9 && s < 1.0 - 1e-9)) continue;
+                if ((a + s * d - x).norm() <= 1e-9 * std::sqrt(len2)) ++out.t_junctions;
+            } else {
+                // x = alpha p + beta q with alpha, beta > 0, in the plane of p and q.
+                const Vec3 pq = a.cross(q.head<3>());
+                if (pq.norm() == 0.0) continue;
+                if (std::abs(pq.normalized().dot(x.normalized())) > 1e-9) continue;
+                const double alpha = x.cross(q.head<3>()).dot(pq);
+                const double beta = a.cross(x).dot(pq);
+                const double scale = pq.squaredNorm();
+                if (alpha > 1e-9 * scale * x.norm() / a.norm() &&
+                    beta > 1e-9 * scale * x.norm() / q.head<3>().norm()) {
+                    ++out.t_junctions;
+                }
+            }
+        }
+    }
+    return out;
+}
 
 Mesh Sphere(const Vec3& centre, double radius, int stacks, int slices) {
     Mesh m;

@@ -4,6 +4,7 @@
 
 #include <lixel/solver/mesh.h>
 #include <lixel/solver/types.h>
+#include <lixel/volumes/volume_mesh.h>
 
 #include <cstdint>
 #include <random>
@@ -57,5 +58,21 @@ int ShadowRayHits(const Mesh& mesh, const Vec3& point, const Vec4& light);
 
 // The nearest hit of the ray origin + t dir, t > 0, with any triangle of `mesh`; t or +inf.
 double NearestHit(const Mesh& mesh, const Vec3& origin, const Vec3& dir);
+
+// Ground truth for the orientation predicate (orient3d.h), in exact big-integer arithmetic on
+// the doubles as given: the sign of ((c - a) x (l_xyz - l_w a)) . (b - a). Slow; for tests.
+int ExactLightFacing(const Vec3& a, const Vec3& b, const Vec3& c, const Vec4& l);
+
+// Watertightness of a volume by counting (issue 16.4). Vertices are identified by their
+// homogeneous coordinates (bit for bit, -0 == +0), triangles with two equal vertices dropped.
+struct Watertightness {
+    std::size_t triangles = 0;         // kept (non-degenerate) triangles
+    std::size_t edges = 0;             // undirected vertex pairs used by a kept triangle
+    std::size_t unbalanced = 0;        // pairs used a different number of times in each direction
+    std::size_t not_manifold = 0;      // pairs not used exactly once in each direction
+    std::size_t t_junctions = 0;       // vertices in the interior of an edge (1e-9 relative)
+    std::size_t shared_positions = 0;  // vertices of the mesh at a position another one has
+};
+Watertightness CountWatertightness(const VolumeMesh& volume);
 
 }  // namespace lixel::volumes::testing

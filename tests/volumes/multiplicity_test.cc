@@ -6,6 +6,7 @@
 #include <lixel/volumes/multiplicity.h>
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <random>
 #include <tuple>
@@ -191,8 +192,58 @@ TEST(Multiplicity, ReferenceEdgeKeepsNearlyDegenerateTrianglesConsistent) {
     ASSERT_TRUE(adj.ok());
     for (const Vec4& light : {Vec4(0.3, 0.0, 0.2, 1), Vec4(1, 0, 0.4, 0), Vec4(2, 1e-6, 1, 1)}) {
         ExpectChainClosed(*adj, ComputeMultiplicities(*adj, light, Arithmetic::kFloat));
-        ExpectChainClosed(*adj, ComputeMultiplicities(*adj, light, Arithmetic::kDouble));
+        ExpectChainClosed(*adj, ComputeMultiplicities(*adj, light, Arithmetic::kExact));
     }
+}
+
+TEST(Multiplicity, FacingIsExactFarFromTheOrigin) {
+    // Issue 16.5: triangles 3e5 from the origin with the light in their plane (an integer
+    // combination of the edges, so exactly coplanar) or next to it (a real combination, coplanar
+    // until rounded), near and far: the facing, and every multiplicity, is the exact sign.
+    std::mt19937 rng(12351);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::uniform_int_distribution<int> step(-40, 40);
+    const Vec3 offset(3e5, -2e5, 1e5);
+    int wrong_facing = 0;
+    int wrong_multiplicity = 0;
+    int zero = 0;
+    for (int i = 0; i < 3000; ++i) {
+        Mesh m;
+        for (int k = 0; k < 3; ++k) {
+            m.positions.push_back((offset + Vec3(u(rng), u(rng), u(rng))).cast<float>());
+        }
+        m.indices = {0, 1, 2};
+        const Vec3 a = m.positions[0].cast<double>();
+        const Vec3 b = m.positions[1].cast<double>();
+        const Vec3 c = m.positions[2].cast<double>();
+        const bool exact = i % 2 == 0;
+        const double s = exact ? step(rng) : 40.0 * u(rng);
+        const double t = exact ? step(rng) : 40.0 * u(rng);
+        const Vec3 in_plane = s * (b - a) + t * (c - a);
+        const Vec4 light = i % 3 == 0 ? Vec4(in_plane.x(), in_plane.y(), in_plane.z(), 0.0)
+                                      : Vec4(a.x() + in_plane.x(), a.y() + in_plane.y(),
+                                             a.z() + in_plane.z(), 1.0);
+        auto adj = BuildEdgeAdjacency(m);
+        ASSERT_TRUE(adj.ok());
+        ASSERT_EQ(adj->source.size(), 1u);
+        const int expected = testing::ExactLightFacing(a, b, c, light);
+        zero += expected == 0;
+        wrong_facing += TriangleFacing(*adj, 0, light) != expected;
+        // Each edge gets +expected where the input winding runs it a -> b.
+        const std::vector<int> multiplicity = ComputeMultiplicities(*adj, light);
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t e = adj->triangle_edges[k];
+            const int forward = adj->triangles[k] == adj->edges[e].a ? 1 : -1;
+            wrong_multiplicity += multiplicity[e] != forward * expected;
+        }
+    }
+    EXPECT_GT(zero, 500);  // the scenario: many lights exactly in the plane
+    EXPECT_EQ(wrong_facing, 0);
+    EXPECT_EQ(wrong_multiplicity, 0);
+    std::printf(
+        "[ measured ] 3000 triangles far from the origin (%d with the light exactly in the plane): "
+        "%d facings and %d multiplicities differ from the exact sign\n",
+        zero, wrong_facing, wrong_multiplicity);
 }
 
 TEST(Multiplicity, IndependentOfTriangleOrderAndWinding) {

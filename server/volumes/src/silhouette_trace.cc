@@ -96,7 +96,12 @@ struct Builder {
             return Point(t, e, CrossingParameter(fa, fb));
         };
         // Counter-clockwise around R: leave it on the exit edge, come back on the enter edge.
-        out.push_back({crossing(exit), crossing(enter)});
+        // Both at one mesh corner (R meets the triangle only there, CrossingParameter snapped
+        // to it): no boundary in this triangle, and no zero-length loop through the corner.
+        const TracePoint from = crossing(exit);
+        const TracePoint to = crossing(enter);
+        if (from.key == to.key) return;
+        out.push_back({from, to});
     }
 
     struct Cover {
@@ -143,7 +148,9 @@ struct Builder {
         }
         std::sort(cuts.begin(), cuts.end());
         cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-        // Net signed coverage per elementary interval; runs of equal (net, owner) merge.
+        // Net signed coverage per elementary interval, each its own run: every cut is a vertex of
+        // the lit caps on this edge (smooth_volume.cc), so a loop piece must not span one (issue
+        // 16.4). (Where sides are consistently wound and at most two, no run spans a cut anyway.)
         int run_net = 0;
         std::uint32_t run_owner = 0;
         double run_lo = 0.0;
@@ -171,12 +178,10 @@ struct Builder {
                     break;
                 }
             }
-            if (i == 0 || net != run_net || (net != 0 && owner != run_owner)) {
-                if (i > 0) flush(cuts[i]);
-                run_net = net;
-                run_owner = owner;
-                run_lo = cuts[i];
-            }
+            if (i > 0) flush(cuts[i]);
+            run_net = net;
+            run_owner = owner;
+            run_lo = cuts[i];
         }
         flush(1.0);
     }

@@ -9,14 +9,26 @@
 #include <lixel/volumes/volume_mesh.h>
 
 #include <array>
+#include <cstdint>
 #include <span>
 #include <vector>
 
 namespace lixel::volumes {
 
 // The sides (and with Caps::kLightAndDark the caps) of the union of every kept triangle's own
-// volume: interior edges cancel to m = 0, so only silhouette edges extrude. `multiplicity` is
-// ComputeMultiplicities(adjacency, light) (same order as adjacency.edges).
+// volume, from one facing per kept triangle (ComputeFacings, same order as adjacency.source):
+// the sides are their boundary (MultiplicitiesFromFacings; interior edges cancel to m = 0, so
+// only silhouette edges extrude) and the caps are the triangles themselves, so the volume is
+// closed whatever arithmetic decided the facings (issue 16.5).
+VolumeMesh ExtrudeSilhouetteVolume(const EdgeAdjacency& adjacency,
+                                   std::span<const std::int8_t> facing, const Vec4& light,
+                                   Caps caps);
+
+// The same from multiplicities (same order as adjacency.edges). With caps, the caps are decided
+// by the predicate the multiplicities are the boundary of: ComputeFacings in kExact, or else in
+// kFloat (what ComputeMultiplicities(..., kFloat) at origin 0 and the GPU at origin 0 give);
+// multiplicities that are the boundary of neither are extruded as given with exact caps, which
+// do not close them.
 VolumeMesh ExtrudeSilhouetteVolume(const EdgeAdjacency& adjacency,
                                    std::span<const int> multiplicity, const Vec4& light, Caps caps);
 

@@ -19,10 +19,13 @@
 
 namespace lixel::volumes {
 
-// Which arithmetic evaluates Alg. 4. kFloat repeats the GLSL of common_volumes.glsl operation
-// for operation (no fused multiply-add: this file's callers are compiled with
-// -ffp-contract=off and the shader marks the values `precise`), so CPU and GL agree bit for bit.
-enum class Arithmetic { kDouble, kFloat };
+// Which arithmetic evaluates Alg. 4. kExact is the CPU path: LightFacingSign (orient3d.h), the
+// exact sign on the doubles as given, for the multiplicities and the caps alike. kFloat repeats
+// the GLSL of common_volumes.glsl operation for operation (no fused multiply-add: this file's
+// callers are compiled with -ffp-contract=off and the shader marks the values `precise`), on the
+// floats the GPU sees (relative to an origin, see ComputeMultiplicities), so CPU and GL agree bit
+// for bit. docs/volumes.md bounds where kFloat and kExact can differ.
+enum class Arithmetic { kExact, kFloat };
 
 // Paper 001, Alg. 4, for A < B < C: sgn(((C - A) x (l_xyz - l_w A)) . (B - A)), which is the
 // sign of n . (l_xyz - l_w A) for the triangle A -> B -> C: +1 when that winding faces the
@@ -49,14 +52,32 @@ int OppositeContribution(const Eigen::Matrix<S, 3, 1>& a, const Eigen::Matrix<S,
     return CompMultiplicity(a, b, o, l);
 }
 
-// The reference-edge facing of a kept triangle: +1 when its input winding faces the light,
-// -1 when the reverse winding does, 0 when the light lies in its plane (it casts nothing).
+// The facing of a kept triangle: +1 when its input winding faces the light, -1 when the reverse
+// winding does, 0 when the light lies in its plane (it casts nothing). kFloat decides it on the
+// reference edge, as volume_caps.geom does, on the world floats (the GPU's at origin 0); kExact
+// needs no reference edge (the exact sign is the same from any corner).
 int TriangleFacing(const EdgeAdjacency& adjacency, std::size_t triangle, const Vec4& light,
-                   Arithmetic arithmetic = Arithmetic::kDouble);
+                   Arithmetic arithmetic = Arithmetic::kExact);
 
-// Multiplicity of every edge of `adjacency` (same order as adjacency.edges).
+// TriangleFacing of every kept triangle (same order as adjacency.source): the one orientation
+// predicate both the sides (MultiplicitiesFromFacings) and the caps of a volume are built from.
+std::vector<std::int8_t> ComputeFacings(const EdgeAdjacency& adjacency, const Vec4& light,
+                                        Arithmetic arithmetic = Arithmetic::kExact);
+
+// Multiplicity of every edge as the boundary of the facings: each triangle adds its facing to
+// the edges its input winding runs a -> b and subtracts it from the others. For facings in
+// either arithmetic this equals ComputeMultiplicities in that arithmetic (Alg. 3 evaluates the
+// same reference-edge sign per opposite point).
+std::vector<int> MultiplicitiesFromFacings(const EdgeAdjacency& adjacency,
+                                           std::span<const std::int8_t> facing);
+
+// Multiplicity of every edge of `adjacency` (same order as adjacency.edges). kFloat evaluates
+// Alg. 3 per edge as shadow_volume.tesc does, on the floats fl(p - origin) and the light
+// relative to `origin` (UploadVolumeScene's and VolumePass's), including the shader's swap of
+// an edge whose ends compare the other way round after rounding; `origin` is ignored by kExact.
 std::vector<int> ComputeMultiplicities(const EdgeAdjacency& adjacency, const Vec4& light,
-                                       Arithmetic arithmetic = Arithmetic::kDouble);
+                                       Arithmetic arithmetic = Arithmetic::kExact,
+                                       const Vec3& origin = Vec3::Zero());
 
 // A silhouette edge as a client consumes it: the edge's points (a < b) and its multiplicity;
 // m > 0 means the light-facing side traverses a -> b, so its side quad is b, a, a_inf, b_inf.
@@ -69,7 +90,7 @@ struct SilhouetteEdge {
 
 // The edges with non-zero multiplicity, in adjacency order.
 std::vector<SilhouetteEdge> ExtractSilhouette(const EdgeAdjacency& adjacency, const Vec4& light,
-                                              Arithmetic arithmetic = Arithmetic::kDouble);
+                                              Arithmetic arithmetic = Arithmetic::kExact);
 
 // The light in a validated form: finite, not the zero vector; w = 0 or w = 1 after scaling by
 // 1/w for w != 0 (a point light with w < 0 is the same point). Error field "light".

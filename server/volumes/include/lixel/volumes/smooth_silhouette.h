@@ -86,8 +86,15 @@ std::vector<double> FacingValues(const Mesh& mesh, const Vec4& light);
 Vec3 EdgePoint(const EdgeAdjacency& adjacency, std::uint32_t edge, double x);
 
 // Where f changes sign along edge e for a side whose facing values at e.a and e.b are fa, fb
-// (one > 0, the other <= 0): x = fa / (fa - fb).
-inline double CrossingParameter(double fa, double fb) { return fa / (fa - fb); }
+// (one > 0, the other <= 0): x = fa / (fa - fb), snapped to the end within 2^-40 of it. A loop
+// passing a hair from a mesh vertex (f there a rounding error away from 0) then passes through
+// it, instead of zigzagging among crossings whose positions round to collinear points (issue
+// 16.4: such a zigzag puts loop vertices inside the strips' edges).
+inline double CrossingParameter(double fa, double fb) {
+    constexpr double kSnap = 0x1p-40;
+    const double x = fa / (fa - fb);
+    return x < kSnap ? 0.0 : (x > 1.0 - kSnap ? 1.0 : x);
+}
 
 // The loops do not depend on the input's windings: each connected component is wound
 // consistently from its geometry first (OrientTriangles).

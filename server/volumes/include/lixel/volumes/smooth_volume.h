@@ -2,7 +2,10 @@
 // extruded to infinity, and the gap between the smooth contour and the mesh is closed by the
 // strip p'_i, p'_(i+1), p_(i+1), p_i (Fig. 6). For z-fail the caps are the lit region R of the
 // mesh (each triangle clipped to f > 0, so its border is exactly the loops' p') and, at
-// infinity, R and the gap strips projected away from the light, so the volume is closed.
+// infinity, R and the gap strips projected away from the light, so the volume is closed: an
+// oriented 2-manifold on shared vertices, every edge used once in each direction, no T-junctions
+// (issue 16.4; the caps carry every point the strips and the neighbouring caps put on their
+// border).
 #pragma once
 
 #include <lixel/solver/mesh.h>
