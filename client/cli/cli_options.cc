@@ -64,7 +64,12 @@ ABSL_FLAG(double, split_lambda, 0.5,
 ABSL_FLAG(bool, stable_cascades, true,
           "view --method=csm: sphere fit and texel snapping (directional lights)");
 ABSL_FLAG(std::string, filter, "depth",
-          "view: depth, pcf, second_depth, silhouette_map or volumes");
+          "view: depth, pcf, second_depth, silhouette_map, volumes or smooth_volumes");
+ABSL_FLAG(double, smooth_epsilon, 1e-3,
+          "view --filter=smooth_volumes: subdivision tolerance (paper 002), world units, > 0");
+ABSL_FLAG(double, normal_offset, -1.0,
+          "view --filter=smooth_volumes: contour offset along -n, world units, >= 0; "
+          "default 15 epsilon (the paper's 0.15 at its epsilon 0.01)");
 ABSL_FLAG(bool, evaluate, false, "view: the error against exact visibility");
 ABSL_FLAG(bool, timings, false, "view: per-stage run times");
 ABSL_FLAG(bool, all, false, "report: every built-in scene");
@@ -208,6 +213,12 @@ Result<bool> Flags::CheckValues() const {
             return Error{"--split_lambda", "must be in [0, 1]"};
         }
         if (auto filter = ViewFilter(); !filter) return filter.error();
+        if (const double e = absl::GetFlag(FLAGS_smooth_epsilon); !(e > 0.0) || !std::isfinite(e)) {
+            return Error{"--smooth_epsilon", "must be a finite length > 0"};
+        }
+        if (Given("normal_offset") && !(absl::GetFlag(FLAGS_normal_offset) >= 0.0)) {
+            return Error{"--normal_offset", "must be a length >= 0"};
+        }
     }
     return true;
 }
@@ -303,7 +314,8 @@ Result<v1::Method> ViewMethod() {
 Result<v1::Filter> ViewFilter() {
     v1::Filter filter;
     if (!v1::Filter_Parse(Upper("FILTER_", absl::GetFlag(FLAGS_filter)), &filter)) {
-        return Error{"--filter", "must be depth, pcf, second_depth, silhouette_map or volumes"};
+        return Error{"--filter", "must be depth, pcf, second_depth, silhouette_map, volumes or "
+                                 "smooth_volumes"};
     }
     return filter;
 }

@@ -22,6 +22,8 @@ ABSL_DECLARE_FLAG(std::string, target);
 ABSL_DECLARE_FLAG(int, cascades);
 ABSL_DECLARE_FLAG(double, split_lambda);
 ABSL_DECLARE_FLAG(bool, stable_cascades);
+ABSL_DECLARE_FLAG(double, smooth_epsilon);
+ABSL_DECLARE_FLAG(double, normal_offset);
 ABSL_DECLARE_FLAG(std::string, token);
 ABSL_DECLARE_FLAG(std::string, token_file);
 ABSL_DECLARE_FLAG(std::string, tls_ca);

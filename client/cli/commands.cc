@@ -90,7 +90,8 @@ const std::set<std::string>* CommandFlags(const std::string& command) {
           "volumes", "out", "pfm"}},
         {"view",
          {"scene", "scene_file", "budget", "fallback_floor", "method", "filter", "evaluate",
-          "timings", "out", "cascades", "split_lambda", "stable_cascades"}},
+          "timings", "out", "cascades", "split_lambda", "stable_cascades", "smooth_epsilon",
+          "normal_offset"}},
         {"report",
          {"scene", "scene_file", "all", "full", "repeats", "out", "budgets", "depth_only"}},
     };
@@ -242,6 +243,12 @@ int ViewCommand(client::Client& client, const Flags& flags) {
             static_cast<std::uint32_t>(absl::GetFlag(FLAGS_cascades)));
         request.mutable_cascades()->set_lambda(absl::GetFlag(FLAGS_split_lambda));
         request.mutable_cascades()->set_stabilize(absl::GetFlag(FLAGS_stable_cascades));
+    }
+    if (request.filter() == v1::FILTER_SMOOTH_VOLUMES) {
+        request.mutable_smooth()->set_epsilon(absl::GetFlag(FLAGS_smooth_epsilon));
+        if (flags.Given("normal_offset")) {
+            request.mutable_smooth()->set_normal_offset(absl::GetFlag(FLAGS_normal_offset));
+        }
     }
     auto view = client.View(request);
     if (!view) return Fail(view.error());

@@ -93,7 +93,8 @@ int ReportCommand(client::Client& client, const Flags& flags) {
                           uploaded->scene_id()});
     }
 
-    // Every fitting x shadow test, then the exact silhouette shadow volumes (paper 001).
+    // Every fitting x shadow test, then the exact silhouette shadow volumes (paper 001) and
+    // those of smooth silhouettes (paper 002).
     struct Run {
         std::string name;
         v1::Method method;
@@ -105,6 +106,9 @@ int ReportCommand(client::Client& client, const Flags& flags) {
         methods.push_back({m.Name(), ProtoMethod(m.fitting), ProtoFilter(m.test)});
     }
     methods.push_back({"silhouette volumes", v1::METHOD_PLANE_OPTIMAL, v1::FILTER_VOLUMES});
+    // Paper 002 with its defaults: smooth silhouettes for the closed meshes with normals.
+    methods.push_back({"smooth silhouette volumes", v1::METHOD_PLANE_OPTIMAL,
+                       v1::FILTER_SMOOTH_VOLUMES});
     auto budgets = ReportBudgets(flags, eval::DefaultBudgets());
     if (!budgets) return UsageError(budgets.error());
     eval::ProgressBar bar(
@@ -151,7 +155,8 @@ int ReportCommand(client::Client& client, const Flags& flags) {
                 request.set_preview(false);
                 eval::StageTimes stage_times;
                 std::vector<eval::CostRepeat> costs;
-                const bool has_maps = method.filter != v1::FILTER_VOLUMES;
+                const bool has_maps = method.filter != v1::FILTER_VOLUMES &&
+                                      method.filter != v1::FILTER_SMOOTH_VOLUMES;
                 std::optional<Error> failed;
                 for (int r = 0; r < runs && !failed; ++r) {
                     const auto start = Clock::now();

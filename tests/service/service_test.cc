@@ -48,6 +48,15 @@ protected:
         return plan;
     }
 
+    // View refuses `request` as INVALID_ARGUMENT with a message naming `field`.
+    static void ExpectViewRefusedNaming(const v1::ViewRequest& request, const std::string& field) {
+        auto refused = client_->View(request);
+        ASSERT_FALSE(refused.ok()) << field;
+        EXPECT_EQ(refused.error().field, "INVALID_ARGUMENT");
+        EXPECT_NE(refused.error().Message().find(field), std::string::npos)
+            << refused.error().Message();
+    }
+
     // A request that must succeed after each refusal: the server is still serving.
     static void ExpectStillServing() {
         auto plan = client_->Plan(ScenePlan());
@@ -381,16 +390,68 @@ TEST_F(ServiceTest, ViewServesCascadedShadowMapsAndRefusesBadSettings) {
                            Bad{4, std::numeric_limits<double>::quiet_NaN(), "cascades.lambda"}}) {
         request.mutable_cascades()->set_count(bad.count);
         request.mutable_cascades()->set_lambda(bad.lambda);
-        auto refused = client_->View(request);
-        ASSERT_FALSE(refused.ok());
-        EXPECT_EQ(refused.error().field, "INVALID_ARGUMENT");
-        EXPECT_NE(refused.error().Message().find(bad.field), std::string::npos)
-            << refused.error().Message();
+        ExpectViewRefusedNaming(request, bad.field);
     }
     request.clear_cascades();
     auto again = client_->View(request);
     ASSERT_TRUE(again.ok()) << again.error().Message();
     EXPECT_EQ(again->mask(), view->mask());
+}
+
+// FILTER_SMOOTH_VOLUMES (paper 002): no maps, a mask as close to the mesh's truth as the robust
+// volumes' up to the contour's offset, the settings used (a large offset shrinks the shadows),
+// and bad settings refused naming the field.
+TEST_F(ServiceTest, ViewServesSmoothSilhouetteVolumesAndRefusesBadSettings) {
+    v1::ViewRequest request;
+    *request.mutable_plan() = ScenePlan();
+    request.set_evaluate(true);
+    request.set_filter(v1::FILTER_VOLUMES);
+    auto robust = client_->View(request);
+    ASSERT_TRUE(robust.ok()) << robust.error().Message();
+    request.set_filter(v1::FILTER_SMOOTH_VOLUMES);
+    auto smooth = client_->View(request);
+    ASSERT_TRUE(smooth.ok()) << smooth.error().Message();
+    EXPECT_EQ(smooth->maps(), 0u);
+    EXPECT_EQ(smooth->total_lixels(), 0u);
+    // The smooth contour departs from the mesh's own silhouette by at most the tessellation's
+    // sagitta and the default offset (15 x 1e-3): judged by the mesh's truth, its few wrong
+    // pixels lie along the shadow boundaries.
+    const v1::Evaluation& e = smooth->evaluation();
+    std::printf("[ measured ] smooth volumes: %llu of %llu decided pixels differ from the mesh's "
+                "truth, %llu of them within 2 px of a boundary\n",
+                static_cast<unsigned long long>(e.wrong_pixels()),
+                static_cast<unsigned long long>(e.decided_pixels()),
+                static_cast<unsigned long long>(e.band_wrong_pixels()));
+    EXPECT_LT(e.misclassified_percent(), 2.0);
+    EXPECT_GE(e.band_wrong_pixels(), e.wrong_pixels() * 9 / 10);
+    EXPECT_NE(smooth->mask(), robust->mask());  // a different contour, not the robust volumes
+    const auto shadowed = [](const v1::ViewResponse& view) {
+        std::size_t count = 0;
+        for (std::size_t i = 0; i < view.mask().size() / 4; ++i) {
+            float v = 0.0f;
+            std::memcpy(&v, view.mask().data() + 4 * i, 4);
+            count += v == 0.0f;
+        }
+        return count;
+    };
+    request.mutable_smooth()->set_normal_offset(0.2);
+    auto shrunk = client_->View(request);
+    ASSERT_TRUE(shrunk.ok()) << shrunk.error().Message();
+    EXPECT_LT(shadowed(*shrunk), shadowed(*smooth));
+    struct Bad {
+        double epsilon;
+        double offset;
+        const char* field;
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const Bad& bad : {Bad{-1.0, 0.0, "smooth.epsilon"}, Bad{nan, 0.0, "smooth.epsilon"},
+                           Bad{1e-3, -0.1, "smooth.normal_offset"},
+                           Bad{1e-3, nan, "smooth.normal_offset"}}) {
+        request.mutable_smooth()->set_epsilon(bad.epsilon);
+        request.mutable_smooth()->set_normal_offset(bad.offset);
+        ExpectViewRefusedNaming(request, bad.field);
+    }
+    ExpectStillServing();
 }
 
 // The report's cost baselines (ViewRequest.cost_baselines) and preview, only when asked.

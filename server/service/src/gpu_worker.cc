@@ -1,6 +1,7 @@
 // A worker's GL state and the render jobs run on it.
 #include <lixel/render/readback.h>
 #include <lixel/service/gpu_worker.h>
+#include <lixel/volumes/scene_volume.h>
 
 #include <algorithm>
 #include <chrono>
@@ -197,12 +198,24 @@ Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string
     if (times != nullptr) times->maps_seconds = FinishedSeconds(worker, start);
 
     start = std::chrono::steady_clock::now();
+    // Smooth silhouettes: the scene's volume built on the CPU for this light and uploaded on
+    // every call (nothing is cached), so the view stage (the lookup cost) holds all of it.
+    std::optional<volumes::gl::GpuVolumeMesh> smooth;
+    if (job.smooth) {
+        auto built = volumes::ExtrudeSceneVolume(record.scene.meshes, patches->adjacency(),
+                                                 job.light, *job.smooth);
+        if (!built) return Error{"scene." + built.error().field, built.error().reason};
+        auto uploaded = volumes::gl::UploadVolumeMesh(*worker.context, *built, scene.origin());
+        if (!uploaded) return uploaded.error();
+        smooth.emplace(std::move(uploaded).value());
+    }
     volumes::gl::VolumeRequest request;
     request.viewer = job.viewer;
     request.viewport = job.viewport;
     request.light = job.light;
     render::ViewImages images;
-    auto drawn = worker.volume_pass->Render(scene, *patches, request, images);
+    auto drawn = smooth ? worker.volume_pass->Render(scene, *patches, *smooth, request, images)
+                        : worker.volume_pass->Render(scene, *patches, request, images);
     if (!drawn) return drawn.error();
     if (times != nullptr) times->view_seconds = FinishedSeconds(worker, start);
 

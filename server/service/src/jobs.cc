@@ -443,6 +443,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         case v1::FILTER_SECOND_DEPTH: method = render::ShadowMethod::kSecondDepth; break;
         case v1::FILTER_SILHOUETTE_MAP: method = render::ShadowMethod::kSilhouette; break;
         case v1::FILTER_VOLUMES: break;  // no maps: exact volumes over the view
+        case v1::FILTER_SMOOTH_VOLUMES: break;  // no maps: smooth silhouettes' volumes
         default:
             return InvalidArgument(
                 Error{"filter", "unknown value " + std::to_string(request.filter())});
@@ -450,7 +451,8 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     if (!v1::Method_IsValid(request.method())) {
         return InvalidArgument(Error{"method", "unknown value " + std::to_string(request.method())});
     }
-    const bool volumes = request.filter() == v1::FILTER_VOLUMES;
+    const bool volumes = request.filter() == v1::FILTER_VOLUMES ||
+                         request.filter() == v1::FILTER_SMOOTH_VOLUMES;
     auto decoded = DecodePlanRequest(plan_message, scene.get(), "plan");
     if (!decoded) return InvalidArgument(decoded.error());
     // The view pass reads every map from one atlas, each inside a border (view_pass.h).
@@ -474,6 +476,11 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     job.method = method;
     if (volumes) {
         job.maps.clear();  // shadow volumes need no map
+        if (request.filter() == v1::FILTER_SMOOTH_VOLUMES) {
+            auto smooth = DecodeSmoothVolumes(request.smooth(), "smooth");
+            if (!smooth) return InvalidArgument(smooth.error());
+            job.smooth = *smooth;
+        }
     } else if (request.method() == v1::METHOD_PLANE_OPTIMAL) {
         job.maps = plan->maps;
     } else {
@@ -527,6 +534,8 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         // The maps together larger than the view pass takes (more than it holds, or more than
         // one atlas texture): the request's size, not a fault.
         if (mask.error().field == "maps") return Exhausted("plan: " + mask.error().Message());
+        // A mesh the smooth path refuses (not orientable, a zero normal): the upload's fault.
+        if (mask.error().field.starts_with("scene.meshes[")) return InvalidArgument(mask.error());
         return grpc::Status(grpc::StatusCode::INTERNAL, mask.error().Message());
     }
     times.emplace_back("maps", mask_times.maps_seconds);
@@ -665,7 +674,7 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
         return InvalidArgument(Error{"epsilon", "must be a finite length >= 0 (0 means 1e-3)"});
     }
     volumes::SmoothOptions smooth;
-    smooth.epsilon = request.epsilon() == 0.0 ? 1e-3 : request.epsilon();
+    smooth.epsilon = request.epsilon() == 0.0 ? kDefaultSmoothEpsilon : request.epsilon();
     std::uint64_t bytes = 0;
     for (std::size_t i = 0; i < scene->scene.meshes.size(); ++i) {
         const Mesh& mesh = scene->scene.meshes[i];

@@ -91,6 +91,21 @@ Result<CascadeOptions> DecodeCascades(const v1::Cascades& cascades, const std::s
     return options;
 }
 
+Result<volumes::SmoothOptions> DecodeSmoothVolumes(const v1::SmoothVolumes& smooth,
+                                                   const std::string& field) {
+    volumes::SmoothOptions options;
+    options.epsilon = smooth.epsilon() == 0.0 ? kDefaultSmoothEpsilon : smooth.epsilon();
+    if (!(options.epsilon > 0.0) || !std::isfinite(options.epsilon)) {
+        return Error{field + ".epsilon", "must be a finite length > 0 (0 means 1e-3)"};
+    }
+    options.normal_offset =
+        smooth.has_normal_offset() ? smooth.normal_offset() : kPaperOffsetPerEpsilon * options.epsilon;
+    if (!(options.normal_offset >= 0.0) || !std::isfinite(options.normal_offset)) {
+        return Error{field + ".normal_offset", "must be a finite length >= 0"};
+    }
+    return options;
+}
+
 Result<Vec4> DecodeLight(const v1::Light& light, bool present, const std::string& field) {
     if (!present || !light.has_position()) return Error{field + ".position", "is required"};
     auto position = DecodeVec4(light.position(), field + ".position");

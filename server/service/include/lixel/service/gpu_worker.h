@@ -11,6 +11,7 @@
 #include <lixel/solver/result.h>
 #include <lixel/solver/scheduler.h>
 #include <lixel/volumes/gl/volume_pass.h>
+#include <lixel/volumes/smooth_silhouette.h>
 #include <lixel/volumes/gl/volume_scene.h>
 
 #include <atomic>
@@ -97,6 +98,9 @@ struct MaskJob {
     render::ShadowMethod method = render::ShadowMethod::kDepth;
     render::ShadowOptions options;
     std::vector<PlannedMap> maps;
+    // RenderVolumeMask: smooth silhouettes (paper 002) for the closed meshes with normals, with
+    // these settings; unset: robust silhouettes (paper 001) for every mesh.
+    std::optional<volumes::SmoothOptions> smooth;
 };
 struct MaskTimes {
     double maps_seconds = 0.0;

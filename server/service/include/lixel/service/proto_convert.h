@@ -11,6 +11,7 @@
 #include <lixel/solver/scheduler.h>
 #include <lixel/solver/types.h>
 #include <lixel/v1/lixel.pb.h>
+#include <lixel/volumes/smooth_silhouette.h>
 
 #include <string>
 #include <vector>
@@ -23,6 +24,11 @@ inline constexpr std::size_t kMaxBatchTriples = 65536;     // views x planes x l
 inline constexpr std::size_t kMaxPolygonVertices = 1024;
 inline constexpr std::size_t kMaxObjects = 65536;
 inline constexpr std::uint64_t kMaxLixelBudget = 1ull << 28;
+// Smooth silhouettes' subdivision tolerance when a request leaves it 0 (Silhouettes, View),
+// world units; and the normal offset per unit of it when unset: paper 002 uses an offset of
+// 0.15 with epsilon 0.01.
+inline constexpr double kDefaultSmoothEpsilon = 1e-3;
+inline constexpr double kPaperOffsetPerEpsilon = 15.0;
 
 Result<Mat4> DecodeMat4(const v1::Mat4& m, const std::string& field);
 Result<Vec3> DecodeVec3(const v1::Vec3& v, const std::string& field);
@@ -39,6 +45,10 @@ Result<Vec4> DecodeLight(const v1::Light& light, bool present, const std::string
 // METHOD_CSM's settings with the proto's defaults for what is unset (count 0: 4 cascades);
 // errors name field.count or field.lambda.
 Result<CascadeOptions> DecodeCascades(const v1::Cascades& cascades, const std::string& field);
+// FILTER_SMOOTH_VOLUMES's settings with the proto's defaults (epsilon 0: 1e-3; normal_offset
+// unset: 15 epsilon); errors name field.epsilon or field.normal_offset.
+Result<volumes::SmoothOptions> DecodeSmoothVolumes(const v1::SmoothVolumes& smooth,
+                                                   const std::string& field);
 // A bounded plane's polygon: strictly convex and counter-clockwise seen from the side `normal`
 // points to; else the first vertex that breaks it (field[k]) or the polygon's winding.
 Result<bool> CheckConvexCounterClockwise(const std::vector<Vec3>& polygon, const Vec3& normal,
