@@ -174,12 +174,13 @@ Scene ThinPlatesScene() {
     return scene;
 }
 
-Scene SphereTorusScene() {
+Scene SphereTorusScene(int refinement) {
     Scene scene;
     scene.name = "sphere_torus";
     scene.meshes.push_back(FloorMesh(6.0));
-    scene.meshes.push_back(MakeSphere("coarse sphere", Vec3(-1.2, 1.4, 0.0), 0.9, 6, 10));
-    Mesh torus = MakeTorus("coarse torus", Vec3(1.4, 1.2, 0.3), 0.8, 0.3, 12, 6);
+    const int r = std::max(1, refinement);
+    scene.meshes.push_back(MakeSphere("coarse sphere", Vec3(-1.2, 1.4, 0.0), 0.9, 6 * r, 10 * r));
+    Mesh torus = MakeTorus("coarse torus", Vec3(1.4, 1.2, 0.3), 0.8, 0.3, 12 * r, 6 * r);
     scene.meshes.push_back(std::move(torus));
     scene.planes = {Floor()};
     scene.camera.eye = Vec3(0.0, 3.0, 6.0);

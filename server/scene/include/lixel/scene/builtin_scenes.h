@@ -30,7 +30,9 @@ Scene ThinPlatesScene();
 
 // A coarse sphere and a coarse torus with smooth vertex normals over a floor: silhouettes that
 // smooth shadow volumes (paper 002) must round off.
-Scene SphereTorusScene();
+// `refinement` multiplies every tessellation count: the same sphere and torus, finer; a fine
+// copy is the smooth objects' ground truth (docs/volumes.md).
+Scene SphereTorusScene(int refinement = 1);
 
 // Lathe-turned pins standing on a floor: curved receivers that no plane of interest covers.
 Scene PinsScene();
