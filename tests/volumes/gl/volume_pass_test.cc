@@ -179,6 +179,19 @@ Mat4 Viewer(const Vec3& eye, const Vec3& target) {
            LookAt(eye, target, Vec3::UnitY());
 }
 
+// The view ray through pixel (x, y)'s centre, from the near plane to the far plane, for the
+// inverse of the viewer's pixel matrix.
+struct PixelRay {
+    Vec3 origin;
+    Vec3 dir;
+};
+PixelRay RayThrough(const Mat4& inverse, int x, int y) {
+    const Vec4 n = inverse * Vec4(x + 0.5, y + 0.5, 0.0, 1.0);
+    const Vec4 f = inverse * Vec4(x + 0.5, y + 0.5, 1.0, 1.0);
+    const Vec3 origin = n.head<3>() / n.w();
+    return {origin, Vec3(f.head<3>() / f.w() - origin)};
+}
+
 // Per pixel: -1 no surface, 0 shadowed, 1 lit, by ray casting the merged meshes exactly.
 std::vector<int> TruthMask(const MaskCase& c) {
     const Mesh all = Merge(c.meshes);
@@ -186,10 +199,7 @@ std::vector<int> TruthMask(const MaskCase& c) {
     std::vector<int> truth(static_cast<std::size_t>(c.viewport.width) * c.viewport.height);
     for (int y = 0; y < c.viewport.height; ++y) {
         for (int x = 0; x < c.viewport.width; ++x) {
-            const Vec4 n = inverse * Vec4(x + 0.5, y + 0.5, 0.0, 1.0);
-            const Vec4 f = inverse * Vec4(x + 0.5, y + 0.5, 1.0, 1.0);
-            const Vec3 origin = n.head<3>() / n.w();
-            const Vec3 dir = f.head<3>() / f.w() - origin;
+            const auto [origin, dir] = RayThrough(inverse, x, y);
             const double t = volumes::testing::NearestHit(all, origin, dir);
             int& out = truth[static_cast<std::size_t>(y) * c.viewport.width + x];
             if (!std::isfinite(t)) {
@@ -424,10 +434,7 @@ TEST(VolumePassMask, DeepStacksDoNotWrapTheCount) {
         const Mat4 inverse = PixelMatrix(c.viewer, c.viewport).inverse();
         for (int y = 0; y < c.viewport.height; ++y) {
             for (int x = 0; x < c.viewport.width; ++x) {
-                const Vec4 n = inverse * Vec4(x + 0.5, y + 0.5, 0.0, 1.0);
-                const Vec4 f = inverse * Vec4(x + 0.5, y + 0.5, 1.0, 1.0);
-                const Vec3 o = n.head<3>() / n.w();
-                const Vec3 d = f.head<3>() / f.w() - o;
+                const auto [o, d] = RayThrough(inverse, x, y);
                 const double floor_t = -o.y() / d.y();
                 const double stack_t = volumes::testing::NearestHit(stack, o, d);
                 int& t = truth[static_cast<std::size_t>(y) * c.viewport.width + x];
