@@ -36,14 +36,19 @@ const char* BaselineFittingName(BaselineFitting fitting) noexcept {
     return "unknown";
 }
 
-Result<Plan> PlanBaseline(const PlanRequest& request, BaselineFitting fitting,
-                          const ExtentHull& hull, const CascadeOptions& cascades) noexcept {
+BaselineInput BaselineInputOf(const PlanRequest& request) {
     BaselineInput input;
     input.viewer = request.viewer;
     input.viewport = request.viewport;
     input.light = request.light;
     input.lixel_budget = request.lixel_budget;
     for (const SceneObject& o : request.objects) input.receivers.push_back(o.bounds);
+    return input;
+}
+
+Result<Plan> PlanBaseline(const PlanRequest& request, BaselineFitting fitting,
+                          const ExtentHull& hull, const CascadeOptions& cascades) noexcept {
+    const BaselineInput input = BaselineInputOf(request);
     const std::vector<Receiver> receivers = ViewReceivers(request);
 
     Plan plan;

@@ -182,16 +182,19 @@ Result<CascadedMaps> FitCascades(const BaselineInput& input, const ExtentHull& h
     if (!AllFinite(inverse)) return Error{"viewer", "is not invertible"};
     const bool stable = options.stabilize && hull.light.w() == 0.0;
     const int side = SquareSide(budget);
+    // The world half-space of the points at most z deep along the view direction:
+    // z - f . (X - e) >= 0.
+    const auto at_most = [&](double z) {
+        return Vec4(-forward.x(), -forward.y(), -forward.z(), forward.dot(eye) + z);
+    };
     for (int i = 0; i < options.count; ++i) {
         const double z0 = out.splits[i];
         const double z1 = out.splits[i + 1];
         // The slice of V; its outer ends are the receivers' own extremes, left unclipped so that
         // rounding never drops a receiver lying on them.
         ConvexPolytope slice = hull.view_volume;
-        if (i > 0) slice.Clip(Vec4(forward.x(), forward.y(), forward.z(), -forward.dot(eye) - z0));
-        if (i + 1 < options.count) {
-            slice.Clip(Vec4(-forward.x(), -forward.y(), -forward.z(), forward.dot(eye) + z1));
-        }
+        if (i > 0) slice.Clip(-at_most(z0));
+        if (i + 1 < options.count) slice.Clip(at_most(z1));
         std::vector<Vec4> receivers;
         if (!slice.empty()) {
             const std::vector<Vec3> vertices = slice.vertices();
@@ -212,25 +215,19 @@ Result<CascadedMaps> FitCascades(const BaselineInput& input, const ExtentHull& h
         Cascade cascade;
         cascade.z_begin = z0;
         cascade.z_end = z1;
-        if (stable) {
-            const Sphere sphere = SliceSphere(CornersAtDepth(inverse, eye, forward, z0),
-                                              CornersAtDepth(inverse, eye, forward, z1));
-            Result<LightMap> map =
-                StableMap(hull.light, sphere, side, points, receivers, cascade.sphere_radius);
-            if (!map) return Error{"cascades[" + std::to_string(i) + "]." + map.error().field,
-                                   map.error().reason};
-            cascade.map = *map;
-            cascade.stabilized = true;
-        } else {
-            Result<LightMap> map = FitFrustum(hull.light, points, square, Vec3::Zero(), receivers);
-            if (!map) return Error{"cascades[" + std::to_string(i) + "]." + map.error().field,
-                                   map.error().reason};
-            cascade.map = *map;
+        cascade.stabilized = stable;
+        const Result<LightMap> map =
+            stable ? StableMap(hull.light,
+                               SliceSphere(CornersAtDepth(inverse, eye, forward, z0),
+                                           CornersAtDepth(inverse, eye, forward, z1)),
+                               side, points, receivers, cascade.sphere_radius)
+                   : FitFrustum(hull.light, points, square, Vec3::Zero(), receivers);
+        if (!map) {
+            return Error{"cascades[" + std::to_string(i) + "]." + map.error().field,
+                         map.error().reason};
         }
-        if (i + 1 < options.count) {
-            // z1 - f . (X - e) >= 0: at most z1 deep.
-            cascade.view_limit << -forward, forward.dot(eye) + z1;
-        }
+        cascade.map = *map;
+        if (i + 1 < options.count) cascade.view_limit = at_most(z1);
         out.cascades.push_back(cascade);
     }
     if (out.cascades.empty()) return Error{"receivers", "no slice of the view holds a receiver"};

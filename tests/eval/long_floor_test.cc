@@ -37,7 +37,7 @@ FloorAliasing OnTheFloor(const GroundTruth& truth, const scene::Scene& scene, co
     }
     EXPECT_GT(m.size(), 100000u);  // about half the 1024^2 view is floor
     std::sort(m.begin(), m.end());
-    return {m[static_cast<std::size_t>(0.95 * (m.size() - 1))], m.back()};
+    return {m[static_cast<std::size_t>(0.95 * static_cast<double>(m.size() - 1))], m.back()};
 }
 
 // The receivers' view depths the baselines focus on: the floor enters the view where the lower

@@ -129,7 +129,9 @@ TEST(Cascades, EveryVisibleFloorPointGoesToTheCascadeOfItsSliceWhichHoldsIt) {
             EXPECT_LE(depth, chosen + 1 < static_cast<int>(cascades->cascades.size())
                                  ? c.z_end + slack
                                  : std::numeric_limits<double>::infinity());
-            if (chosen > 0) EXPECT_GT(depth, cascades->cascades[chosen - 1].z_end - slack);
+            if (chosen > 0) {
+                EXPECT_GT(depth, cascades->cascades[chosen - 1].z_end - slack);
+            }
             const Vec4 p = c.map.matrix * Point(x);
             ASSERT_GT(p.w(), 0.0);
             EXPECT_GE(p.x() / p.w(), -1e-6 * side);
@@ -200,7 +202,9 @@ TEST(Cascades, StableCascadesKeepTheTexelGridFixedInTheWorld) {
         }
         std::printf("[ measured ] %s: %d of %zu row changes are not whole lixels\n",
                     stabilize ? "stabilized" : "tight", fractional, 8 * (frames.size() - 1));
-        if (!stabilize) EXPECT_GT(fractional, 100);
+        if (!stabilize) {
+            EXPECT_GT(fractional, 100);
+        }
     }
 }
 

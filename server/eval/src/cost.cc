@@ -2,7 +2,9 @@
 // (cost.h).
 #include <lixel/eval/cost.h>
 #include <lixel/eval/timing.h>
+#include <lixel/solver/baseline_plan.h>
 #include <lixel/solver/baselines.h>
+#include <lixel/solver/light_frustum.h>
 
 #include <algorithm>
 
@@ -83,13 +85,9 @@ CostStats SummariseCosts(const std::vector<CostRepeat>& repeats) {
 Result<LightMap> BaselineDepthMap(const PlanRequest& request, const ExtentHull& hull,
                                   std::int64_t lixels, std::span<const PlannedMap> maps) {
     if (lixels < 1) return Error{"lixels", "the baseline depth pass needs at least one lixel"};
-    BaselineInput input;
-    input.viewer = request.viewer;
-    input.viewport = request.viewport;
-    input.light = request.light;
+    // Focused as the baselines the report compares are (PlanBaseline): every object's box.
+    BaselineInput input = BaselineInputOf(request);
     input.lixel_budget = lixels;
-    // Focused as the baselines the report compares are (methods.cc): every object's box.
-    for (const SceneObject& o : request.objects) input.receivers.push_back(o.bounds);
     if (auto fitted = FitUniformMap(input, hull); fitted) return fitted->map;
     // One map cannot hold the hull (a point light inside it): the method's own largest map,
     // drawn at the square's size, still draws the geometry the method draws.
@@ -101,8 +99,7 @@ Result<LightMap> BaselineDepthMap(const PlanRequest& request, const ExtentHull& 
     if (largest == maps.end() || largest->map.width < 1 || largest->map.height < 1) {
         return Error{"maps", "no uniform fit of the hull and no map to take the baseline's from"};
     }
-    const int side = static_cast<int>(
-        std::min<std::int64_t>(kMaxImageSide, std::int64_t(std::sqrt(double(lixels)))));
+    const int side = SquareSide(lixels);
     LightMap square = largest->map;
     // LightMap::matrix ends in the viewport transform: x and y are in lixels, so scaling those
     // rows resizes the image without changing what it sees.

@@ -17,6 +17,10 @@ enum class BaselineFitting { kUniform, kPsm, kLispsm, kCsm };
 // "uniform", "psm", "lispsm", "csm": the maps' names (a cascade is "csm 0", "csm 1", ...).
 const char* BaselineFittingName(BaselineFitting fitting) noexcept;
 
+// What a baseline is fitted from for `request`: its viewer, viewport, light and budget, and
+// every object's box as a receiver (as Kozlov and Filament focus theirs).
+BaselineInput BaselineInputOf(const PlanRequest& request);
+
 // The baseline for `request` (its viewer, viewport, light and budget; every object's box a
 // receiver, as Kozlov and Filament focus theirs) from `hull`, computed for the request's light.
 // Each map gets the passes request.passes asks for beyond depth and the diagnostics of
