@@ -670,11 +670,10 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
         if (!decoded) return InvalidArgument(decoded.error());
         light = *decoded;
     }
-    if (!(request.epsilon() >= 0.0) || !std::isfinite(request.epsilon())) {
-        return InvalidArgument(Error{"epsilon", "must be a finite length >= 0 (0 means 1e-3)"});
-    }
+    auto epsilon = DecodeSmoothEpsilon(request.epsilon(), "epsilon");
+    if (!epsilon) return InvalidArgument(epsilon.error());
     volumes::SmoothOptions smooth;
-    smooth.epsilon = request.epsilon() == 0.0 ? kDefaultSmoothEpsilon : request.epsilon();
+    smooth.epsilon = *epsilon;
     std::uint64_t bytes = 0;
     for (std::size_t i = 0; i < scene->scene.meshes.size(); ++i) {
         const Mesh& mesh = scene->scene.meshes[i];

@@ -91,13 +91,19 @@ Result<CascadeOptions> DecodeCascades(const v1::Cascades& cascades, const std::s
     return options;
 }
 
+Result<double> DecodeSmoothEpsilon(double epsilon, const std::string& field) {
+    if (!(epsilon >= 0.0) || !std::isfinite(epsilon)) {
+        return Error{field, "must be a finite length >= 0 (0 means 1e-3)"};
+    }
+    return epsilon == 0.0 ? kDefaultSmoothEpsilon : epsilon;
+}
+
 Result<volumes::SmoothOptions> DecodeSmoothVolumes(const v1::SmoothVolumes& smooth,
                                                    const std::string& field) {
     volumes::SmoothOptions options;
-    options.epsilon = smooth.epsilon() == 0.0 ? kDefaultSmoothEpsilon : smooth.epsilon();
-    if (!(options.epsilon > 0.0) || !std::isfinite(options.epsilon)) {
-        return Error{field + ".epsilon", "must be a finite length > 0 (0 means 1e-3)"};
-    }
+    auto epsilon = DecodeSmoothEpsilon(smooth.epsilon(), field + ".epsilon");
+    if (!epsilon) return epsilon.error();
+    options.epsilon = *epsilon;
     options.normal_offset =
         smooth.has_normal_offset() ? smooth.normal_offset() : kPaperOffsetPerEpsilon * options.epsilon;
     if (!(options.normal_offset >= 0.0) || !std::isfinite(options.normal_offset)) {

@@ -45,6 +45,9 @@ Result<Vec4> DecodeLight(const v1::Light& light, bool present, const std::string
 // METHOD_CSM's settings with the proto's defaults for what is unset (count 0: 4 cascades);
 // errors name field.count or field.lambda.
 Result<CascadeOptions> DecodeCascades(const v1::Cascades& cascades, const std::string& field);
+// A smooth silhouettes' subdivision tolerance as both Silhouettes and View take it: a finite
+// length >= 0, 0 meaning kDefaultSmoothEpsilon; the error names `field`.
+Result<double> DecodeSmoothEpsilon(double epsilon, const std::string& field);
 // FILTER_SMOOTH_VOLUMES's settings with the proto's defaults (epsilon 0: 1e-3; normal_offset
 // unset: 15 epsilon); errors name field.epsilon or field.normal_offset.
 Result<volumes::SmoothOptions> DecodeSmoothVolumes(const v1::SmoothVolumes& smooth,
