@@ -188,7 +188,9 @@ Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string
         if (it->first == id) patches = it->second;
     }
     if (patches == nullptr) {
-        auto uploaded = volumes::gl::UploadVolumeScene(*worker.context, record.scene.meshes,
+        auto adjacency = record.adjacency->Get(record.scene.meshes);
+        if (!adjacency) return Error{"scene." + adjacency.error().field, adjacency.error().reason};
+        auto uploaded = volumes::gl::UploadVolumeScene(*worker.context, std::move(adjacency).value(),
                                                        scene.origin());
         if (!uploaded) return Error{"scene." + uploaded.error().field, uploaded.error().reason};
         patches = std::make_shared<volumes::gl::VolumeScene>(std::move(uploaded).value());

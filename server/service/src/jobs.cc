@@ -12,7 +12,9 @@
 #include <lixel/solver/plane_map.h>
 #include <lixel/volumes/edge_adjacency.h>
 #include <lixel/volumes/multiplicity.h>
+#include <lixel/volumes/scene_volume.h>
 #include <lixel/volumes/smooth_silhouette.h>
+#include <lixel/service/silhouette_encoding.h>
 
 #include <chrono>
 #include <cmath>
@@ -670,44 +672,35 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
         if (!decoded) return InvalidArgument(decoded.error());
         light = *decoded;
     }
-    auto epsilon = DecodeSmoothEpsilon(request.epsilon(), "epsilon");
-    if (!epsilon) return InvalidArgument(epsilon.error());
-    volumes::SmoothOptions smooth;
-    smooth.epsilon = *epsilon;
+    // The proto's p_inf is for w scaled to 1 (or 0): the geometry is computed for that light.
+    auto normalized = volumes::NormalizeLight(light);
+    if (!normalized) return InvalidArgument(normalized.error());
+    light = *normalized;
+    auto smooth = DecodeSmoothOptions(
+        request.epsilon(),
+        request.has_normal_offset() ? std::optional(request.normal_offset()) : std::nullopt, "");
+    if (!smooth) return InvalidArgument(smooth.error());
+    auto adjacency = scene->adjacency->Get(scene->scene.meshes);
+    if (!adjacency) return InvalidArgument(Error{"scene." + adjacency.error().field,
+                                                 adjacency.error().reason});
     std::uint64_t bytes = 0;
     for (std::size_t i = 0; i < scene->scene.meshes.size(); ++i) {
         const Mesh& mesh = scene->scene.meshes[i];
-        const std::string field = "scene.meshes[" + std::to_string(i) + "]";
-        // Between meshes and between a mesh's steps (adjacency, extraction).
-        if (cancelled && cancelled()) return CancelledStatus();
-        auto adjacency = volumes::BuildEdgeAdjacency(mesh);
-        if (!adjacency) return InvalidArgument(Error{field, adjacency.error().Message()});
-        if (cancelled && cancelled()) return CancelledStatus();
-        if (!request.smooth()) {
-            for (const volumes::SilhouetteEdge& e : volumes::ExtractSilhouette(*adjacency, light)) {
-                v1::SilhouetteEdge* out = response->add_edges();
-                out->set_mesh(static_cast<std::uint32_t>(i));
-                EncodeVec3(e.a.cast<double>(), out->mutable_a());
-                EncodeVec3(e.b.cast<double>(), out->mutable_b());
-                out->set_multiplicity(e.multiplicity);
-                bytes += 64;
+        const auto index = static_cast<std::uint32_t>(i);
+        const volumes::EdgeAdjacency& edges = (**adjacency)[i];
+        if (cancelled && cancelled()) return CancelledStatus();  // between meshes
+        // The meshes FILTER_SMOOTH_VOLUMES draws smooth (scene_volume.h), and only those.
+        if (request.smooth() && volumes::IsSmoothCaster(mesh)) {
+            auto added = EncodeSmoothSilhouette(index, mesh, edges, light, *smooth,
+                                                request.caps(), response);
+            if (!added) {
+                return InvalidArgument(Error{"scene.meshes[" + std::to_string(i) + "]." +
+                                                 added.error().field,
+                                             added.error().reason});
             }
+            bytes += *added;
         } else {
-            if (mesh.normals.size() != mesh.positions.size()) {
-                return InvalidArgument(Error{field + ".normals",
-                                             "smooth silhouettes need one normal per vertex"});
-            }
-            auto loops = volumes::ComputeSmoothSilhouette(mesh, *adjacency, light, smooth);
-            if (!loops) return InvalidArgument(Error{field, loops.error().Message()});
-            for (const volumes::SmoothLoop& loop : loops->loops) {
-                v1::SilhouetteLoop* out = response->add_loops();
-                out->set_mesh(static_cast<std::uint32_t>(i));
-                out->set_closed(loop.closed);
-                for (const volumes::SmoothVertex& v : loop.vertices) {
-                    EncodeVec3(v.position, out->add_points());
-                    bytes += 32;
-                }
-            }
+            bytes += EncodeRobustSilhouette(index, mesh, edges, light, request.caps(), response);
         }
         if (bytes > state.options.max_response_bytes) {
             return Exhausted("silhouettes: over the " +

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 namespace lixel::service {
 
@@ -98,18 +99,26 @@ Result<double> DecodeSmoothEpsilon(double epsilon, const std::string& field) {
     return epsilon == 0.0 ? kDefaultSmoothEpsilon : epsilon;
 }
 
-Result<volumes::SmoothOptions> DecodeSmoothVolumes(const v1::SmoothVolumes& smooth,
-                                                   const std::string& field) {
+Result<volumes::SmoothOptions> DecodeSmoothOptions(double epsilon,
+                                                   std::optional<double> normal_offset,
+                                                   const std::string& prefix) {
     volumes::SmoothOptions options;
-    auto epsilon = DecodeSmoothEpsilon(smooth.epsilon(), field + ".epsilon");
-    if (!epsilon) return epsilon.error();
-    options.epsilon = *epsilon;
-    options.normal_offset =
-        smooth.has_normal_offset() ? smooth.normal_offset() : kPaperOffsetPerEpsilon * options.epsilon;
+    auto decoded = DecodeSmoothEpsilon(epsilon, prefix + "epsilon");
+    if (!decoded) return decoded.error();
+    options.epsilon = *decoded;
+    options.normal_offset = normal_offset.value_or(kPaperOffsetPerEpsilon * options.epsilon);
     if (!(options.normal_offset >= 0.0) || !std::isfinite(options.normal_offset)) {
-        return Error{field + ".normal_offset", "must be a finite length >= 0"};
+        return Error{prefix + "normal_offset", "must be a finite length >= 0"};
     }
     return options;
+}
+
+Result<volumes::SmoothOptions> DecodeSmoothVolumes(const v1::SmoothVolumes& smooth,
+                                                   const std::string& field) {
+    return DecodeSmoothOptions(smooth.epsilon(),
+                               smooth.has_normal_offset() ? std::optional(smooth.normal_offset())
+                                                          : std::nullopt,
+                               field + ".");
 }
 
 Result<Vec4> DecodeLight(const v1::Light& light, bool present, const std::string& field) {
@@ -188,7 +197,7 @@ SceneRecord MakeSceneRecord(scene::Scene scene) {
     for (const Mesh& m : scene.meshes) {
         bytes += m.positions.size() * sizeof(Eigen::Vector3f) +
                  m.normals.size() * sizeof(Eigen::Vector3f) + m.indices.size() * 4 +
-                 m.name.size();
+                 m.name.size() + AdjacencyBytesBound(m);
     }
     record.bytes = bytes;
     record.scene = std::move(scene);

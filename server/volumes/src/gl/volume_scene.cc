@@ -36,6 +36,24 @@ render::GlVertexArray MakeVertexArray(const render::GlApi& gl, const render::GlB
 Result<VolumeScene> UploadVolumeScene(render::GlContext& context, std::span<const Mesh> meshes,
                                       const Vec3& origin, int max_opposites) {
     if (meshes.empty()) return Error{"meshes", "no meshes to cast shadow volumes"};
+    auto built = std::make_shared<std::vector<EdgeAdjacency>>();
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+        auto adjacency = BuildEdgeAdjacency(meshes[m]);
+        if (!adjacency) {
+            return Error{"meshes[" + std::to_string(m) + "]." + adjacency.error().field,
+                         adjacency.error().reason};
+        }
+        built->push_back(std::move(adjacency.value()));
+    }
+    return UploadVolumeScene(context, std::move(built), origin, max_opposites);
+}
+
+Result<VolumeScene> UploadVolumeScene(render::GlContext& context,
+                                      std::shared_ptr<const std::vector<EdgeAdjacency>> adjacency,
+                                      const Vec3& origin, int max_opposites) {
+    if (adjacency == nullptr || adjacency->empty()) {
+        return Error{"adjacency", "no meshes to cast shadow volumes"};
+    }
     if (!origin.allFinite()) return Error{"origin", "not finite"};
     const render::ContextInfo& info = context.info();
     const int limit = std::min(info.max_patch_vertices - 2, (info.max_tess_gen_level + 1) / 2);
@@ -52,21 +70,14 @@ Result<VolumeScene> UploadVolumeScene(render::GlContext& context, std::span<cons
 
     VolumeScene scene;
     scene.origin_ = origin;
-    for (std::size_t m = 0; m < meshes.size(); ++m) {
-        auto adjacency = BuildEdgeAdjacency(meshes[m]);
-        if (!adjacency) {
-            return Error{"meshes[" + std::to_string(m) + "]." + adjacency.error().field,
-                         adjacency.error().reason};
-        }
-        scene.adjacency_.push_back(std::move(adjacency.value()));
-    }
+    scene.adjacency_ = std::move(adjacency);
     const auto limit_opposites = static_cast<std::uint32_t>(per_patch_limit);
 
     std::vector<float> points;
     std::vector<std::uint32_t> patches;
     std::vector<std::uint32_t> caps;
-    for (std::size_t m = 0; m < scene.adjacency_.size(); ++m) {
-        const EdgeAdjacency& adj = scene.adjacency_[m];
+    for (std::size_t m = 0; m < scene.adjacency_->size(); ++m) {
+        const EdgeAdjacency& adj = (*scene.adjacency_)[m];
         const std::size_t base = points.size() / 3;
         if (base + adj.points.size() > std::numeric_limits<std::uint32_t>::max()) {
             return Error{"meshes", "more than 2^32 - 1 distinct points"};

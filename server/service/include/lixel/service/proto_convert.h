@@ -10,9 +10,12 @@
 #include <lixel/solver/result.h>
 #include <lixel/solver/scheduler.h>
 #include <lixel/solver/types.h>
+#include <lixel/service/scene_adjacency.h>
 #include <lixel/v1/lixel.pb.h>
 #include <lixel/volumes/smooth_silhouette.h>
 
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,8 +51,13 @@ Result<CascadeOptions> DecodeCascades(const v1::Cascades& cascades, const std::s
 // A smooth silhouettes' subdivision tolerance as both Silhouettes and View take it: a finite
 // length >= 0, 0 meaning kDefaultSmoothEpsilon; the error names `field`.
 Result<double> DecodeSmoothEpsilon(double epsilon, const std::string& field);
-// FILTER_SMOOTH_VOLUMES's settings with the proto's defaults (epsilon 0: 1e-3; normal_offset
-// unset: 15 epsilon); errors name field.epsilon or field.normal_offset.
+// Smooth silhouettes' settings with the proto's defaults (epsilon 0: 1e-3; normal_offset unset:
+// 15 epsilon), as View's FILTER_SMOOTH_VOLUMES and Silhouettes take them; errors name
+// <prefix>epsilon or <prefix>normal_offset.
+Result<volumes::SmoothOptions> DecodeSmoothOptions(double epsilon,
+                                                   std::optional<double> normal_offset,
+                                                   const std::string& prefix);
+// The same from a SmoothVolumes message at `field`.
 Result<volumes::SmoothOptions> DecodeSmoothVolumes(const v1::SmoothVolumes& smooth,
                                                    const std::string& field);
 // A bounded plane's polygon: strictly convex and counter-clockwise seen from the side `normal`
@@ -66,7 +74,10 @@ struct SceneRecord {
     scene::Scene scene;
     Mat4 default_viewer = Mat4::Identity();
     Viewport default_viewport{1024, 1024};
-    std::uint64_t bytes = 0;  // decoded size, what the cache charges
+    // Built on first use; shared by the record's copies, which hold the same meshes.
+    std::shared_ptr<const SceneAdjacency> adjacency = std::make_shared<SceneAdjacency>();
+    // What the cache charges: the decoded size, and the adjacency's bound from the start.
+    std::uint64_t bytes = 0;
 };
 
 // Builds the record of a built-in or loaded scene, its default viewer from its look-at camera.

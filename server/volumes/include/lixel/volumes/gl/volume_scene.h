@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -44,7 +45,7 @@ struct CapRange {
 class VolumeScene {
   public:
     const Vec3& origin() const noexcept { return origin_; }
-    const std::vector<EdgeAdjacency>& adjacency() const noexcept { return adjacency_; }
+    const std::vector<EdgeAdjacency>& adjacency() const noexcept { return *adjacency_; }
     // The largest patch of any group (A, B and up to patch_vertices() - 2 opposite points); 0
     // when the scene has no edges.
     int patch_vertices() const noexcept { return patch_vertices_; }
@@ -64,10 +65,10 @@ class VolumeScene {
     GLuint caps() const noexcept { return cap_vao_.id(); }
 
   private:
-    friend Result<VolumeScene> UploadVolumeScene(render::GlContext&, std::span<const Mesh>,
-                                                 const Vec3&, int);
+    friend Result<VolumeScene> UploadVolumeScene(
+        render::GlContext&, std::shared_ptr<const std::vector<EdgeAdjacency>>, const Vec3&, int);
     Vec3 origin_ = Vec3::Zero();
-    std::vector<EdgeAdjacency> adjacency_;
+    std::shared_ptr<const std::vector<EdgeAdjacency>> adjacency_;
     int patch_vertices_ = 0;
     std::vector<PatchEdge> patch_edges_;
     std::vector<PatchGroup> patch_groups_;
@@ -87,6 +88,13 @@ class VolumeScene {
 // llvmpipe (32 patch vertices, level 64), so 2|m| - 1 never exceeds the tessellation limit.
 // Errors name the field: "meshes" (none), "meshes[2].indices[7]", "origin", "max_opposites".
 Result<VolumeScene> UploadVolumeScene(render::GlContext& context, std::span<const Mesh> meshes,
+                                      const Vec3& origin = Vec3::Zero(), int max_opposites = 0);
+
+// The same from adjacency built before (one per mesh, BuildEdgeAdjacency's), which the scene
+// shares instead of building its own: the service builds it once per scene for every worker.
+// Errors: "adjacency" (null or empty), "origin", "max_opposites".
+Result<VolumeScene> UploadVolumeScene(render::GlContext& context,
+                                      std::shared_ptr<const std::vector<EdgeAdjacency>> adjacency,
                                       const Vec3& origin = Vec3::Zero(), int max_opposites = 0);
 
 // A volume built on the CPU (smooth silhouettes, or any VolumeMesh), uploaded for drawing:
