@@ -11,6 +11,7 @@
 #include <lixel/eval/png_image.h>
 #include <lixel/eval/progress.h>
 #include <lixel/eval/report.h>
+#include <lixel/eval/smooth_truth.h>
 #include <lixel/eval/timing.h>
 #include <lixel/scene/builtin_scenes.h>
 
@@ -66,6 +67,9 @@ std::int64_t PreviewBudget(const std::vector<std::int64_t>& budgets) {
 struct SceneRun {
     std::string name;
     std::string id;
+    // For a built-in scene with a smooth twin (scene::SmoothTwin): every row is also scored
+    // against the smooth objects' shadows.
+    std::optional<eval::SmoothTruth> smooth_truth;
 };
 
 }  // namespace
@@ -89,8 +93,16 @@ int ReportCommand(client::Client& client, const Flags& flags) {
         if (!source) return Fail(source.error());
         auto uploaded = client.UploadScene(source->message);
         if (!uploaded) return Fail(uploaded.error());
-        scenes.push_back({source->scene.name.empty() ? name : source->scene.name,
-                          uploaded->scene_id()});
+        SceneRun run{source->scene.name.empty() ? name : source->scene.name,
+                     uploaded->scene_id(), std::nullopt};
+        if (!flags.Given("scene_file")) {
+            if (const std::optional<scene::Scene> twin = scene::SmoothTwin(name)) {
+                auto truth = eval::ComputeSmoothTruth(source->scene, *twin);
+                if (!truth) return Fail(truth.error());
+                run.smooth_truth = std::move(truth).value();
+            }
+        }
+        scenes.push_back(std::move(run));
     }
 
     // Every fitting x shadow test, then the exact silhouette shadow volumes (paper 001) and
@@ -180,6 +192,10 @@ int ReportCommand(client::Client& client, const Flags& flags) {
                 row.stage_ms = stage_times.Medians();
                 row.repeats = runs;
                 row.cost = eval::SummariseCosts(costs);
+                if (scene.smooth_truth) {
+                    row.smooth_truth = eval::ScoreAgainstSmoothTruth(MaskOf(*evaluated),
+                                                                     *scene.smooth_truth);
+                }
                 rows.push_back(row);
                 if (info.gl_renderer.empty()) info.gl_renderer = evaluated->gl_renderer();
 

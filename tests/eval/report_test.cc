@@ -236,6 +236,32 @@ TEST(ReportMarkdown, CostRatiosWithTheRendererAndFewRepeatsNoted) {
     EXPECT_NE(Read(dir / "old.md").find("| use | total ms |"), std::string::npos);
 }
 
+TEST(ReportMarkdown, SmoothObjectsTableOnlyForScenesWithATwin) {
+    const fs::path dir = FreshDir("md_smooth");
+    std::vector<ReportRow> rows = Rows();
+    rows[4].smooth_truth = SmoothTruthScore{2000, 30};  // pins
+    ASSERT_TRUE(WriteReportMarkdown((dir / "report.md").string(), rows).ok());
+    const std::string md = Read(dir / "report.md");
+    EXPECT_NE(md.find("### pins against the smooth objects"), std::string::npos) << md;
+    EXPECT_EQ(md.find("### floor_wall against the smooth objects"), std::string::npos);
+    EXPECT_NE(md.find("on the 2000 pixels where both tessellations see the same"),
+              std::string::npos);
+    // 30 of 2000 against the smooth objects, 7 of 1000 against the mesh.
+    EXPECT_NE(md.find("| 512² | uniform, PCF \"3x3\" | 1.500 | 0.700 |"), std::string::npos) << md;
+
+    ASSERT_TRUE(WriteReportCsv((dir / "report.csv").string(), rows).ok());
+    std::istringstream lines(Read(dir / "report.csv"));
+    std::string header;
+    std::getline(lines, header);
+    EXPECT_NE(header.find(",smooth_truth_pixels,smooth_truth_misclassified_pct"),
+              std::string::npos);
+    std::vector<std::string> out;
+    for (std::string line; std::getline(lines, line);) out.push_back(line);
+    ASSERT_EQ(out.size(), 5u);
+    EXPECT_TRUE(out[4].ends_with(",2000,1.5")) << out[4];
+    EXPECT_TRUE(out[0].ends_with(",,")) << out[0];
+}
+
 TEST(ReportPlot, CostRatioAxisWithOneKeyEntryPerFittingAndTest) {
     if (!GnuplotAvailable()) GTEST_SKIP() << "gnuplot not installed";
     const fs::path dir = FreshDir("plot_costs");

@@ -214,3 +214,44 @@ TEST(BuiltinScenes, PinsAreClosedLatheSolids) {
 
 }  // namespace
 }  // namespace lixel::scene
+
+namespace lixel::scene {
+namespace {
+
+// The smooth twins keep everything but their casters' tessellation: the same meshes in the same
+// order, the floor identical, every caster closed with normals and within its coarse copy's
+// bounds give or take the tessellation's chord error (outward: the coarse mesh's vertices lie
+// on the smooth surface, so the finer one bulges out between them by at most the sagitta).
+TEST(BuiltinScenes, SmoothTwinsRefineOnlyTheSmoothCasters) {
+    for (const std::string name : {"sphere_torus", "pins"}) {
+        auto coarse = BuiltinScene(name);
+        ASSERT_TRUE(coarse.ok());
+        const std::optional<Scene> fine = SmoothTwin(name, 8);
+        ASSERT_TRUE(fine.has_value()) << name;
+        const std::optional<Scene> same = SmoothTwin(name, 1);
+        ASSERT_TRUE(same.has_value()) << name;
+        ASSERT_EQ(fine->meshes.size(), coarse->meshes.size()) << name;
+        EXPECT_EQ(fine->light, coarse->light) << name;
+        EXPECT_EQ(fine->camera.Viewer(), coarse->camera.Viewer()) << name;
+        for (std::size_t i = 0; i < coarse->meshes.size(); ++i) {
+            const Mesh& c = coarse->meshes[i];
+            const Mesh& f = fine->meshes[i];
+            EXPECT_EQ(f.name, c.name);
+            EXPECT_EQ(same->meshes[i].positions, c.positions) << name << " refinement 1";
+            if (!c.closed) {
+                EXPECT_EQ(f.positions, c.positions) << name << " " << c.name;
+                continue;
+            }
+            EXPECT_TRUE(f.closed);
+            EXPECT_EQ(f.normals.size(), f.positions.size());
+            EXPECT_GT(f.TriangleCount(), 40 * c.TriangleCount()) << name << " " << c.name;
+            const Aabb cb = c.Bounds(), fb = f.Bounds();
+            EXPECT_LT((fb.min - cb.min).norm() + (fb.max - cb.max).norm(), 0.1 * cb.Diagonal())
+                << name << " " << c.name;
+        }
+    }
+    EXPECT_FALSE(SmoothTwin("floor_wall").has_value());
+}
+
+}  // namespace
+}  // namespace lixel::scene

@@ -438,6 +438,32 @@ TEST_F(ServiceTest, ViewServesSmoothSilhouetteVolumesAndRefusesBadSettings) {
     auto shrunk = client_->View(request);
     ASSERT_TRUE(shrunk.ok()) << shrunk.error().Message();
     EXPECT_LT(shadowed(*shrunk), shadowed(*smooth));
+
+    // The scene keeps the volume of the last light and settings: the same call again is served
+    // from it (an upload, no build) with the same mask; another light builds again.
+    request.set_timings(true);
+    request.set_evaluate(false);
+    const auto stages = [](const v1::ViewResponse& view) {
+        std::set<std::string> names;
+        for (const v1::StageTime& t : view.timings()) names.insert(t.stage());
+        return names;
+    };
+    auto first = client_->View(request);
+    ASSERT_TRUE(first.ok()) << first.error().Message();
+    EXPECT_EQ(first->mask(), shrunk->mask());
+    EXPECT_FALSE(stages(*first).contains("smooth_build"));
+    EXPECT_TRUE(stages(*first).contains("smooth_upload"));
+    v1::ViewRequest moved = request;
+    const Vec4 light = scene::FloorWallScene().light + Vec4(0.25, 0.0, 0.0, 0.0);
+    service::EncodeVec4(light, moved.mutable_plan()->mutable_light()->mutable_position());
+    auto other = client_->View(moved);
+    ASSERT_TRUE(other.ok()) << other.error().Message();
+    EXPECT_TRUE(stages(*other).contains("smooth_build"));
+    EXPECT_NE(other->mask(), first->mask());
+    auto back = client_->View(request);
+    ASSERT_TRUE(back.ok()) << back.error().Message();
+    EXPECT_TRUE(stages(*back).contains("smooth_build"));
+    EXPECT_EQ(back->mask(), first->mask());
     struct Bad {
         double epsilon;
         double offset;

@@ -15,7 +15,9 @@ CostPart CostPartOf(std::string_view stage) noexcept {
         stage == "passes" || stage.starts_with("pass ")) {
         return CostPart::kMap;
     }
-    if (stage == "view" || stage == "volumes") return CostPart::kLookup;
+    // A smooth volume is uploaded on every call: part of the lookup. Its CPU build
+    // ("smooth_build") happens once per scene and light, so it is in neither cost.
+    if (stage == "view" || stage == "volumes" || stage == "smooth_upload") return CostPart::kLookup;
     if (stage == kBaselineDepthStage) return CostPart::kBaselineDepth;
     if (stage == kBaselineViewStage) return CostPart::kBaselineView;
     return CostPart::kNone;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 namespace lixel::scene {
 namespace {
@@ -33,6 +34,26 @@ std::vector<Vec2> PinProfile(double height) {
     return {{0.10 * h, 0.00 * h}, {0.14 * h, 0.05 * h}, {0.18 * h, 0.18 * h}, {0.19 * h, 0.28 * h},
             {0.16 * h, 0.42 * h}, {0.09 * h, 0.58 * h}, {0.07 * h, 0.66 * h}, {0.09 * h, 0.78 * h},
             {0.10 * h, 0.86 * h}, {0.08 * h, 0.95 * h}, {0.03 * h, 1.00 * h}};
+}
+
+// The profile with `per_span` points per span on the uniform Catmull-Rom curve through its
+// points (end points repeated): the smooth outline they sample. 1 gives the profile itself.
+std::vector<Vec2> RefinedProfile(const std::vector<Vec2>& profile, int per_span) {
+    if (per_span <= 1 || profile.size() < 2) return profile;
+    const auto at = [&](int i) {
+        return profile[static_cast<std::size_t>(std::clamp(i, 0, int(profile.size()) - 1))];
+    };
+    std::vector<Vec2> out;
+    for (int i = 0; i + 1 < int(profile.size()); ++i) {
+        const Vec2 p0 = at(i - 1), p1 = at(i), p2 = at(i + 1), p3 = at(i + 2);
+        for (int k = 0; k < per_span; ++k) {
+            const double t = double(k) / per_span, t2 = t * t, t3 = t2 * t;
+            out.push_back(0.5 * (2.0 * p1 + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2 +
+                                 (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3));
+        }
+    }
+    out.push_back(profile.back());
+    return out;
 }
 
 }  // namespace
@@ -192,9 +213,10 @@ Scene SphereTorusScene(int refinement) {
     return scene;
 }
 
-Scene PinsScene() {
+Scene PinsScene(int refinement) {
     Scene scene;
     scene.name = "pins";
+    const int r = std::max(1, refinement);
     scene.meshes.push_back(FloorMesh(6.0));
     // Ten pins in the bowling triangle, 30 cm apart, 38 cm tall.
     const double spacing = 0.3;
@@ -203,11 +225,12 @@ Scene PinsScene() {
         for (int k = 0; k <= row; ++k) {
             const Vec3 base((k - 0.5 * row) * spacing, 0.0, -row * spacing * std::sqrt(0.75));
             scene.meshes.push_back(
-                MakeLathe("pin " + std::to_string(index++), base, PinProfile(0.38), 40));
+                MakeLathe("pin " + std::to_string(index++), base,
+                          RefinedProfile(PinProfile(0.38), r), 40 * r));
         }
     }
     // A ball rolling toward them.
-    scene.meshes.push_back(MakeSphere("ball", Vec3(0.1, 0.11, 0.9), 0.11, 24, 48));
+    scene.meshes.push_back(MakeSphere("ball", Vec3(0.1, 0.11, 0.9), 0.11, 24 * r, 48 * r));
     scene.planes = {Floor()};
     scene.camera.eye = Vec3(0.6, 0.7, 2.2);
     scene.camera.target = Vec3(0.0, 0.15, -0.4);
@@ -243,6 +266,12 @@ Scene LongFloorScene() {
     // From above and behind the viewer (+z), a little to the side.
     scene.light = Direction(Vec3(0.3, 1.0, 0.6).normalized());
     return scene;
+}
+
+std::optional<Scene> SmoothTwin(const std::string& name, int refinement) {
+    if (name == "sphere_torus") return SphereTorusScene(refinement);
+    if (name == "pins") return PinsScene(refinement);
+    return std::nullopt;
 }
 
 std::vector<std::string> BuiltinSceneNames() {

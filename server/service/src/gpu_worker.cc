@@ -199,18 +199,23 @@ Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string
     }
     if (times != nullptr) times->maps_seconds = FinishedSeconds(worker, start);
 
-    start = std::chrono::steady_clock::now();
-    // Smooth silhouettes: the scene's volume built on the CPU for this light and uploaded on
-    // every call (nothing is cached), so the view stage (the lookup cost) holds all of it.
+    // Smooth silhouettes: the scene's volume for this light, built on the CPU once per (scene,
+    // light, settings) and kept (smooth_volume_cache.h), uploaded on every call: the upload is
+    // part of the lookup cost, the build its own stage.
     std::optional<volumes::gl::GpuVolumeMesh> smooth;
     if (job.smooth) {
-        auto built = volumes::ExtrudeSceneVolume(record.scene.meshes, patches->adjacency(),
-                                                 job.light, *job.smooth);
-        if (!built) return Error{"scene." + built.error().field, built.error().reason};
-        auto uploaded = volumes::gl::UploadVolumeMesh(*worker.context, *built, scene.origin());
+        auto cached = record.smooth_volume->Get(record.scene.meshes, patches->adjacency(),
+                                                job.light, *job.smooth);
+        if (!cached) return Error{"scene." + cached.error().field, cached.error().reason};
+        if (times != nullptr) times->smooth_build_seconds = cached->build_seconds;
+        start = std::chrono::steady_clock::now();
+        auto uploaded =
+            volumes::gl::UploadVolumeMesh(*worker.context, *cached->volume, scene.origin());
         if (!uploaded) return uploaded.error();
         smooth.emplace(std::move(uploaded).value());
+        if (times != nullptr) times->smooth_upload_seconds = FinishedSeconds(worker, start);
     }
+    start = std::chrono::steady_clock::now();
     volumes::gl::VolumeRequest request;
     request.viewer = job.viewer;
     request.viewport = job.viewport;

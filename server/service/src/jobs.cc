@@ -541,6 +541,14 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         return grpc::Status(grpc::StatusCode::INTERNAL, mask.error().Message());
     }
     times.emplace_back("maps", mask_times.maps_seconds);
+    if (job.smooth) {
+        // The build only when this call made it (the scene's volume for another light or
+        // setting, or none yet); every call uploads.
+        if (mask_times.smooth_build_seconds > 0.0) {
+            times.emplace_back("smooth_build", mask_times.smooth_build_seconds);
+        }
+        times.emplace_back("smooth_upload", mask_times.smooth_upload_seconds);
+    }
     times.emplace_back("view", mask_times.view_seconds);
     times.emplace_back("readback", mask_times.readback_seconds);
     response->set_maps(static_cast<std::uint32_t>(job.maps.size()));

@@ -33,9 +33,9 @@ inline constexpr const char* kBaselineViewStage = "baseline_view";
 // What a stage's time counts toward.
 enum class CostPart { kMap, kLookup, kBaselineDepth, kBaselineView, kNone };
 
-// By name: "plan", "plan+solve", "solve", "maps", "passes", "pass ..." are map cost; "view" and
-// "volumes" lookup cost; the baselines by their names above; anything else ("readback",
-// "transfer", "truth", "ray_scene") counts toward neither.
+// By name: "plan", "plan+solve", "solve", "maps", "passes", "pass ..." are map cost; "view",
+// "volumes" and "smooth_upload" lookup cost; the baselines by their names above; anything else
+// ("readback", "transfer", "truth", "ray_scene", "smooth_build") counts toward neither.
 CostPart CostPartOf(std::string_view stage) noexcept;
 
 // One repeat's costs, milliseconds.

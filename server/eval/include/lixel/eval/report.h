@@ -7,9 +7,11 @@
 #include <lixel/eval/aliasing.h>
 #include <lixel/eval/cost.h>
 #include <lixel/eval/misclassification.h>
+#include <lixel/eval/smooth_truth.h>
 #include <lixel/solver/result.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,6 +33,8 @@ struct ReportRow {
     std::vector<std::pair<std::string, double>> stage_ms;
     int repeats = 0;  // repeats each median was taken over
     CostStats cost;   // map and lookup costs and their ratios; cost.measured() false: none taken
+    // Against the smooth objects' shadows (smooth_truth.h), for scenes with a smooth twin.
+    std::optional<SmoothTruthScore> smooth_truth;
 
     double TotalMs() const;
 };

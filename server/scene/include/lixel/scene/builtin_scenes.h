@@ -5,6 +5,7 @@
 #include <lixel/scene/scene.h>
 #include <lixel/solver/result.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,13 +36,21 @@ Scene ThinPlatesScene();
 Scene SphereTorusScene(int refinement = 1);
 
 // Lathe-turned pins standing on a floor: curved receivers that no plane of interest covers.
-Scene PinsScene();
+// `refinement` multiplies the slices and the ball's tessellation and samples the pins' outline
+// that many times per span on the Catmull-Rom curve through its points: the same pins, finer.
+Scene PinsScene(int refinement = 1);
 
 // The perspective-aliasing test bed of Lloyd et al. (2008): a 400 m floor, the viewer 1.7 m
 // above it looking along it (near 0.5 m, far 200 m), a directional light from above and behind,
 // and posts as casters from 4 m to 128 m away (docs/eval.md compares the measured aliasing of
 // every method with their analysis).
 Scene LongFloorScene();
+
+// The scenes whose casters are smooth objects (closed, with vertex normals) coarsely
+// tessellated, "sphere_torus" and "pins", with those casters `refinement` times finer and the
+// rest (floor, camera, light, mesh order) the same: the smooth objects' ground truth (issue 16).
+// nullopt for every other name.
+std::optional<Scene> SmoothTwin(const std::string& name, int refinement = 8);
 
 // Names accepted by BuiltinScene, in a fixed order; the first is the default scene.
 std::vector<std::string> BuiltinSceneNames();

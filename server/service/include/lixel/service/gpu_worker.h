@@ -106,6 +106,10 @@ struct MaskTimes {
     double maps_seconds = 0.0;
     double view_seconds = 0.0;
     double readback_seconds = 0.0;
+    // FILTER_SMOOTH_VOLUMES: the CPU build (0 when the scene's cached volume served) and the
+    // upload of the volume, apart from the stencil pass in view_seconds.
+    double smooth_build_seconds = 0.0;
+    double smooth_upload_seconds = 0.0;
 };
 // With `preview` set, the view's shaded preview is read back too, after the timed mask read-back.
 Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene& scene,

@@ -11,6 +11,7 @@
 #include <lixel/solver/scheduler.h>
 #include <lixel/solver/types.h>
 #include <lixel/service/scene_adjacency.h>
+#include <lixel/service/smooth_volume_cache.h>
 #include <lixel/v1/lixel.pb.h>
 #include <lixel/volumes/smooth_silhouette.h>
 
@@ -76,6 +77,8 @@ struct SceneRecord {
     Viewport default_viewport{1024, 1024};
     // Built on first use; shared by the record's copies, which hold the same meshes.
     std::shared_ptr<const SceneAdjacency> adjacency = std::make_shared<SceneAdjacency>();
+    // FILTER_SMOOTH_VOLUMES's volume for the last light asked, shared like the adjacency.
+    std::shared_ptr<const SmoothVolumeCache> smooth_volume = std::make_shared<SmoothVolumeCache>();
     // What the cache charges: the decoded size, and the adjacency's bound from the start.
     std::uint64_t bytes = 0;
 };

@@ -1,0 +1,43 @@
+// One smooth volume per scene, rebuilt when the light or the settings change
+// (smooth_volume_cache.h).
+#include <lixel/service/smooth_volume_cache.h>
+#include <lixel/volumes/scene_volume.h>
+
+#include <chrono>
+
+namespace lixel::service {
+
+namespace {
+
+bool SameSettings(const volumes::SmoothOptions& a, const volumes::SmoothOptions& b) {
+    return a.epsilon == b.epsilon && a.normal_offset == b.normal_offset &&
+           a.displace == b.displace && a.subdivide == b.subdivide && a.max_depth == b.max_depth;
+}
+
+}  // namespace
+
+Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
+    std::span<const Mesh> meshes, std::span<const volumes::EdgeAdjacency> adjacency,
+    const Vec4& light, const volumes::SmoothOptions& options) const {
+    {
+        const std::lock_guard lock(mutex_);
+        if (volume_ != nullptr && light_ == light && SameSettings(options_, options)) {
+            return Lookup{volume_, false, 0.0};
+        }
+    }
+    // Built outside the lock: another scene's request never waits for this one, and two
+    // requests for a new light at once both build (the same volume) rather than queue.
+    const auto start = std::chrono::steady_clock::now();
+    auto built = volumes::ExtrudeSceneVolume(meshes, adjacency, light, options);
+    if (!built) return built.error();
+    auto volume = std::make_shared<const volumes::VolumeMesh>(std::move(built).value());
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const std::lock_guard lock(mutex_);
+    light_ = light;
+    options_ = options;
+    volume_ = volume;
+    return Lookup{std::move(volume), true, seconds};
+}
+
+}  // namespace lixel::service
