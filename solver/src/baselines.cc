@@ -6,6 +6,7 @@
 #include <lixel/solver/baselines.h>
 
 #include "baseline_focus.h"
+#include "baseline_receivers.h"
 #include <lixel/solver/camera.h>
 #include <lixel/solver/depth_row.h>
 #include <lixel/solver/homogeneous.h>
@@ -37,6 +38,17 @@ constexpr double kDirectionalRelative = 1e-12;
 // parallel).
 constexpr double kLispsmBlendCosGamma = 0.9;
 constexpr double kLispsmBlendGain = 20.0;
+
+// LiSPSM checks its warp's worst aliasing at kLispsmAliasingSamples^2 seen receiver points
+// against the uniform map's, and weakens it to n_opt times 2, 4, ..., 2^kLispsmWeakenings (past
+// which the warp is the uniform map to within a few parts in 1e5 of the held depths) until it
+// is not worse.
+constexpr int kLispsmAliasingSamples = 40;
+constexpr int kLispsmWeakenings = 20;
+// How much worse than the uniform map's the sampled worst may be and still count as no worse:
+// the sampling's noise (the worst of 24^2 points is not the true worst; another grid of 29^2
+// moves the ratio by up to 2 per cent in the random rooms of Baselines.LispsmIsNeverWorse...).
+constexpr double kLispsmPromiseSlack = 1.03;
 
 // Smallest q_min(receivers) / q_max(held points) a PSM or LiSPSM warp may produce: ten times
 // FitDepthRow's floor, so the receivers' depths keep their precision.
@@ -362,16 +374,47 @@ Result<BaselineMap> FitLispsmMap(const BaselineInput& input, const ExtentHull& h
         prelim = weaker;
         ratio = weaker_ratio;
     }
-    info.warp_near = n;
     // The warp fixes the image's y axis to the projected view direction; within the warped
     // image the map may still be turned, and is, to the minimal-area rectangle, as the uniform
     // map's image is (LightFrustumBasis) and PSM's post-perspective one: a view direction
     // projected diagonally across a thin image (a floor lit from low) otherwise leaves most of
     // a square map empty.
-    prelim = TurnImageToMinimalArea(prelim, focus.points);
-    Result<LightMap> map =
-        FitImageRectangle(prelim, hull.light, focus.points, SquareMap(input), focus.receivers);
+    info.warp_near = n;
+    auto map_for = [&](const Mat4& warp) {
+        return FitImageRectangle(TurnImageToMinimalArea(warp, focus.points), hull.light,
+                                 focus.points, SquareMap(input), focus.receivers);
+    };
+    Result<LightMap> map = map_for(prelim);
     if (!map) return map.error();
+    // Off the perpendicular, n_opt is Wimmer et al.'s gamma = 90 degrees optimum carried over by
+    // 1 / sin(gamma), and it can lose to the uniform map: the warp's axis, the view direction
+    // projected into the light's image, mixes the receivers' lateral extent with their depth,
+    // so the near part of a wide view on one side can be taken for far. The family n_opt
+    // belongs to runs to the uniform map (n -> infinity), so there LiSPSM keeps its promise by
+    // construction: it takes the strongest warp of the family, n_opt times 2^k, whose worst
+    // aliasing over the seen receivers is not worse than the uniform map's beyond the
+    // sampling's noise, and the uniform map where none is.
+    if (!input.receivers.empty()) {
+        const std::vector<Receiver> seen = SampleSeenReceivers(input, kLispsmAliasingSamples);
+        Result<BaselineMap> uniform = Uniform(input, hull, focus, info);
+        if (!uniform) return uniform.error();
+        const double bound = kLispsmPromiseSlack * WorstAliasing(uniform->map, input, seen);
+        bool kept = !std::isfinite(bound) || WorstAliasing(*map, input, seen) <= bound;
+        for (int doubling = 1; doubling <= kLispsmWeakenings && !kept; ++doubling) {
+            const double weaker_n = n * std::pow(2.0, doubling);
+            Result<LightMap> weaker = map_for(warp_for(weaker_n));
+            if (!weaker || !(WorstAliasing(*weaker, input, seen) <= bound)) continue;
+            map = std::move(weaker);
+            info.warp_near = weaker_n;
+            kept = true;
+        }
+        if (!kept) {
+            return FallBack(input, hull, focus, std::move(info),
+                            "off the perpendicular (sin gamma = " + std::to_string(info.sin_gamma) +
+                                ") every warp is more aliased than the uniform map at the seen "
+                                "receivers");
+        }
+    }
     return BaselineMap{*map, std::move(info)};
 }
 

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -170,23 +171,16 @@ TEST(Baselines, LispsmUsesTheOptimalNearDistance) {
     EXPECT_GT(lispsm_ratio, 1.5 * uniform_ratio);
 }
 
-// Lloyd et al.'s aliasing m at the point of plane y = 0 seen at pixel (x, y): pixels per lixel
-// along the plane's worst direction, 1 / sigma_min of d(lixel)/d(pixel) on the plane (as
-// server/eval's aliasing report computes it). Lower is better; NaN when the pixel misses the
-// plane or the map does not image the point.
-double FloorAliasing(const Mat4& pixel_matrix, const LightMap& map, double x, double y) {
-    const Mat4 unproject = pixel_matrix.inverse();
-    Vec4 a = unproject * Vec4(x, y, kClipDepthNear, 1.0);
-    Vec4 b = unproject * Vec4(x, y, kClipDepthFar, 1.0);
-    a /= a.w();
-    b /= b.w();
-    if (!(a.y() * b.y() < 0.0)) return std::numeric_limits<double>::quiet_NaN();
-    const Vec4 point = a + (a.y() / (a.y() - b.y())) * (b - a);
-    // d(image)/d(u, v) along the floor's tangents x and z.
+// Lloyd et al.'s aliasing m at `point` on the axis-aligned plane through it normal to `axis` (a
+// box face): pixels per lixel along the plane's worst direction, 1 / sigma_min of
+// d(lixel)/d(pixel) on the plane (as server/eval's aliasing report computes it). Lower is
+// better; NaN when the viewer or the map does not image the point.
+double FaceAliasing(const Mat4& pixel_matrix, const LightMap& map, const Vec4& point, int axis) {
+    // d(image)/d(u, v) along the face's tangents.
     auto derivative = [&](const Mat4& m, Mat2& d) {
         const Vec4 p = m * point;
         if (!(p.w() > 0.0)) return false;
-        const Vec4 tangents[2] = {m.col(0), m.col(2)};
+        const Vec4 tangents[2] = {m.col((axis + 1) % 3), m.col((axis + 2) % 3)};
         for (int k = 0; k < 2; ++k) {
             d(0, k) = (tangents[k].x() * p.w() - p.x() * tangents[k].w()) / (p.w() * p.w());
             d(1, k) = (tangents[k].y() * p.w() - p.y() * tangents[k].w()) / (p.w() * p.w());
@@ -199,6 +193,66 @@ double FloorAliasing(const Mat4& pixel_matrix, const LightMap& map, double x, do
     }
     const Mat2 jacobian = d_lixel * d_pixel.inverse();
     return 1.0 / Eigen::JacobiSVD<Mat2>(jacobian).singularValues()(1);
+}
+
+// The same at the point of the floor y = 0 seen at pixel (x, y); NaN where the pixel misses it.
+double FloorAliasing(const Mat4& pixel_matrix, const LightMap& map, double x, double y) {
+    const Mat4 unproject = pixel_matrix.inverse();
+    Vec4 a = unproject * Vec4(x, y, kClipDepthNear, 1.0);
+    Vec4 b = unproject * Vec4(x, y, kClipDepthFar, 1.0);
+    a /= a.w();
+    b /= b.w();
+    if (!(a.y() * b.y() < 0.0)) return std::numeric_limits<double>::quiet_NaN();
+    const Vec4 point = a + (a.y() / (a.y() - b.y())) * (b - a);
+    return FaceAliasing(pixel_matrix, map, point, 1);
+}
+
+// The worst aliasing over what the viewer sees of the receiver boxes, flat or solid: through
+// an n x n grid of pixels (off the pixel centres the baselines sample), each ray's first entry
+// into a box, measured on the face it enters.
+double WorstSeenAliasing(const testing::Configuration& c, const std::vector<Aabb>& receivers,
+                         const LightMap& map, int n) {
+    const Mat4 pixels = PixelMatrix(c.viewer, c.viewport);
+    const Mat4 unproject = pixels.inverse();
+    double worst = 0.0;
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            const double u = (i + 0.37) * c.viewport.width / n;
+            const double v = (j + 0.61) * c.viewport.height / n;
+            Vec4 a = unproject * Vec4(u, v, kClipDepthNear, 1.0);
+            Vec4 b = unproject * Vec4(u, v, kClipDepthFar, 1.0);
+            a /= a.w();
+            b /= b.w();
+            double first = std::numeric_limits<double>::infinity();
+            int face = -1;
+            for (const Aabb& box : receivers) {
+                // The entry: the largest of the slabs' near crossings, if before every far one.
+                double t_in = -1.0, t_out = 2.0;
+                int axis = -1;
+                for (int k = 0; k < 3; ++k) {
+                    if (a(k) == b(k)) {
+                        if (a(k) < box.min(k) || a(k) > box.max(k)) t_out = -2.0;
+                        continue;
+                    }
+                    const double t0 = (box.min(k) - a(k)) / (b(k) - a(k));
+                    const double t1 = (box.max(k) - a(k)) / (b(k) - a(k));
+                    if (std::min(t0, t1) > t_in) {
+                        t_in = std::min(t0, t1);
+                        axis = k;
+                    }
+                    t_out = std::min(t_out, std::max(t0, t1));
+                }
+                if (axis >= 0 && t_in >= 0.0 && t_in <= t_out && t_in <= 1.0 && t_in < first) {
+                    first = t_in;
+                    face = axis;
+                }
+            }
+            if (face < 0) continue;
+            const double m = FaceAliasing(pixels, map, a + first * (b - a), face);
+            if (std::isfinite(m)) worst = std::max(worst, m);
+        }
+    }
+    return worst;
 }
 
 // LiSPSM's purpose: on receivers near the viewer it samples far better than the uniform map
@@ -359,6 +413,7 @@ TEST(Baselines, LispsmBlendsTowardUniformAsViewAndLightTurnParallel) {
         return density(m, Vec3(0.0, 0.0, 4.0)) / density(m, Vec3(0.0, 0.0, -4.0));
     };
     double previous_n = 0.0, previous_gain = std::numeric_limits<double>::infinity();
+    int weakened = 0;
     for (const double degrees : {60.0, 30.0, 20.0, 10.0, 5.0, 2.0, 1.0}) {
         const double gamma = degrees * std::numbers::pi / 180.0;
         // From behind the viewer, tilted up by gamma from its view direction.
@@ -383,9 +438,16 @@ TEST(Baselines, LispsmBlendsTowardUniformAsViewAndLightTurnParallel) {
         // The warp's extra near-over-far density, 1 for the uniform map.
         const double gain = near_over_far(fit->map) / near_over_far(uniform->map);
         EXPECT_GE(gain, 1.0 - 1e-9) << degrees << " degrees";
+        // Where the promise (never worse than uniform) weakened the warp past n_opt, the gain
+        // is the weaker warp's; the blend is judged on the warps it left at n_opt.
+        if (fit->info.warp_near != fit->info.n_opt) {
+            ++weakened;
+            continue;
+        }
         EXPECT_LT(gain, previous_gain) << degrees << " degrees";
         previous_gain = gain;
     }
+    EXPECT_LE(weakened, 2);
     EXPECT_LT(previous_gain, 1.02);  // at 1 degree, within 2 % of the uniform map
 }
 
@@ -534,26 +596,27 @@ TEST(Baselines, WorstPerspectiveAliasingGrowsAsLloydEtAlPredict) {
 
 // LiSPSM's purpose and its construction's promise (n_opt minimises the worst perspective
 // aliasing along the view direction over a family of warps whose limit n -> infinity is the
-// uniform map): over random rooms, its worst aliasing over the visible floor is never worse
-// than the uniform map's beyond kNoise (the worst over 24^2 sampled pixels, not the true worst),
-// and in most rooms it is 1.5 times better. Every baseline map is square, within the budget,
-// and holds the floor the viewer sees.
+// uniform map): over random rooms, its worst aliasing over every receiver the viewer sees (the
+// floor and 0 to 3 boxes on it, measured here on a 29^2 grid of pixels by this test's own ray
+// casting) is never worse than the uniform map's beyond kNoise, and on the floor it is 1.5
+// times better in most rooms. Every baseline map is square, within the budget, and holds the
+// floor the viewer sees.
 //
-// The promise is asserted where the analysis behind n_opt holds, the light within ~26 degrees
-// of perpendicular to the view (sin gamma >= kPerpendicular; Wimmer et al. derive n_opt for
-// gamma = 90 degrees and carry it to other angles with 1 / sin gamma). There (140 of the 400
-// rooms) LiSPSM's worst is at most 0.94 of uniform's. Further from it this LiSPSM, like
-// Filament's and Ogre's, can lose to the uniform map, and does in 31 of the other 260 rooms
-// (sin gamma 0.32 to 0.88; LiSPSM's worst up to 3.7 times uniform's): the warp runs along the
-// view direction projected into the light's image, and for an oblique light that axis mixes
-// the floor's lateral extent with its depth, so the near floor on one side of a wide view is
-// taken for far floor and gets fewer lixels than the uniform map gives it. (PSM, measured over
-// the same rooms: worse than uniform beyond 5 % in 18, up to 2.2 times.)
-TEST(Baselines, LispsmIsNeverWorseThanUniformOnTheVisibleFloor) {
+// Wimmer et al.'s n_opt alone (as Filament and Ogre use it) does not keep the promise: in 31 of
+// these rooms, with the light away from the perpendicular (sin gamma 0.32 to 0.88), it lost on
+// the floor by up to 3.7 times, since the warp runs along the view direction projected into the
+// light's image and for an oblique light that axis mixes the floor's lateral extent with its
+// depth; and near the perpendicular it lost on the boxes' faces in 5 (up to 1.64 times). lixel's
+// LiSPSM checks n_opt against the uniform map at 40^2 seen points and weakens the warp along
+// its family until it is not worse (baselines.cc). The floor alone can still lose where a box
+// holds both maps' worst: in 1 room, by 1.58 times. (PSM, measured over the same rooms before:
+// worse than uniform on the floor beyond 5 % in 18, up to 2.2 times.)
+TEST(Baselines, LispsmIsNeverWorseThanUniformOverTheSeenReceivers) {
     constexpr double kNoise = 1.05;
     constexpr double kPerpendicular = 0.9;  // sin gamma
     std::mt19937_64 rng(4242);
-    int rooms = 0, perpendicular = 0, warped = 0, better = 0;
+    int rooms = 0, perpendicular = 0, warped = 0, better = 0, floor_losses = 0;
+    double worst_ratio = 0.0, worst_all = 0.0;
     for (int i = 0; i < 400; ++i) {
         const FloorRoom room = RandomFloorRoom(rng);
         const testing::Configuration& c = room.c;
@@ -571,6 +634,7 @@ TEST(Baselines, LispsmIsNeverWorseThanUniformOnTheVisibleFloor) {
         const Mat4 pixels = PixelMatrix(c.viewer, c.viewport);
         double worst[3] = {0.0, 0.0, 0.0};
         double sin_gamma = 0.0;
+        std::optional<LightMap> uniform_map, lispsm_map;
         for (BaselineMethod method : kMethods) {
             const auto fit = FitBaseline(method, input, *hull);
             ASSERT_TRUE(fit.ok()) << BaselineName(method) << " room " << i << ": "
@@ -585,7 +649,9 @@ TEST(Baselines, LispsmIsNeverWorseThanUniformOnTheVisibleFloor) {
             if (method == BaselineMethod::kLispsm) {
                 sin_gamma = fit->info.sin_gamma;
                 if (fit->info.used == method) ++warped;
+                lispsm_map = fit->map;
             }
+            if (method == BaselineMethod::kUniform) uniform_map = fit->map;
             double& w = worst[static_cast<int>(method)];
             for (const Vec4& p : seen) {
                 const Vec4 pixel = pixels * p;
@@ -596,15 +662,23 @@ TEST(Baselines, LispsmIsNeverWorseThanUniformOnTheVisibleFloor) {
         }
         const double ratio = worst[2] / worst[0];
         if (ratio < 1.0 / 1.5) ++better;
-        if (!(sin_gamma >= kPerpendicular)) continue;
-        ++perpendicular;
-        EXPECT_LE(ratio, kNoise) << "room " << i << ": LiSPSM worst m " << worst[2] << ", uniform "
-                                 << worst[0] << " (sin gamma " << sin_gamma << ")";
+        perpendicular += sin_gamma >= kPerpendicular;
+        worst_ratio = std::max(worst_ratio, ratio);
+        floor_losses += ratio > kNoise;
+        const double all = WorstSeenAliasing(c, room.receivers, *lispsm_map, 29) /
+                           WorstSeenAliasing(c, room.receivers, *uniform_map, 29);
+        worst_all = std::max(worst_all, all);
+        EXPECT_LE(all, kNoise) << "room " << i << ": LiSPSM / uniform worst m over every seen "
+                               << "receiver (sin gamma " << sin_gamma << ")";
     }
+    std::printf("[ measured ] %d rooms, %d near perpendicular, %d warped, %d 1.5 times better "
+                "than uniform on the floor; LiSPSM / uniform worst m over every seen receiver at "
+                "most %.3f; on the floor alone at most %.3f, over %.2f in %d rooms\n",
+                rooms, perpendicular, warped, better, worst_all, worst_ratio, kNoise, floor_losses);
     EXPECT_GE(rooms, 350);
     EXPECT_GE(perpendicular, rooms / 3);
     EXPECT_GE(warped, rooms * 9 / 10);  // few fall back
-    EXPECT_GE(better, rooms / 2);       // the warp pays: 1.5 times better in 256 of 400
+    EXPECT_GE(better, rooms / 2);       // the warp pays: 1.5 times better in 252 of 400
 }
 
 TEST(Baselines, BadInputIsRefusedNamingTheField) {
