@@ -9,6 +9,7 @@
 #include <lixel/eval/png_image.h>
 #include <lixel/eval/progress.h>
 #include <lixel/eval/report_runner.h>
+#include <lixel/eval/smooth_truth.h>
 #include <lixel/scene/scene_io.h>
 #include <lixel/eval/timing.h>
 #include <lixel/render/gpu_scene.h>
@@ -17,6 +18,7 @@
 #ifdef LIXEL_HAVE_VOLUMES
 #include <lixel/volumes/gl/volume_pass.h>
 #include <lixel/volumes/gl/volume_scene.h>
+#include <lixel/volumes/scene_volume.h>
 #endif
 
 #include <chrono>
@@ -223,13 +225,26 @@ Result<RunOutput> RunMethod(render::Renderer& renderer, const render::GpuScene& 
 #ifdef LIXEL_HAVE_VOLUMES
 constexpr const char* kVolumesName = "silhouette volumes";
 
+constexpr const char* kSmoothVolumesName = "smooth silhouette volumes";
+
 // Exact robust silhouette volumes (paper 001) over the view: no maps, a stencil count per pixel.
-// No map cost; the lookup baseline is the same bare view pass as the maps' methods'.
+// No map cost; the lookup baseline is the same bare view pass as the maps' methods'. With
+// `smooth`, the volume of smooth silhouettes (paper 002) for the closed meshes with normals,
+// built once on the CPU before the repeats (as the service keeps it per scene and light) and
+// uploaded in each ("smooth_upload", part of the lookup cost, as View times it).
 Result<RunOutput> RunVolumes(render::Renderer& renderer, volumes::gl::VolumePass& pass,
                              const render::GpuScene& gpu, const volumes::gl::VolumeScene& volumes,
-                             const Scene& scene, const GroundTruth& truth, int repeats) {
+                             const Scene& scene, const GroundTruth& truth, int repeats,
+                             const std::optional<volumes::SmoothOptions>& smooth = std::nullopt) {
     render::GlContext& context = renderer.context();
     RunOutput out;
+    std::optional<volumes::VolumeMesh> smooth_volume;
+    if (smooth) {
+        auto built = volumes::ExtrudeSceneVolume(scene.meshes, volumes.adjacency(), scene.light,
+                                                 *smooth);
+        if (!built) return Error{"smooth volumes: " + built.error().field, built.error().reason};
+        smooth_volume = std::move(built).value();
+    }
     render::ViewSettings bare;
     bare.viewer = scene.camera.Viewer();
     bare.viewport = scene.camera.viewport;
@@ -241,8 +256,18 @@ Result<RunOutput> RunVolumes(render::Renderer& renderer, volumes::gl::VolumePass
     for (int r = -1; r < repeats; ++r) {
         RepeatTimes t;
         render::ViewImages images;
-        auto info = Timed(context, t, "volumes",
-                          [&] { return pass.Render(gpu, volumes, request, images); });
+        std::optional<volumes::gl::GpuVolumeMesh> uploaded;
+        if (smooth_volume) {
+            auto up = Timed(context, t, "smooth_upload", [&] {
+                return volumes::gl::UploadVolumeMesh(context, *smooth_volume, gpu.origin());
+            });
+            if (!up) return Error{"smooth_upload: " + up.error().field, up.error().reason};
+            uploaded.emplace(std::move(up).value());
+        }
+        auto info = Timed(context, t, "volumes", [&] {
+            return uploaded ? pass.Render(gpu, volumes, *uploaded, request, images)
+                            : pass.Render(gpu, volumes, request, images);
+        });
         if (!info) return Error{"volumes: " + info.error().field, info.error().reason};
         auto mask =
             Timed(context, t, "transfer", [&] { return render::ReadMask(context, images); });
@@ -255,6 +280,17 @@ Result<RunOutput> RunVolumes(render::Renderer& renderer, volumes::gl::VolumePass
     return out;
 }
 #endif
+
+// The smooth twin of a built-in scene as built in (scene::SmoothTwin), or nullopt: a scene
+// that only shares a built-in one's name (a file) has none.
+std::optional<Scene> BuiltinTwinOf(const Scene& scene) {
+    const std::optional<Scene> same = scene::SmoothTwin(scene.name, 1);
+    if (!same || same->meshes.size() != scene.meshes.size()) return std::nullopt;
+    for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+        if (same->meshes[i].positions != scene.meshes[i].positions) return std::nullopt;
+    }
+    return scene::SmoothTwin(scene.name);
+}
 
 std::int64_t GridBudget(const std::vector<std::int64_t>& budgets, std::int64_t wanted) {
     std::int64_t best = budgets.front();
@@ -305,7 +341,7 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
     const std::int64_t runs =
         std::int64_t(scenes.size()) *
         (std::int64_t(options.budgets.size()) * std::int64_t(options.methods.size()) +
-         (volumes ? 1 : 0));
+         (volumes ? 2 : 0));
 #ifdef LIXEL_HAVE_VOLUMES
     std::optional<volumes::gl::VolumePass> volume_pass;
     if (volumes) {
@@ -335,26 +371,46 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
         if (!gpu) return Error{scene.name + ": " + gpu.error().field, gpu.error().reason};
 
         MaskFigure figure(scene.name, TruthImage(*truth), options.budgets);
-        std::optional<ReportRow> volume_row;
-        std::optional<RgbImage> volume_difference;
+        // For a scene with a smooth twin, every row is also scored against the smooth objects.
+        std::optional<SmoothTruth> smooth_truth;
+        if (const std::optional<Scene> twin = BuiltinTwinOf(scene)) {
+            auto computed = ComputeSmoothTruth(scene, *twin);
+            if (!computed) return Error{scene.name + ": " + computed.error().field,
+                                        computed.error().reason};
+            smooth_truth = std::move(computed).value();
+        }
+        // The volume rows use no lixels: one run each stands in every budget's table.
+        struct VolumeRun {
+            std::string name;
+            ReportRow row;
+            RgbImage difference;
+        };
+        std::vector<VolumeRun> volume_runs;
 #ifdef LIXEL_HAVE_VOLUMES
         if (volumes) {
             auto uploaded =
                 volumes::gl::UploadVolumeScene(**context, scene.meshes, scene.camera.eye);
-            auto run = uploaded ? RunVolumes(**renderer, *volume_pass, *gpu, *uploaded, scene,
-                                             *truth, options.repeats)
-                                : Result<RunOutput>(uploaded.error());
-            if (bar) bar->Advance(1, scene.name + " " + kVolumesName);
-            if (run) {
-                auto row =
-                    EvaluateRun(scene, *truth, kVolumesName, 0, Plan{}, run->mask, run->times);
+            volumes::SmoothOptions paper;  // the service's defaults
+            paper.epsilon = volumes::kDefaultSmoothEpsilon;
+            paper.normal_offset = volumes::kPaperOffsetPerEpsilon * volumes::kDefaultSmoothEpsilon;
+            const std::optional<volumes::SmoothOptions> kinds[2] = {std::nullopt, paper};
+            for (const std::optional<volumes::SmoothOptions>& smooth : kinds) {
+                const char* name = smooth ? kSmoothVolumesName : kVolumesName;
+                auto run = uploaded ? RunVolumes(**renderer, *volume_pass, *gpu, *uploaded, scene,
+                                                 *truth, options.repeats, smooth)
+                                    : Result<RunOutput>(uploaded.error());
+                if (bar) bar->Advance(1, scene.name + " " + name);
+                if (!run) {
+                    summary.notes.push_back(scene.name + ", " + name + ": skipped: " +
+                                            run.error().Message());
+                    continue;
+                }
+                auto row = EvaluateRun(scene, *truth, name, 0, Plan{}, run->mask, run->times);
                 if (!row) return row.error();
                 row->cost = SummariseCosts(run->costs);
-                volume_row = std::move(row.value());
-                volume_difference = DifferenceImage(*truth, run->mask);
-            } else {
-                summary.notes.push_back(scene.name + ", " + kVolumesName +
-                                        ": skipped: " + run.error().Message());
+                if (smooth_truth) row->smooth_truth = ScoreAgainstSmoothTruth(run->mask, *smooth_truth);
+                volume_runs.push_back({name, std::move(row.value()),
+                                       DifferenceImage(*truth, run->mask)});
             }
         }
 #endif
@@ -377,6 +433,7 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
                     EvaluateRun(scene, *truth, method, budget, run->plan, run->mask, run->times);
                 if (!row) return row.error();
                 row->cost = SummariseCosts(run->costs);
+                if (smooth_truth) row->smooth_truth = ScoreAgainstSmoothTruth(run->mask, *smooth_truth);
                 summary.rows.push_back(std::move(row.value()));
                 for (const std::string& w : run->plan.warnings) {
                     const std::string note = scene.name + ", " + method.Name() + ": " + w;
@@ -403,13 +460,13 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
                                       method.Name() + ", " + BudgetLabel(budget) + " lixels");
                 }
             }
-            if (volume_row) {
-                ReportRow row = *volume_row;
+            for (const VolumeRun& v : volume_runs) {
+                ReportRow row = v.row;
                 row.budget = budget;  // no lixels: the same run stands in every budget's table
                 summary.rows.push_back(std::move(row));
             }
         }
-        if (volume_difference) figure.AddToEveryBudget(kVolumesName, *volume_difference);
+        for (const VolumeRun& v : volume_runs) figure.AddToEveryBudget(v.name, v.difference);
         const std::string grid_name = scene.name + "_masks.png";
         if (options.plot && GnuplotAvailable()) {
             if (auto ok = PlotMaskFigure(options.output, figure); !ok) return ok.error();
@@ -417,9 +474,9 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
                 grid_name + ": a row per method, a column per budget, each cell the mask's "
                             "difference from the truth (legend in the figure); the shaded "
                             "preview and the truth above" +
-                std::string(volume_difference ? "; silhouette volumes use no lixels, so "
-                                                "their row repeats one run"
-                                              : ""));
+                std::string(!volume_runs.empty() ? "; silhouette volumes use no lixels, so "
+                                                   "their rows repeat one run"
+                                                 : ""));
         } else {
             if (auto ok = WritePng((fs::path(options.output) / grid_name).string(),
                                    UnlabelledMaskFigure(figure));

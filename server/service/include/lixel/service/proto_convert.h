@@ -28,11 +28,10 @@ inline constexpr std::size_t kMaxBatchTriples = 65536;     // views x planes x l
 inline constexpr std::size_t kMaxPolygonVertices = 1024;
 inline constexpr std::size_t kMaxObjects = 65536;
 inline constexpr std::uint64_t kMaxLixelBudget = 1ull << 28;
-// Smooth silhouettes' subdivision tolerance when a request leaves it 0 (Silhouettes, View),
-// world units; and the normal offset per unit of it when unset: paper 002 uses an offset of
-// 0.15 with epsilon 0.01.
-inline constexpr double kDefaultSmoothEpsilon = 1e-3;
-inline constexpr double kPaperOffsetPerEpsilon = 15.0;
+// Smooth silhouettes' defaults when a request leaves them out (Silhouettes, View): volumes'
+// kDefaultSmoothEpsilon and kPaperOffsetPerEpsilon.
+using volumes::kDefaultSmoothEpsilon;
+using volumes::kPaperOffsetPerEpsilon;
 
 Result<Mat4> DecodeMat4(const v1::Mat4& m, const std::string& field);
 Result<Vec3> DecodeVec3(const v1::Vec3& v, const std::string& field);

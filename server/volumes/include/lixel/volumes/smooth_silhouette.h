@@ -24,6 +24,12 @@
 
 namespace lixel::volumes {
 
+// The defaults the service and the report use (issue 16): a subdivision tolerance of 1e-3
+// world units, and the offset along -n at paper 002's ratio to it (an offset of 0.15 with
+// epsilon 0.01, in units the paper does not name: the ratio is what carries over).
+inline constexpr double kDefaultSmoothEpsilon = 1e-3;
+inline constexpr double kPaperOffsetPerEpsilon = 15.0;
+
 struct SmoothOptions {
     // Paper 002, Eq. 2: subdivide until |(p0 + p1) / 2 - p| < epsilon, world units, > 0.
     // The paper's Table 1 uses 0.01 on models about one unit across.
