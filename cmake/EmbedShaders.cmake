@@ -1,5 +1,5 @@
 # Script mode (cmake -P): writes OUTPUT, a C++ source holding every GLSL file in SHADERS (names
-# relative to SHADER_DIR) as a string constant, returned by NAMESPACE::FUNCTION() as
+# relative to SHADER_DIR, or absolute paths embedded under their file names) as a string constant, returned by NAMESPACE::FUNCTION() as
 # std::span<const lixel::render::EmbeddedShader>, so the server reads no files at run time. Each
 # library that embeds stages names its own function (render: EmbeddedShaders, volumes:
 # VolumeShaders).
@@ -7,8 +7,16 @@
 #         -DFUNCTION=VolumeShaders -DHEADER=lixel/volumes/gl/volume_shaders.h -P EmbedShaders.cmake
 set(delimiter "lixel_glsl")
 set(body "")
-foreach(name IN LISTS SHADERS)
-    file(READ "${SHADER_DIR}/${name}" text)
+foreach(entry IN LISTS SHADERS)
+    # An absolute path (the client kit, client/glsl) is embedded under its file name.
+    if(IS_ABSOLUTE "${entry}")
+        set(path "${entry}")
+        get_filename_component(name "${entry}" NAME)
+    else()
+        set(path "${SHADER_DIR}/${entry}")
+        set(name "${entry}")
+    endif()
+    file(READ "${path}" text)
     string(FIND "${text}" ")${delimiter}\"" clash)
     if(NOT clash EQUAL -1)
         message(FATAL_ERROR "${name} contains the raw-string delimiter )${delimiter}\"")

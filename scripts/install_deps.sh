@@ -12,6 +12,7 @@ packages=(
     libembree-dev libtbb-dev libglm-dev libpng-dev libopenexr-dev
     libtinyobjloader-dev libtinygltf-dev
     gnuplot-nox
+    glslang-tools  # tests/kit: the client shader kit compiled as GLSL 4.50 and ES 3.00
     libgrpc++-dev protobuf-compiler-grpc protobuf-compiler libprotobuf-dev
     prometheus-cpp-dev libssl-dev openssl python3-grpcio python3-protobuf
     clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer harnesses in fuzz/

@@ -7,7 +7,8 @@
 // vertex opposite edges 0-2, 2-4, 4-0 in the neighbouring triangle, or a copy of the triangle's
 // own opposite vertex at an open boundary.
 
-#include "common_depth.glsl"
+// The kit's depth convention (client/glsl/lixel_shadows.glsl).
+#include "lixel_shadows.glsl"
 
 layout(triangles_adjacency) in;
 layout(triangle_strip, max_vertices = 12) out;
@@ -47,9 +48,9 @@ bool clip_front(inout vec4 h0, inout vec4 h1) {
 }
 
 // How far the edge's depth may be from the corner map's and still count as the same surface: the
-// rounding of the vertex's stored depth (common_depth.glsl) on both sides, with room for the
+// rounding of the vertex's stored depth (lixel_stored_depth_rounding) on both sides, with room for the
 // rasteriser's interpolation of the corner map.
-float visibility_slack(vec3 p) { return 32.0 * stored_depth_rounding(u_lixel, p); }
+float visibility_slack(vec3 p) { return 32.0 * lixel_stored_depth_rounding(u_lixel, p); }
 
 // Outputs are undefined after EmitVertex, so the flat ones are written with every vertex.
 void emit_corner(vec2 lixel, vec4 segment, vec4 depth, float slack) {

@@ -1,10 +1,8 @@
 #version 450 core
 // View pass: per viewer pixel, the map chosen by the plan's lookup rule and the shadow test of
 // the method asked for. Outputs the lit fraction (the mask), a shaded preview and the map used.
-#include "common_depth.glsl"
-#include "common_maps.glsl"
-#include "common_textures.glsl"
-#include "common_shadow.glsl"
+// The client shader kit (client/glsl): the same lookup rule and tests every client runs.
+#include "lixel_shadows.glsl"
 
 in vec3 v_position;
 
@@ -39,10 +37,6 @@ const float kReachNearest = 0.70710678;
 const float kReachPerRadius = 1.41421356;
 const float kReachCorners = 1.41421356;
 
-float biased(float slope_len, float reach) {
-    return min(u_depth_bias + u_slope_bias * reach * slope_len, u_max_bias);
-}
-
 vec3 map_tint(int map) {
     const vec3 palette[4] = vec3[4](vec3(1.0, 0.85, 0.85), vec3(0.85, 1.0, 0.85),
                                     vec3(0.85, 0.85, 1.0), vec3(1.0, 1.0, 0.8));
@@ -64,33 +58,37 @@ void main() {
     float lit = n_dot_l > 0.0 ? 1.0 : 0.0;
 #else
     vec3 s;
-    int map = select_map(p, s);
+    int map = lixel_select_map(p, s);
     float lit;
     if (!(n_dot_l > 0.0)) {
         lit = 0.0;  // faces away from the light: shadowed by the illumination model (§3.1)
     } else if (map < 0) {
         lit = 1.0;  // no map holds the point's light ray, so nothing planned casts onto it
     } else {
-        vec4 plane = u_map_plane[map] * vec4(n, -dot(n, p));
+        vec4 plane = lixel_map_plane[map] * vec4(n, -dot(n, p));
         // Slope-scaled bias: the tangent plane's depth change per lixel times how far the
         // test's farthest sample lies from the point (reach, lixels), so a planar receiver
         // never shadows itself; the boundary moves by at most slope_bias * reach lixels.
-        vec2 slope = abs(plane.z) > 0.0 ? -plane.xy / plane.z : vec2(1e30);
-        float slope_len = length(slope);
         if (kMethod == kMethodDepth) {
-            lit = hard_shadow(map, s, biased(slope_len, kReachNearest));
+            lit = lixel_hard_shadow(map, s, lixel_slope_bias(plane, kReachNearest, u_depth_bias,
+                                                             u_slope_bias, u_max_bias));
         } else if (kMethod == kMethodPcf) {
-            lit = pcf(map, s, biased(slope_len, kReachPerRadius * float(u_pcf_radius)),
-                      u_pcf_radius);
+            float reach = kReachPerRadius * float(u_pcf_radius);
+            lit = lixel_pcf(map, s,
+                            lixel_slope_bias(plane, reach, u_depth_bias, u_slope_bias, u_max_bias),
+                            u_pcf_radius);
         } else if (kMethod == kMethodSecondDepth) {
             // An open surface is its own second surface: the bias covers the rounding of its
-            // stored depth at this point, in multiples of the bound (common_depth.glsl).
+            // stored depth at this point, in multiples of the bound (the kit's depth section).
             float bias = u_receiver_open != 0
-                             ? u_open_second_depth_bias * stored_depth_rounding(u_map_lixel[map], p)
+                             ? u_open_second_depth_bias *
+                                   lixel_stored_depth_rounding(lixel_map_lixel[map], p)
                              : u_second_depth_bias;
-            lit = second_depth_test(map, s, plane, bias, u_pcf_radius, u_virtual_samples != 0);
+            lit = lixel_second_depth(map, s, plane, bias, u_pcf_radius, u_virtual_samples != 0);
         } else {
-            lit = silhouette_test(map, s, biased(slope_len, kReachCorners));
+            lit = lixel_silhouette_test(map, s, lixel_slope_bias(plane, kReachCorners,
+                                                                 u_depth_bias, u_slope_bias,
+                                                                 u_max_bias));
         }
     }
 #endif

@@ -153,9 +153,9 @@ TEST(BuildProgram, EveryEmbeddedFileIsUsedByAPassProgram) {
 }
 
 TEST(BuildProgram, RefusesAFileOfNoKnownStage) {
-    auto unknown = BuildProgram(testing::Context(), {"common_maps.glsl"});
+    auto unknown = BuildProgram(testing::Context(), {"lixel_shadows.glsl"});
     ASSERT_FALSE(unknown.ok());
-    EXPECT_EQ(unknown.error().field, "shader common_maps.glsl");
+    EXPECT_EQ(unknown.error().field, "shader lixel_shadows.glsl");
     EXPECT_NE(unknown.error().reason.find("unknown stage"), std::string::npos);
 }
 

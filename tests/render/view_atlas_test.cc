@@ -1,4 +1,4 @@
-// The view pass's map atlas (map_atlas.h, common_textures.glsl): a map's taps past its own edge
+// The view pass's map atlas (map_atlas.h, the kit's lixel_gather_a): a map's taps past its own edge
 // read its edge texels (the border that repeats them), never the neighbouring map's texels.
 #include <lixel/render/view_pass.h>
 

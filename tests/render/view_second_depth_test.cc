@@ -89,7 +89,7 @@ TEST(SecondDepth, TwoSidedPlanarSurfacesCompareEqualWithinRounding) {
     // §3.3: open surfaces are their own second surface; with <= and virtual samples a planar one
     // compares equal to itself in exact arithmetic. In float the rasterised and resampled depths
     // differ by rounding, which the default open-surface bias (16 times the rounding bound of
-    // the stored depth, common_depth.glsl) absorbs. Measured: 58 % acne with no bias, 8 % at 1x
+    // the stored depth, lixel_stored_depth_rounding) absorbs. Measured: 58 % acne with no bias, 8 % at 1x
     // the bound, none from 4x.
     const TestScene s = testing::OpenSquareOverFloor(128);
     const std::vector<PlannedMap> maps = {

@@ -1,4 +1,5 @@
 // Light-map matrices as a pass uploads them.
+#include <lixel/kit/shadow_block.h>
 #include <lixel/render/map_transform.h>
 
 #include <Eigen/LU>
@@ -17,9 +18,10 @@ Mat4 Translate(const Vec3& origin) {
 MapTransform MakeMapTransform(const LightMap& map, const Vec3& origin) {
     MapTransform t;
     t.clip = ToGl(map, origin).projection;
-    const Mat4 relative = StoredDepthMatrix(map.matrix) * Translate(origin);
-    t.lixel = relative.cast<float>();
-    t.plane = relative.inverse().transpose().cast<float>();
+    // The kit's matrices (lixel/kit/shadow_block.h): passes and clients read the same floats.
+    const kit::RelativeMatrices relative = kit::MakeRelativeMatrices(map, origin);
+    t.lixel = relative.lixel.cast<float>();
+    t.plane = relative.plane.cast<float>();
     t.light_facing_winding = LightFacingWinding(map.matrix);
     t.width = map.width;
     t.height = map.height;

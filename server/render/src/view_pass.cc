@@ -15,6 +15,8 @@ namespace {
 
 constexpr GLuint kAtlasUnitA = 0;
 constexpr GLuint kAtlasUnitB = 1;
+// The uniform buffer binding point of the kit's LixelShadowMaps block.
+constexpr GLuint kShadowBlockBinding = 0;
 
 std::string MapField(std::size_t i, const char* what) {
     return "maps[" + std::to_string(i) + "]" + what;
@@ -196,8 +198,13 @@ Result<ViewPass> ViewPass::Create(GlContext& context, ViewVariant variant) {
         auto program = BuildProgram(context, {"view.vert", "view.frag"}, defines);
         if (!program) return program.error();
         const GLuint id = program->id();
-        context.gl().ProgramUniform1i(id, program->Uniform("u_atlas_a"), kAtlasUnitA);
-        context.gl().ProgramUniform1i(id, program->Uniform("u_atlas_b"), kAtlasUnitB);
+        context.gl().ProgramUniform1i(id, program->Uniform("lixel_atlas_a"), kAtlasUnitA);
+        context.gl().ProgramUniform1i(id, program->Uniform("lixel_atlas_b"), kAtlasUnitB);
+        // The bare variant reads no map: its compiler may drop the block.
+        const GLuint block = context.gl().GetUniformBlockIndex(id, "LixelShadowMaps");
+        if (block != GL_INVALID_INDEX) {
+            context.gl().UniformBlockBinding(id, block, kShadowBlockBinding);
+        }
         built.push_back(std::move(program).value());
     }
     auto prepass = BuildProgram(context, {"depth.vert"});
@@ -206,8 +213,13 @@ Result<ViewPass> ViewPass::Create(GlContext& context, ViewVariant variant) {
     context.gl().CreateFramebuffers(1, &fbo);
     const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     context.gl().NamedFramebufferDrawBuffers(fbo, 3, buffers);
+    GLuint block = 0;
+    context.gl().CreateBuffers(1, &block);
+    context.gl().NamedBufferData(block, static_cast<GLsizeiptr>(kit::ShadowBlockLayout::kBytes),
+                                 nullptr, GL_DYNAMIC_DRAW);
     ViewPass pass(context, std::move(built), std::move(prepass.value()),
-                  GlFramebuffer(context.gl(), fbo), variant == ViewVariant::kBare);
+                  GlFramebuffer(context.gl(), fbo), GlBuffer(context.gl(), block),
+                  variant == ViewVariant::kBare);
     if (auto ok = context.Check("view pass setup"); !ok) return ok.error();
     return pass;
 }
@@ -237,51 +249,18 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
 
     const Program& shader = ProgramFor(request.method);
     const GLuint program = shader.id();
-    const auto count = static_cast<GLsizei>(request.maps.size());
-    std::vector<float> lixel(16 * kMaxViewMaps, 0.0f);
-    std::vector<float> plane(16 * kMaxViewMaps, 0.0f);
-    std::vector<GLint> size(2 * kMaxViewMaps, 0);
-    std::vector<float> rectangle(4 * kMaxViewMaps, 0.0f);
-    std::vector<GLint> half_plane_count(kMaxViewMaps, 0);
-    std::vector<float> half_planes(3 * kMaxViewMaps * kMaxHalfPlanes, 0.0f);
-    std::vector<float> world_limit(4 * kMaxViewMaps, 0.0f);
-    for (std::size_t i = 0; i < request.maps.size(); ++i) {
-        const ViewMap& m = request.maps[i];
-        const MapTransform t = MakeMapTransform(m.map, origin);
-        std::copy(t.lixel.data(), t.lixel.data() + 16, lixel.begin() + 16 * i);
-        std::copy(t.plane.data(), t.plane.data() + 16, plane.begin() + 16 * i);
-        size[2 * i] = m.map.width;
-        size[2 * i + 1] = m.map.height;
-        const Eigen::Vector4d r = LookupRectangle(m.map, m.lookup);
-        for (int c = 0; c < 4; ++c) rectangle[4 * i + c] = static_cast<float>(r[c]);
-        half_plane_count[i] = static_cast<GLint>(m.lookup.half_planes.size());
-        for (std::size_t k = 0; k < m.lookup.half_planes.size(); ++k) {
-            const Eigen::Vector3d& h = m.lookup.half_planes[k];
-            for (int c = 0; c < 3; ++c) {
-                half_planes[3 * (i * kMaxHalfPlanes + k) + c] = static_cast<float>(h[c]);
-            }
-        }
-        // The world plane on relative positions p = X - origin: (a, b, c, d + n . origin).
-        const Vec4& h = m.lookup.world_limit;
-        const Vec4 relative(h.x(), h.y(), h.z(), h.w() + h.head<3>().dot(origin));
-        for (int c = 0; c < 4; ++c) world_limit[4 * i + c] = static_cast<float>(relative[c]);
-    }
+    // The maps as the kit reads them (client/glsl/lixel_shadows.glsl): one std140 block, built
+    // by the same lixel::kit code clients use.
+    std::vector<kit::KitMap> maps;
+    for (const ViewMap& m : request.maps) maps.push_back(kit::MakeKitMap(m.map, m.lookup, origin));
     if (!request.maps.empty()) {
-        if (auto ok = FillAtlases(request); !ok) return ok;
+        if (auto ok = FillAtlases(request, maps); !ok) return ok;
     }
-    gl.ProgramUniform1i(program, shader.Uniform("u_map_count"), count);
-    gl.ProgramUniformMatrix4fv(program, shader.Uniform("u_map_lixel"), kMaxViewMaps, GL_FALSE,
-                               lixel.data());
-    gl.ProgramUniformMatrix4fv(program, shader.Uniform("u_map_plane"), kMaxViewMaps, GL_FALSE,
-                               plane.data());
-    gl.ProgramUniform2iv(program, shader.Uniform("u_map_size"), kMaxViewMaps, size.data());
-    gl.ProgramUniform4fv(program, shader.Uniform("u_map_lookup"), kMaxViewMaps, rectangle.data());
-    gl.ProgramUniform1iv(program, shader.Uniform("u_map_half_plane_count"), kMaxViewMaps,
-                         half_plane_count.data());
-    gl.ProgramUniform3fv(program, shader.Uniform("u_map_half_planes"),
-                         kMaxViewMaps * kMaxHalfPlanes, half_planes.data());
-    gl.ProgramUniform4fv(program, shader.Uniform("u_map_world_limit"), kMaxViewMaps,
-                         world_limit.data());
+    auto block = kit::BuildShadowBlock(maps, atlas_a_size_);
+    if (!block) return Error{"maps", block.error().Message()};
+    gl.NamedBufferSubData(shadow_block_.id(), 0, static_cast<GLsizeiptr>(block->size()),
+                          block->data());
+    gl.BindBufferBase(GL_UNIFORM_BUFFER, kShadowBlockBinding, shadow_block_.id());
 
     const Mat4f viewer = RelativeMatrix(request.viewer, origin);
     gl.ProgramUniformMatrix4fv(program, shader.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
@@ -366,7 +345,7 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     return context_->Check(std::string("view pass (") + ShadowMethodName(request.method) + ")");
 }
 
-Result<bool> ViewPass::FillAtlases(const ViewRequest& request) {
+Result<bool> ViewPass::FillAtlases(const ViewRequest& request, std::vector<kit::KitMap>& maps) {
     const GlApi& gl = context_->gl();
     const int max_side = context_->info().max_texture_size;
     std::vector<GLuint> a_textures;
@@ -382,39 +361,21 @@ Result<bool> ViewPass::FillAtlases(const ViewRequest& request) {
             b_sizes.push_back({m.map.width, m.map.height});
         }
     }
-    std::vector<GLint> origin_a(2 * kMaxViewMaps, 0);
-    std::vector<GLint> origin_b(2 * kMaxViewMaps, 0);
     auto placed_a = CopyIntoAtlas(gl, max_side, GL_DEPTH_COMPONENT32F, a_textures, a_sizes,
                                   kAtlasBorder, atlas_a_, atlas_a_size_);
     if (!placed_a) return placed_a.error();
-    for (std::size_t i = 0; i < a_sizes.size(); ++i) {
-        origin_a[2 * i] = (*placed_a)[i].x();
-        origin_a[2 * i + 1] = (*placed_a)[i].y();
-    }
+    for (std::size_t i = 0; i < a_sizes.size(); ++i) maps[i].origin_a = (*placed_a)[i];
     gl.BindTextureUnit(kAtlasUnitA, atlas_a_.id());
     if (!b_textures.empty()) {
-        // silhouette_point() tests its texel against the map itself: no border.
+        // lixel_silhouette_point() tests its texel against the map itself: no border.
         auto placed_b = CopyIntoAtlas(gl, max_side, GL_RG32F, b_textures, b_sizes, 0, atlas_b_,
                                       atlas_b_size_);
         if (!placed_b) return placed_b.error();
-        for (std::size_t i = 0; i < b_sizes.size(); ++i) {
-            origin_b[2 * i] = (*placed_b)[i].x();
-            origin_b[2 * i + 1] = (*placed_b)[i].y();
-        }
+        for (std::size_t i = 0; i < b_sizes.size(); ++i) maps[i].origin_b = (*placed_b)[i];
         gl.BindTextureUnit(kAtlasUnitB, atlas_b_.id());
     } else {
-        gl.BindTextureUnit(kAtlasUnitB, 0);  // view.frag reads "b" only for the silhouette map
+        gl.BindTextureUnit(kAtlasUnitB, 0);  // the kit reads "b" only for the silhouette map
     }
-    const Program& shader = ProgramFor(request.method);
-    const GLuint program = shader.id();
-    gl.ProgramUniform2iv(program, shader.Uniform("u_map_origin_a"), kMaxViewMaps,
-                         origin_a.data());
-    const Eigen::Vector2f atlas_a_texel(1.0f / static_cast<float>(atlas_a_size_.width),
-                                        1.0f / static_cast<float>(atlas_a_size_.height));
-    gl.ProgramUniform2f(program, shader.Uniform("u_atlas_a_texel"), atlas_a_texel.x(),
-                        atlas_a_texel.y());
-    gl.ProgramUniform2iv(program, shader.Uniform("u_map_origin_b"), kMaxViewMaps,
-                         origin_b.data());
     return true;
 }
 

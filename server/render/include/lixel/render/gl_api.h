@@ -61,6 +61,13 @@ namespace lixel::render {
     X(CreateBuffers, CREATEBUFFERS)                             \
     X(NamedBufferStorage, NAMEDBUFFERSTORAGE)                   \
     X(NamedBufferData, NAMEDBUFFERDATA)                         \
+    X(NamedBufferSubData, NAMEDBUFFERSUBDATA)                   \
+    X(BindBufferBase, BINDBUFFERBASE)                           \
+    X(GetUniformBlockIndex, GETUNIFORMBLOCKINDEX)               \
+    X(UniformBlockBinding, UNIFORMBLOCKBINDING)                 \
+    X(GetUniformIndices, GETUNIFORMINDICES)                     \
+    X(GetActiveUniformsiv, GETACTIVEUNIFORMSIV)                 \
+    X(GetActiveUniformBlockiv, GETACTIVEUNIFORMBLOCKIV)         \
     X(DeleteBuffers, DELETEBUFFERS)                             \
     X(CreateVertexArrays, CREATEVERTEXARRAYS)                   \
     X(DeleteVertexArrays, DELETEVERTEXARRAYS)                   \

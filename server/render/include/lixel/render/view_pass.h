@@ -2,6 +2,7 @@
 // test of the method asked for. Outputs a lit-fraction mask, a shaded preview and the map index.
 #pragma once
 
+#include <lixel/kit/shadow_block.h>
 #include <lixel/render/context.h>
 #include <lixel/render/depth_pass.h>
 #include <lixel/render/gl_objects.h>
@@ -28,15 +29,15 @@ inline constexpr int kShadowMethodCount = 4;
 
 const char* ShadowMethodName(ShadowMethod method) noexcept;
 
-// Texels of repeated edge around each map in the view's atlas of depth-like maps
-// (common_textures.glsl): the farthest tap past a map's edge is r texels (PCF and second depth,
+// Texels of repeated edge around each map in the view's atlas of depth-like maps (the client
+// kit's kit::kAtlasBorder): the farthest tap past a map's edge is r texels (PCF and second depth,
 // r <= 4; a silhouette texel's corners stay inside its corner map). A view's maps may therefore
 // be at most the GL's maximum texture size minus twice this on a side.
-inline constexpr int kAtlasBorder = 4;
+inline constexpr int kAtlasBorder = kit::kAtlasBorder;
 
-// At most this many maps per view, and half-planes per map's lookup rule.
-inline constexpr int kMaxViewMaps = 8;
-inline constexpr int kMaxHalfPlanes = 8;
+// At most this many maps per view, and half-planes per map's lookup rule: the kit's block.
+inline constexpr int kMaxViewMaps = kit::kMaxMaps;
+inline constexpr int kMaxHalfPlanes = kit::kMaxHalfPlanes;
 
 // Mask value of a pixel that shows no surface.
 inline constexpr float kNoSurface = -1.0f;
@@ -59,7 +60,7 @@ struct ShadowOptions {
     // A closed solid's second surface is its back, so it compares bias-free (stored-depth units).
     // An open, two-sided surface is its own second surface and compares equal to itself in exact
     // arithmetic; rasterised and resampled depth differ by rounding, so its bias is a multiple of
-    // the rounding bound of its stored depth at the point (common_depth.glsl), which scales with
+    // the rounding bound of its stored depth at the point (lixel_stored_depth_rounding, client/glsl/lixel_shadows.glsl), which scales with
     // the depth row where a constant would not: 4 is the least that leaves no acne on the open
     // floor and plate of view_second_depth_test, the default 16 leaves room.
     float second_depth_bias = 0.0f;
@@ -116,15 +117,17 @@ class ViewPass {
 
   private:
     ViewPass(GlContext& context, std::vector<Program> programs, Program depth_prepass,
-             GlFramebuffer framebuffer, bool bare)
+             GlFramebuffer framebuffer, GlBuffer shadow_block, bool bare)
         : context_(&context),
           programs_(std::move(programs)),
           depth_prepass_(std::move(depth_prepass)),
           framebuffer_(std::move(framebuffer)),
+          shadow_block_(std::move(shadow_block)),
           bare_(bare) {}
 
-    // Copies each map's textures into atlas_a_ / atlas_b_ (map_atlas.h) and sets the origins.
-    Result<bool> FillAtlases(const ViewRequest& request);
+    // Copies each map's textures into atlas_a_ / atlas_b_ (map_atlas.h) and writes their origins
+    // into `maps` (one per request map, in order).
+    Result<bool> FillAtlases(const ViewRequest& request, std::vector<kit::KitMap>& maps);
 
     const Program& ProgramFor(ShadowMethod method) const {
         return programs_.size() == 1 ? programs_.front()
@@ -136,6 +139,8 @@ class ViewPass {
     // Depth only (depth.vert): the shading pass then runs once per pixel, whatever the overdraw.
     Program depth_prepass_;
     GlFramebuffer framebuffer_;
+    // The kit's LixelShadowMaps block (lixel/kit/shadow_block.h), rewritten for every view.
+    GlBuffer shadow_block_;
     bool bare_;  // ViewVariant::kBare: takes requests without maps
     // Kept between views and reallocated only when a plan needs another size.
     GlTexture atlas_a_;  // GL_DEPTH_COMPONENT32F

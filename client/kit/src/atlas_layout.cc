@@ -1,12 +1,12 @@
-// Shelf packing of the view's maps into one atlas.
-#include <lixel/render/map_atlas.h>
+// Shelf packing of a view's maps into one atlas (atlas_layout.h).
+#include <lixel/kit/atlas_layout.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <string>
 
-namespace lixel::render {
+namespace lixel::kit {
 namespace {
 
 // Packs into shelves of at most `width` texels; the height reached, or -1 if one rectangle is
@@ -68,4 +68,4 @@ Result<AtlasLayout> PackAtlas(std::span<const Viewport> sizes, int max_side) {
                              " texels do not fit one " + std::to_string(max_side) + "^2 texture"};
 }
 
-}  // namespace lixel::render
+}  // namespace lixel::kit
