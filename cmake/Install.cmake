@@ -1,10 +1,12 @@
 # What `cmake --install` puts under the prefix for other projects (docs/package.md):
-#   include/lixel/solver, include/lixel/client, include/lixel/v1   public headers
-#   lib/liblixel_{solver,proto,client}.a                             the libraries
+#   include/lixel/{solver,kit,client,v1}                           public headers
+#   lib/liblixel_{solver,kit,proto,client}.a                         the libraries
+#   share/lixel/glsl/lixel_shadows.glsl                              the client shader kit
 #   lib/cmake/lixel/lixelConfig.cmake (+ Version, Targets)           find_package(lixel CONFIG)
 #   lib/pkgconfig/lixel.pc                                           pkg-config --cflags --libs lixel
 #   share/lixel/proto/lixel/v1/lixel.proto                           the wire, for other languages
-# Imported targets: lixel::solver (Eigen), lixel::proto (protobuf, gRPC), lixel::client (both).
+# Imported targets: lixel::solver (Eigen), lixel::kit (the shader kit's data), lixel::proto
+# (protobuf, gRPC), lixel::client (both); lixel_GLSL_DIR names the kit's folder.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -14,14 +16,16 @@ set(LIXEL_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/lixel)
 # are part of its exported link interface: it goes in the export set (it adds no link items).
 set_target_properties(lixel_warnings PROPERTIES EXPORT_NAME warnings)
 set_target_properties(lixel_solver PROPERTIES EXPORT_NAME solver)
+set_target_properties(lixel_kit PROPERTIES EXPORT_NAME kit)
 set_target_properties(lixel_proto PROPERTIES EXPORT_NAME proto)
 set_target_properties(lixel_client PROPERTIES EXPORT_NAME client)
-install(TARGETS lixel_warnings lixel_solver lixel_proto lixel_client
+install(TARGETS lixel_warnings lixel_solver lixel_kit lixel_proto lixel_client
         EXPORT lixelTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/solver/include/lixel/solver
+                  ${PROJECT_SOURCE_DIR}/client/kit/include/lixel/kit
                   ${PROJECT_SOURCE_DIR}/client/include/lixel/client
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/lixel
         FILES_MATCHING PATTERN "*.h")
@@ -30,11 +34,14 @@ install(FILES ${lixel_generated}/lixel.pb.h ${lixel_generated}/lixel.grpc.pb.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/lixel/v1)
 install(FILES ${PROJECT_SOURCE_DIR}/proto/lixel/v1/lixel.proto
         DESTINATION ${CMAKE_INSTALL_DATADIR}/lixel/proto/lixel/v1)
+set(LIXEL_INSTALL_GLSLDIR ${CMAKE_INSTALL_DATADIR}/lixel/glsl)
+install(FILES ${PROJECT_SOURCE_DIR}/client/glsl/lixel_shadows.glsl DESTINATION ${LIXEL_INSTALL_GLSLDIR})
 
 install(EXPORT lixelTargets NAMESPACE lixel:: DESTINATION ${LIXEL_INSTALL_CMAKEDIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/lixelConfig.cmake.in
                               ${PROJECT_BINARY_DIR}/lixelConfig.cmake
-                              INSTALL_DESTINATION ${LIXEL_INSTALL_CMAKEDIR})
+                              INSTALL_DESTINATION ${LIXEL_INSTALL_CMAKEDIR}
+                              PATH_VARS LIXEL_INSTALL_GLSLDIR)
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/lixelConfigVersion.cmake
                                  VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/lixelConfig.cmake ${PROJECT_BINARY_DIR}/lixelConfigVersion.cmake

@@ -20,6 +20,8 @@ logged "$work/install.log" cmake --install "$build" --prefix "$work/prefix"
 test -f "$work/prefix/lib/cmake/lixel/lixelConfig.cmake"
 test -f "$work/prefix/include/lixel/solver/plane_optimal.h"
 test -f "$work/prefix/include/lixel/v1/lixel.pb.h"
+test -f "$work/prefix/include/lixel/kit/shadow_block.h"
+test -f "$work/prefix/share/lixel/glsl/lixel_shadows.glsl"
 
 logged "$work/configure.log" cmake -S "$source/tests/package/consumer" -B "$work/consumer" -G Ninja \
     -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_CXX_COMPILER="$cxx" \

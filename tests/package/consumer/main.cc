@@ -3,12 +3,15 @@
 // checks that both map the floor's visible corners to the same lixels up to the served crop
 // (a translation in lixels: the same scale 1). Exit 0 when all holds.
 #include <lixel/client/client.h>
+#include <lixel/kit/shadow_block.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/plane_optimal.h>
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <string>
 
 int main(int argc, char** argv) {
     using namespace lixel;
@@ -24,6 +27,25 @@ int main(int argc, char** argv) {
         return 1;
     }
     std::printf("local solve: sign %d\n", local->sign);
+    // The shader kit's block for that map, and the kit itself where the package says it is
+    // (the pkg-config build has no such path: it checks the block only).
+    kit::KitMap map;
+    map.lixel = local->matrix.cast<float>();
+    map.width = map.height = 256;
+    auto block = kit::BuildShadowBlock({&map, 1}, Viewport{264, 264});
+    if (!block || block->size() != kit::ShadowBlockLayout::kBytes) {
+        std::fprintf(stderr, "kit block: %s\n", block ? "wrong size" : block.error().Message().c_str());
+        return 1;
+    }
+#ifdef LIXEL_KIT_GLSL
+    std::ifstream glsl(LIXEL_KIT_GLSL);
+    const std::string text((std::istreambuf_iterator<char>(glsl)), std::istreambuf_iterator<char>());
+    if (text.find("uniform LixelShadowMaps") == std::string::npos) {
+        std::fprintf(stderr, "%s: not the shader kit\n", LIXEL_KIT_GLSL);
+        return 1;
+    }
+    std::printf("shader kit at %s\n", LIXEL_KIT_GLSL);
+#endif
     if (argc < 2) return 0;
 
     client::ClientOptions options;
