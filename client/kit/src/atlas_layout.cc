@@ -68,4 +68,38 @@ Result<AtlasLayout> PackAtlas(std::span<const Viewport> sizes, int max_side) {
                              " texels do not fit one " + std::to_string(max_side) + "^2 texture"};
 }
 
+Result<PackedAtlas> PackImages(std::span<const ImageView> images, int border, int max_side) {
+    std::vector<Viewport> padded;
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        const ImageView& image = images[i];
+        if (image.width <= 0 || image.height <= 0 ||
+            image.texels.size() != static_cast<std::size_t>(image.width) * image.height) {
+            return Error{"images[" + std::to_string(i) + "]",
+                         std::to_string(image.texels.size()) + " texels for " +
+                             std::to_string(image.width) + " x " + std::to_string(image.height)};
+        }
+        padded.push_back({image.width + 2 * border, image.height + 2 * border});
+    }
+    auto layout = PackAtlas(padded, max_side);
+    if (!layout) return layout.error();
+    PackedAtlas out;
+    out.width = layout->width;
+    out.height = layout->height;
+    out.texels.assign(static_cast<std::size_t>(out.width) * out.height, 0.0f);
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        const ImageView& image = images[i];
+        const Eigen::Vector2i o = layout->origins[i] + Eigen::Vector2i(border, border);
+        out.origins.push_back(o);
+        for (int y = -border; y < image.height + border; ++y) {
+            const int sy = std::clamp(y, 0, image.height - 1);
+            for (int x = -border; x < image.width + border; ++x) {
+                const int sx = std::clamp(x, 0, image.width - 1);
+                out.texels[static_cast<std::size_t>(o.y() + y) * out.width + (o.x() + x)] =
+                    image.texels[static_cast<std::size_t>(sy) * image.width + sx];
+            }
+        }
+    }
+    return out;
+}
+
 }  // namespace lixel::kit

@@ -23,4 +23,23 @@ struct AtlasLayout {
 // fit one max_side x max_side texture, or a size is not positive.
 Result<AtlasLayout> PackAtlas(std::span<const Viewport> sizes, int max_side);
 
+// One float image, row 0 at the bottom (as Render streams a map's depth).
+struct ImageView {
+    int width = 0;
+    int height = 0;
+    std::span<const float> texels;  // width * height
+};
+
+// The kit's atlas "a" on the CPU, as lixel's view pass builds it on the GPU: each image inside
+// a `border` of its own edge texels (what clamping to the image reads), the padded images shelf
+// packed by PackAtlas. `origins` are each image's texel (0, 0), for the block.
+struct PackedAtlas {
+    int width = 0;
+    int height = 0;
+    std::vector<Eigen::Vector2i> origins;
+    std::vector<float> texels;  // width * height, row 0 at the bottom; 0 between images
+};
+// Errors: "images[i]" (its texels are not width * height), or PackAtlas's.
+Result<PackedAtlas> PackImages(std::span<const ImageView> images, int border, int max_side);
+
 }  // namespace lixel::kit
