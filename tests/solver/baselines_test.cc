@@ -12,6 +12,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <utility>
 #include <random>
 #include <vector>
 
@@ -207,6 +208,14 @@ double FloorAliasing(const Mat4& pixel_matrix, const LightMap& map, double x, do
     return FaceAliasing(pixel_matrix, map, point, 1);
 }
 
+// The view ray through pixel (u, v) as the segment from its near-plane point to its far-plane
+// point, for the inverse of the viewer's pixel matrix.
+std::pair<Vec4, Vec4> PixelSegment(const Mat4& unproject, double u, double v) {
+    const Vec4 a = unproject * Vec4(u, v, kClipDepthNear, 1.0);
+    const Vec4 b = unproject * Vec4(u, v, kClipDepthFar, 1.0);
+    return {a / a.w(), b / b.w()};
+}
+
 // The worst aliasing over what the viewer sees of the receiver boxes, flat or solid: through
 // an n x n grid of pixels (off the pixel centres the baselines sample), each ray's first entry
 // into a box, measured on the face it enters.
@@ -217,12 +226,8 @@ double WorstSeenAliasing(const testing::Configuration& c, const std::vector<Aabb
     double worst = 0.0;
     for (int i = 0; i < n; ++i) {
         for (int j = 0; j < n; ++j) {
-            const double u = (i + 0.37) * c.viewport.width / n;
-            const double v = (j + 0.61) * c.viewport.height / n;
-            Vec4 a = unproject * Vec4(u, v, kClipDepthNear, 1.0);
-            Vec4 b = unproject * Vec4(u, v, kClipDepthFar, 1.0);
-            a /= a.w();
-            b /= b.w();
+            const auto [a, b] = PixelSegment(unproject, (i + 0.37) * c.viewport.width / n,
+                                             (j + 0.61) * c.viewport.height / n);
             double first = std::numeric_limits<double>::infinity();
             int face = -1;
             for (const Aabb& box : receivers) {
@@ -297,12 +302,8 @@ std::vector<Vec4> SeenOnReceivers(const testing::Configuration& c,
     std::vector<Vec4> seen;
     for (int i = 0; i < n; ++i) {
         for (int j = 0; j < n; ++j) {
-            const double u = (i + 0.5) * c.viewport.width / n;
-            const double v = (j + 0.5) * c.viewport.height / n;
-            Vec4 a = unproject * Vec4(u, v, kClipDepthNear, 1.0);
-            Vec4 b = unproject * Vec4(u, v, kClipDepthFar, 1.0);
-            a /= a.w();
-            b /= b.w();
+            const auto [a, b] = PixelSegment(unproject, (i + 0.5) * c.viewport.width / n,
+                                             (j + 0.5) * c.viewport.height / n);
             for (const Aabb& box : receivers) {
                 int axis = 0;
                 while (axis < 3 && box.max(axis) > box.min(axis)) ++axis;

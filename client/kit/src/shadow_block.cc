@@ -1,5 +1,6 @@
 // The kit's uniform block as std140 bytes (shadow_block.h).
 #include <lixel/kit/shadow_block.h>
+#include <lixel/solver/homogeneous.h>
 
 #include <Eigen/LU>
 #include <cstring>
@@ -8,12 +9,6 @@
 namespace lixel::kit {
 
 namespace {
-
-Mat4 Translate(const Vec3& origin) {
-    Mat4 t = Mat4::Identity();
-    t.block<3, 1>(0, 3) = origin;
-    return t;
-}
 
 // std140 writers: a mat4 is four vec4 columns, column-major as Eigen stores it.
 void Put(std::vector<std::byte>& out, std::size_t offset, const void* data, std::size_t bytes) {
@@ -34,7 +29,7 @@ void PutMat4(std::vector<std::byte>& out, std::size_t offset, const Eigen::Matri
 
 RelativeMatrices MakeRelativeMatrices(const LightMap& map, const Vec3& origin) {
     RelativeMatrices out;
-    out.lixel = StoredDepthMatrix(map.matrix) * Translate(origin);
+    out.lixel = StoredDepthMatrix(map.matrix) * Translation(origin);
     out.plane = out.lixel.inverse().transpose();
     return out;
 }

@@ -1,19 +1,11 @@
 // Light-map matrices as a pass uploads them.
 #include <lixel/kit/shadow_block.h>
 #include <lixel/render/map_transform.h>
+#include <lixel/solver/homogeneous.h>
 
 #include <Eigen/LU>
 
 namespace lixel::render {
-namespace {
-
-Mat4 Translate(const Vec3& origin) {
-    Mat4 t = Mat4::Identity();
-    t.block<3, 1>(0, 3) = origin;
-    return t;
-}
-
-}  // namespace
 
 MapTransform MakeMapTransform(const LightMap& map, const Vec3& origin) {
     MapTransform t;
@@ -51,7 +43,7 @@ Vec4 RelativePoint(const Vec4& point, const Vec3& origin) {
 }
 
 Mat4f RelativeMatrix(const Mat4& matrix, const Vec3& origin) {
-    return (matrix * Translate(origin)).cast<float>();
+    return (matrix * Translation(origin)).cast<float>();
 }
 
 }  // namespace lixel::render

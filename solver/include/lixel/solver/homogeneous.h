@@ -22,6 +22,13 @@ inline Vec4 Direction(const Vec3& d) { return {d.x(), d.y(), d.z(), 0.0}; }
 // The 2D image (x/w, y/w) of a homogeneous light- or viewer-image point.
 inline Vec2 ImageXy(const Vec4& p) { return {p.x() / p.w(), p.y() / p.w()}; }
 
+// The translation by t: M * Translation(origin) takes positions relative to `origin`.
+inline Mat4 Translation(const Vec3& t) {
+    Mat4 m = Mat4::Identity();
+    m.block<3, 1>(0, 3) = t;
+    return m;
+}
+
 // The eight corners of a box as finite homogeneous points.
 std::vector<Vec4> BoxCorners(const Aabb& box);
 
