@@ -125,7 +125,10 @@ struct Agreement {
 
 // Pixels whose 3 x 3 neighbourhood in View's mask is uniform (lit at >= 0.5, or no surface):
 // the client's count at the visible point (nudged a millionth of the way to the eye, off its
-// own light cap) must give the same answer.
+// own light cap) must give the same answer. Every shadowed pixel is counted and one lit pixel
+// in kLitStride: the count is a ray against every volume triangle, slow under the sanitizers,
+// and a wrong volume shows on many lit pixels at once (a missing dark cap on a quarter of them).
+constexpr int kLitStride = 8;
 Agreement CompareWithView(const v1::ViewResponse& view, const eval::GroundTruth& visible,
                           const volumes::VolumeMesh& volume, const Vec3& eye) {
     const int w = static_cast<int>(view.width());
@@ -145,6 +148,7 @@ Agreement CompareWithView(const v1::ViewResponse& view, const eval::GroundTruth&
             }
             const std::size_t i = visible.Index(x, y);
             if (!uniform || !visible.Visible(i)) continue;
+            if (a == 1 && (x + y * w) % kLitStride != 0) continue;
             const Vec3 p = visible.position[i] + 1e-6 * (eye - visible.position[i]);
             const int lit = volumes::CountZFail(volume, eye, p) == 0 ? 1 : 0;
             ++out.compared;
@@ -223,7 +227,7 @@ class SilhouetteExtrusion : public ::testing::Test {
         std::printf("[ measured ] %s: client-extruded volumes (%zu triangles) disagree with View "
                     "on %d of %d pixels (%d shadowed)\n",
                     name, volume.SideTriangles(), a.wrong, a.compared, a.shadowed);
-        EXPECT_GT(a.compared, 96 * 96 / 3) << name;
+        EXPECT_GT(a.compared, 96 * 96 / (3 * kLitStride)) << name;
         EXPECT_GE(a.shadowed, min_shadowed) << name;
         EXPECT_EQ(a.wrong, 0) << name;
     }
