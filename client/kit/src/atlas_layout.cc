@@ -68,8 +68,17 @@ Result<AtlasLayout> PackAtlas(std::span<const Viewport> sizes, int max_side) {
                              " texels do not fit one " + std::to_string(max_side) + "^2 texture"};
 }
 
-Result<PackedAtlas> PackImages(std::span<const ImageView> images, int border, int max_side) {
+Result<AtlasLayout> PackBorderedAtlas(std::span<const Viewport> sizes, int border, int max_side) {
     std::vector<Viewport> padded;
+    for (const Viewport& v : sizes) padded.push_back({v.width + 2 * border, v.height + 2 * border});
+    auto layout = PackAtlas(padded, max_side);
+    if (!layout) return layout.error();
+    for (Eigen::Vector2i& o : layout->origins) o += Eigen::Vector2i(border, border);
+    return layout;
+}
+
+Result<PackedAtlas> PackImages(std::span<const ImageView> images, int border, int max_side) {
+    std::vector<Viewport> sizes;
     for (std::size_t i = 0; i < images.size(); ++i) {
         const ImageView& image = images[i];
         if (image.width <= 0 || image.height <= 0 ||
@@ -78,18 +87,18 @@ Result<PackedAtlas> PackImages(std::span<const ImageView> images, int border, in
                          std::to_string(image.texels.size()) + " texels for " +
                              std::to_string(image.width) + " x " + std::to_string(image.height)};
         }
-        padded.push_back({image.width + 2 * border, image.height + 2 * border});
+        sizes.push_back({image.width, image.height});
     }
-    auto layout = PackAtlas(padded, max_side);
+    auto layout = PackBorderedAtlas(sizes, border, max_side);
     if (!layout) return layout.error();
     PackedAtlas out;
     out.width = layout->width;
     out.height = layout->height;
+    out.origins = layout->origins;
     out.texels.assign(static_cast<std::size_t>(out.width) * out.height, 0.0f);
     for (std::size_t i = 0; i < images.size(); ++i) {
         const ImageView& image = images[i];
-        const Eigen::Vector2i o = layout->origins[i] + Eigen::Vector2i(border, border);
-        out.origins.push_back(o);
+        const Eigen::Vector2i o = out.origins[i];
         for (int y = -border; y < image.height + border; ++y) {
             const int sy = std::clamp(y, 0, image.height - 1);
             for (int x = -border; x < image.width + border; ++x) {

@@ -127,9 +127,7 @@ Result<std::vector<Eigen::Vector2i>> CopyIntoAtlas(const GlApi& gl, int max_side
                                                    const std::vector<GLuint>& sources,
                                                    const std::vector<Viewport>& sizes, int border,
                                                    GlTexture& atlas, Viewport& atlas_size) {
-    std::vector<Viewport> padded;
-    for (const Viewport& v : sizes) padded.push_back({v.width + 2 * border, v.height + 2 * border});
-    auto layout = PackAtlas(padded, max_side);
+    auto layout = kit::PackBorderedAtlas(sizes, border, max_side);
     if (!layout) return layout.error();
     if (!atlas || atlas_size.width != layout->width || atlas_size.height != layout->height) {
         atlas = CreateTexture2D(gl, format, layout->width, layout->height);
@@ -140,9 +138,8 @@ Result<std::vector<Eigen::Vector2i>> CopyIntoAtlas(const GlApi& gl, int max_side
         gl.CopyImageSubData(a, GL_TEXTURE_2D, 0, sx, sy, 0, a, GL_TEXTURE_2D, 0, dx, dy, 0, w, h,
                             1);
     };
-    std::vector<Eigen::Vector2i> origins;
     for (std::size_t i = 0; i < sources.size(); ++i) {
-        const Eigen::Vector2i o = layout->origins[i] + Eigen::Vector2i(border, border);
+        const Eigen::Vector2i& o = layout->origins[i];
         const int w = sizes[i].width;
         const int h = sizes[i].height;
         gl.CopyImageSubData(sources[i], GL_TEXTURE_2D, 0, 0, 0, 0, a, GL_TEXTURE_2D, 0, o.x(),
@@ -156,9 +153,8 @@ Result<std::vector<Eigen::Vector2i>> CopyIntoAtlas(const GlApi& gl, int max_side
             copy_within(o.x() - border, o.y() + h - 1, o.x() - border, o.y() + h - 1 + k,
                         w + 2 * border, 1);
         }
-        origins.push_back(o);
     }
-    return origins;
+    return layout->origins;
 }
 
 void EnsureTexture(const GlApi& gl, GlTexture& texture, GLenum format, const Viewport& size,

@@ -23,6 +23,11 @@ struct AtlasLayout {
 // fit one max_side x max_side texture, or a size is not positive.
 Result<AtlasLayout> PackAtlas(std::span<const Viewport> sizes, int max_side);
 
+// PackAtlas for rectangles each inside a `border` of its own edge texels (the kit's atlas "a":
+// kAtlasBorder; "b": none): `origins` are each rectangle's texel (0, 0), `border` in from its
+// padded place. The view pass copies its maps there on the GPU, PackImages on the CPU.
+Result<AtlasLayout> PackBorderedAtlas(std::span<const Viewport> sizes, int border, int max_side);
+
 // One float image, row 0 at the bottom (as Render streams a map's depth).
 struct ImageView {
     int width = 0;
