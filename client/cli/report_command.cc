@@ -95,12 +95,10 @@ int ReportCommand(client::Client& client, const Flags& flags) {
         if (!uploaded) return Fail(uploaded.error());
         SceneRun run{source->scene.name.empty() ? name : source->scene.name,
                      uploaded->scene_id(), std::nullopt};
-        if (!flags.Given("scene_file")) {
-            if (const std::optional<scene::Scene> twin = scene::SmoothTwin(name)) {
-                auto truth = eval::ComputeSmoothTruth(source->scene, *twin);
-                if (!truth) return Fail(truth.error());
-                run.smooth_truth = std::move(truth).value();
-            }
+        if (const std::optional<scene::Scene> twin = scene::SmoothTwinOf(source->scene)) {
+            auto truth = eval::ComputeSmoothTruth(source->scene, *twin);
+            if (!truth) return Fail(truth.error());
+            run.smooth_truth = std::move(truth).value();
         }
         scenes.push_back(std::move(run));
     }

@@ -251,6 +251,11 @@ TEST(BuiltinScenes, SmoothTwinsRefineOnlyTheSmoothCasters) {
         }
     }
     EXPECT_FALSE(SmoothTwin("floor_wall").has_value());
+    // Only a scene with the built-in meshes has the twin: not one that merely shares the name.
+    EXPECT_TRUE(SmoothTwinOf(SphereTorusScene()).has_value());
+    Scene renamed = FloorWallScene();
+    renamed.name = "pins";
+    EXPECT_FALSE(SmoothTwinOf(renamed).has_value());
 }
 
 }  // namespace

@@ -274,6 +274,15 @@ std::optional<Scene> SmoothTwin(const std::string& name, int refinement) {
     return std::nullopt;
 }
 
+std::optional<Scene> SmoothTwinOf(const Scene& scene, int refinement) {
+    const std::optional<Scene> same = SmoothTwin(scene.name, 1);
+    if (!same || same->meshes.size() != scene.meshes.size()) return std::nullopt;
+    for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
+        if (same->meshes[i].positions != scene.meshes[i].positions) return std::nullopt;
+    }
+    return SmoothTwin(scene.name, refinement);
+}
+
 std::vector<std::string> BuiltinSceneNames() {
     return {"floor_wall", "table_floor", "sphere_grid", "thin_plates", "sphere_torus", "pins",
             "long_floor"};

@@ -281,17 +281,6 @@ Result<RunOutput> RunVolumes(render::Renderer& renderer, volumes::gl::VolumePass
 }
 #endif
 
-// The smooth twin of a built-in scene as built in (scene::SmoothTwin), or nullopt: a scene
-// that only shares a built-in one's name (a file) has none.
-std::optional<Scene> BuiltinTwinOf(const Scene& scene) {
-    const std::optional<Scene> same = scene::SmoothTwin(scene.name, 1);
-    if (!same || same->meshes.size() != scene.meshes.size()) return std::nullopt;
-    for (std::size_t i = 0; i < scene.meshes.size(); ++i) {
-        if (same->meshes[i].positions != scene.meshes[i].positions) return std::nullopt;
-    }
-    return scene::SmoothTwin(scene.name);
-}
-
 std::int64_t GridBudget(const std::vector<std::int64_t>& budgets, std::int64_t wanted) {
     std::int64_t best = budgets.front();
     for (const std::int64_t b : budgets) {
@@ -373,7 +362,7 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
         MaskFigure figure(scene.name, TruthImage(*truth), options.budgets);
         // For a scene with a smooth twin, every row is also scored against the smooth objects.
         std::optional<SmoothTruth> smooth_truth;
-        if (const std::optional<Scene> twin = BuiltinTwinOf(scene)) {
+        if (const std::optional<Scene> twin = scene::SmoothTwinOf(scene)) {
             auto computed = ComputeSmoothTruth(scene, *twin);
             if (!computed) return Error{scene.name + ": " + computed.error().field,
                                         computed.error().reason};

@@ -52,6 +52,10 @@ Scene LongFloorScene();
 // nullopt for every other name.
 std::optional<Scene> SmoothTwin(const std::string& name, int refinement = 8);
 
+// SmoothTwin(scene.name) when `scene` has that built-in scene's meshes as built in; nullopt for
+// any other scene, one that only shares a built-in name (a file) included.
+std::optional<Scene> SmoothTwinOf(const Scene& scene, int refinement = 8);
+
 // Names accepted by BuiltinScene, in a fixed order; the first is the default scene.
 std::vector<std::string> BuiltinSceneNames();
 
