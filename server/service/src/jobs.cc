@@ -6,6 +6,7 @@
 #include <lixel/solver/camera.h>
 #include <lixel/scene/upload.h>
 #include <lixel/service/jobs.h>
+#include <lixel/service/silhouette_encoding.h>
 #include <lixel/solver/baseline_plan.h>
 #include <lixel/solver/map_diagnostics.h>
 #include <lixel/solver/homogeneous.h>
@@ -14,7 +15,6 @@
 #include <lixel/volumes/multiplicity.h>
 #include <lixel/volumes/scene_volume.h>
 #include <lixel/volumes/smooth_silhouette.h>
-#include <lixel/service/silhouette_encoding.h>
 
 #include <chrono>
 #include <cmath>

@@ -25,8 +25,8 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
             return Lookup{volume_, false, 0.0};
         }
     }
-    // Built outside the lock: another scene's request never waits for this one, and two
-    // requests for a new light at once both build (the same volume) rather than queue.
+    // Built outside the lock: a hit never waits for a build, and two requests for a new light
+    // at once both build (the same volume) rather than queue.
     const auto start = std::chrono::steady_clock::now();
     auto built = volumes::ExtrudeSceneVolume(meshes, adjacency, light, options);
     if (!built) return built.error();
