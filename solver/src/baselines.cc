@@ -46,7 +46,7 @@ constexpr double kLispsmBlendGain = 20.0;
 constexpr int kLispsmAliasingSamples = 40;
 constexpr int kLispsmWeakenings = 20;
 // How much worse than the uniform map's the sampled worst may be and still count as no worse:
-// the sampling's noise (the worst of 24^2 points is not the true worst; another grid of 29^2
+// the sampling's noise (the worst of 40^2 points is not the true worst; another grid of 29^2
 // moves the ratio by up to 2 per cent in the random rooms of Baselines.LispsmIsNeverWorse...).
 constexpr double kLispsmPromiseSlack = 1.03;
 
@@ -386,14 +386,15 @@ Result<BaselineMap> FitLispsmMap(const BaselineInput& input, const ExtentHull& h
     };
     Result<LightMap> map = map_for(prelim);
     if (!map) return map.error();
-    // Off the perpendicular, n_opt is Wimmer et al.'s gamma = 90 degrees optimum carried over by
-    // 1 / sin(gamma), and it can lose to the uniform map: the warp's axis, the view direction
-    // projected into the light's image, mixes the receivers' lateral extent with their depth,
-    // so the near part of a wide view on one side can be taken for far. The family n_opt
-    // belongs to runs to the uniform map (n -> infinity), so there LiSPSM keeps its promise by
-    // construction: it takes the strongest warp of the family, n_opt times 2^k, whose worst
-    // aliasing over the seen receivers is not worse than the uniform map's beyond the
-    // sampling's noise, and the uniform map where none is.
+    // n_opt is Wimmer et al.'s gamma = 90 degrees optimum along the view axis, carried to other
+    // angles by 1 / sin(gamma), and it can lose to the uniform map: off the perpendicular the
+    // warp's axis, the view direction projected into the light's image, mixes the receivers'
+    // lateral extent with their depth, so the near part of a wide view on one side can be taken
+    // for far; near it, a receiver's face across the view can lose. The family n_opt belongs to
+    // runs to the uniform map (n -> infinity), so LiSPSM keeps its promise by construction: it
+    // takes the strongest warp of the family, n_opt times 2^k, whose worst aliasing over the
+    // seen receivers is not worse than the uniform map's beyond the sampling's noise, and the
+    // uniform map where none is.
     if (!input.receivers.empty()) {
         const std::vector<Receiver> seen = SampleSeenReceivers(input, kLispsmAliasingSamples);
         Result<BaselineMap> uniform = Uniform(input, hull, focus, info);
@@ -409,10 +410,11 @@ Result<BaselineMap> FitLispsmMap(const BaselineInput& input, const ExtentHull& h
             kept = true;
         }
         if (!kept) {
-            return FallBack(input, hull, focus, std::move(info),
-                            "off the perpendicular (sin gamma = " + std::to_string(info.sin_gamma) +
-                                ") every warp is more aliased than the uniform map at the seen "
-                                "receivers");
+            // FallBack's map, already fitted for the bound.
+            info.used = BaselineMethod::kUniform;
+            info.fallback_reason = "every warp is more aliased than the uniform map at the seen "
+                                   "receivers (sin gamma = " + std::to_string(info.sin_gamma) + ")";
+            return BaselineMap{uniform->map, std::move(info)};
         }
     }
     return BaselineMap{*map, std::move(info)};
