@@ -11,6 +11,7 @@
 #include <lixel/solver/types.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,32 @@ struct PassRequest {
 enum class MapRole { kPlane, kFallback, kCubeFace };
 enum class Pass { kDepth, kSecondDepth, kSilhouetteMap };
 
+// A map of the previous frame's plan (PlannedMap's role, indices, size and twist).
+struct PreviousMap {
+    MapRole role = MapRole::kPlane;
+    int plane_index = -1;
+    int cube_face = -1;
+    int width = 0;   // lixels
+    int height = 0;  // lixels
+    double twist_radians = 0.0;
+};
+
+// Frame-coherent planning (docs/frames.md): from one frame to the next, plane maps keep their
+// size while it still holds their needed rectangle with little waste, the plane scale moves in
+// a few steps instead of continuously, and a twist stays unless another saves many lixels. The
+// scheduler stays a function of its request: the previous frame's maps come with it.
+struct FrameCoherence {
+    std::vector<PreviousMap> previous;  // empty on the first frame
+    // A plane map keeps its previous size while its needed rectangle (guard band included) fits
+    // inside it and fills at least 1 - waste_bound of it; (0, 1).
+    double waste_bound = 0.25;
+    // The plane scale is rounded down to 2^(-k / scale_steps), k whole; [1, 64].
+    int scale_steps = 4;
+    // A plane map keeps its previous twist unless the best twist saves this share of lixels;
+    // [0, 1).
+    double twist_saving = 0.1;
+};
+
 struct PlanRequest {
     Mat4 viewer = Mat4::Identity();  // Mv, world -> clip, [0, 1] clip depth
     Viewport viewport;               // viewer pixels
@@ -59,6 +86,8 @@ struct PlanRequest {
     std::int64_t fallback_floor = 128 * 128;
     int max_texture_size = kMaxImageSide;  // GL_MAX_TEXTURE_SIZE, [1, kMaxImageSide]
     PassRequest passes;
+    // Unset: every frame planned on its own (the tightest maps).
+    std::optional<FrameCoherence> coherence;
 };
 
 // Lixels of border every planned map renders around its needed rays: the farthest tap of the
@@ -106,6 +135,9 @@ struct PlannedMap {
     std::vector<Vec3> needed_polygon;
     SolveDiagnostics diagnostics;
     double scale = 1.0;            // lixels per viewer pixel on the plane (plane maps), else 0
+    // Plane maps: the crop's rotation against the plane-optimal image, counter-clockwise; 0 for
+    // others.
+    double twist_radians = 0.0;
     std::int64_t lixels = 0;       // width * height
     double expected_pixels = 0.0;  // viewer pixels expected to read this map
     // For the fallback and cube faces: what they are kept for, in words (the objects with parts
