@@ -80,6 +80,16 @@ ABSL_FLAG(int, repeats, 5,
           "are taken over them (fewer than 5 is noted in report.md)");
 ABSL_FLAG(std::vector<std::string>, budgets, {},
           "report: comma-separated lixel budgets, each at least 1; default 256^2, 512^2, 1024^2");
+ABSL_FLAG(int, frames, 60, "sequence, frames: frames of the camera path, [1, 100000]");
+ABSL_FLAG(int, size, 512, "sequence, frames: the viewer's image side, pixels, [1, 16384]");
+ABSL_FLAG(double, waste_bound, 0.25,
+          "sequence: coherent plane maps keep their size while the needed rectangle fills at "
+          "least 1 - this share of it, (0, 1)");
+ABSL_FLAG(int, scale_steps, 4,
+          "sequence: coherent plane scale rounded down to 2^(-k / this), [1, 64]");
+ABSL_FLAG(double, twist_saving, 0.1,
+          "sequence: coherent plane maps keep their twist unless another saves this share of "
+          "lixels, [0, 1)");
 
 namespace lixel::cli {
 
@@ -204,6 +214,21 @@ Result<bool> Flags::CheckValues() const {
         return Error{"--out", "needs a folder"};
     }
     if (auto budgets = ReportBudgets(*this, {}); !budgets) return budgets.error();
+    if (const int f = absl::GetFlag(FLAGS_frames); f < 1 || f > 100000) {
+        return Error{"--frames", "must be in [1, 100000], got " + std::to_string(f)};
+    }
+    if (const int side = absl::GetFlag(FLAGS_size); side < 1 || side > kMaxImageSide) {
+        return Error{"--size", "must be in [1, 16384] pixels, got " + std::to_string(side)};
+    }
+    if (const double w = absl::GetFlag(FLAGS_waste_bound); !(w > 0.0 && w < 1.0)) {
+        return Error{"--waste_bound", "must be in (0, 1)"};
+    }
+    if (const int k = absl::GetFlag(FLAGS_scale_steps); k < 1 || k > 64) {
+        return Error{"--scale_steps", "must be in [1, 64], got " + std::to_string(k)};
+    }
+    if (const double t = absl::GetFlag(FLAGS_twist_saving); !(t >= 0.0 && t < 1.0)) {
+        return Error{"--twist_saving", "must be in [0, 1)"};
+    }
     if (command_ == "view") {
         if (auto method = ViewMethod(); !method) return method.error();
         if (const int c = absl::GetFlag(FLAGS_cascades); c < 1 || c > 8) {

@@ -53,6 +53,13 @@ ABSL_DECLARE_FLAG(bool, full);
 ABSL_DECLARE_FLAG(bool, depth_only);
 ABSL_DECLARE_FLAG(int, repeats);
 ABSL_DECLARE_FLAG(std::vector<std::string>, budgets);
+// sequence and frames: the frame sequence (scene::SequenceOptions).
+ABSL_DECLARE_FLAG(int, frames);
+ABSL_DECLARE_FLAG(int, size);
+// sequence: FrameCoherence's settings for the coherent rows.
+ABSL_DECLARE_FLAG(double, waste_bound);
+ABSL_DECLARE_FLAG(int, scale_steps);
+ABSL_DECLARE_FLAG(double, twist_saving);
 
 namespace lixel::cli {
 

@@ -94,6 +94,9 @@ const std::set<std::string>* CommandFlags(const std::string& command) {
           "normal_offset"}},
         {"report",
          {"scene", "scene_file", "all", "full", "repeats", "out", "budgets", "depth_only"}},
+        {"sequence",
+         {"scene", "frames", "size", "budget", "out", "waste_bound", "scale_steps",
+          "twist_saving"}},
     };
     const auto it = flags.find(command);
     return it == flags.end() ? nullptr : &it->second;

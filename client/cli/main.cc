@@ -24,6 +24,9 @@ constexpr const char* kUsage =
     "          [--evaluate] [--timings] [--out=DIR]  the per-pixel mask\n"
     "  report  --scene=... | --all [--full] [--repeats=N] [--budgets=N,N,...] [--out=DIR]\n"
     "                                               error against run time\n"
+    "  sequence --scene=... [--frames=60] [--size=512] [--budget=N] [--out=DIR]\n"
+    "          [--waste_bound=0.25] [--scale_steps=4] [--twist_saving=0.1]\n"
+    "                                               flicker and reallocations per method\n"
     "scenes: floor_wall (default), table_floor, sphere_grid, thin_plates,\n"
     "        sphere_torus, pins; or a scene file (docs/scenes.md)\n"
     "lixel <command> --help lists every flag with its default.\n";
@@ -55,5 +58,6 @@ int main(int argc, char** argv) {
     if (command == "render") return lixel::cli::RenderCommand(c, *flags);
     if (command == "view") return lixel::cli::ViewCommand(c, *flags);
     if (command == "report") return lixel::cli::ReportCommand(c, *flags);
+    if (command == "sequence") return lixel::cli::SequenceCommand(c, *flags);
     return lixel::cli::UsageError({command, "has flags but no handler"});  // a table out of step
 }

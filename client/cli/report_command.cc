@@ -31,27 +31,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-v1::Method ProtoMethod(eval::Fitting fitting) {
-    switch (fitting) {
-        case eval::Fitting::kPlaneOptimal: return v1::METHOD_PLANE_OPTIMAL;
-        case eval::Fitting::kUniform: return v1::METHOD_UNIFORM;
-        case eval::Fitting::kPsm: return v1::METHOD_PSM;
-        case eval::Fitting::kLispsm: return v1::METHOD_LISPSM;
-        case eval::Fitting::kCsm: return v1::METHOD_CSM;
-    }
-    return v1::METHOD_PLANE_OPTIMAL;
-}
-
-v1::Filter ProtoFilter(eval::ShadowTest test) {
-    switch (test) {
-        case eval::ShadowTest::kDepth: return v1::FILTER_DEPTH;
-        case eval::ShadowTest::kPcf: return v1::FILTER_PCF;
-        case eval::ShadowTest::kSecondDepth: return v1::FILTER_SECOND_DEPTH;
-        case eval::ShadowTest::kSilhouette: return v1::FILTER_SILHOUETTE_MAP;
-    }
-    return v1::FILTER_DEPTH;
-}
-
 // The budget the preview is taken at: the one nearest the paper's 512².
 std::int64_t PreviewBudget(const std::vector<std::int64_t>& budgets) {
     std::int64_t best = budgets.front();

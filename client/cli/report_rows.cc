@@ -46,6 +46,27 @@ std::vector<std::pair<std::string, double>> MethodStages(
     return own;
 }
 
+v1::Method ProtoMethod(eval::Fitting fitting) {
+    switch (fitting) {
+        case eval::Fitting::kPlaneOptimal: return v1::METHOD_PLANE_OPTIMAL;
+        case eval::Fitting::kUniform: return v1::METHOD_UNIFORM;
+        case eval::Fitting::kPsm: return v1::METHOD_PSM;
+        case eval::Fitting::kLispsm: return v1::METHOD_LISPSM;
+        case eval::Fitting::kCsm: return v1::METHOD_CSM;
+    }
+    return v1::METHOD_PLANE_OPTIMAL;
+}
+
+v1::Filter ProtoFilter(eval::ShadowTest test) {
+    switch (test) {
+        case eval::ShadowTest::kDepth: return v1::FILTER_DEPTH;
+        case eval::ShadowTest::kPcf: return v1::FILTER_PCF;
+        case eval::ShadowTest::kSecondDepth: return v1::FILTER_SECOND_DEPTH;
+        case eval::ShadowTest::kSilhouette: return v1::FILTER_SILHOUETTE_MAP;
+    }
+    return v1::FILTER_DEPTH;
+}
+
 eval::ReportRow RowOfView(const std::string& scene, const std::string& method,
                           std::int64_t budget, const v1::ViewResponse& evaluated) {
     const v1::Evaluation& e = evaluated.evaluation();

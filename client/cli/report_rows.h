@@ -5,6 +5,7 @@
 
 #include <lixel/eval/ground_truth.h>
 #include <lixel/eval/image.h>
+#include <lixel/eval/methods.h>
 #include <lixel/eval/report.h>
 #include <lixel/v1/lixel.pb.h>
 
@@ -26,6 +27,10 @@ std::vector<std::pair<std::string, double>> StagesOfView(const v1::ViewResponse&
 // The stages that are the method's own (not its baselines): the report's stage columns.
 std::vector<std::pair<std::string, double>> MethodStages(
     const std::vector<std::pair<std::string, double>>& stages);
+
+// The wire's method and filter for the report's fitting and shadow test.
+v1::Method ProtoMethod(eval::Fitting fitting);
+v1::Filter ProtoFilter(eval::ShadowTest test);
 
 // The row of an evaluated response: error, aliasing, lixel use, lixels and maps. Stage times and
 // costs are the caller's to fill from the timed calls.

@@ -1,6 +1,8 @@
 // report.csv and report.md writers, the Pareto front and the best-per-budget marks (report.h).
 #include <lixel/eval/report.h>
 
+#include "text_format.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,31 +14,10 @@
 namespace lixel::eval {
 namespace {
 
-std::string Number(double value, int digits = 4) {
-    if (std::isnan(value)) return "nan";
-    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-    char text[64];
-    std::snprintf(text, sizeof(text), "%.*g", digits, value);
-    return text;
-}
-
-std::string Fixed(double value, int decimals) {
-    if (!std::isfinite(value)) return Number(value);
-    char text[64];
-    std::snprintf(text, sizeof(text), "%.*f", decimals, value);
-    return text;
-}
-
-// RFC 4180: quote fields holding a comma, quote or line break; double the quotes.
-std::string CsvField(const std::string& s) {
-    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-    std::string out = "\"";
-    for (const char c : s) {
-        if (c == '"') out += '"';
-        out += c;
-    }
-    return out + "\"";
-}
+using text::CsvField;
+using text::Fixed;
+using text::Number;
+using text::WriteText;
 
 std::vector<std::string> StageUnion(const std::vector<ReportRow>& rows) {
     std::vector<std::string> stages;
@@ -48,15 +29,6 @@ std::vector<std::string> StageUnion(const std::vector<ReportRow>& rows) {
         }
     }
     return stages;
-}
-
-Result<bool> WriteText(const std::string& path, const std::string& text) {
-    std::ofstream file(path, std::ios::binary);
-    if (!file) return Error{path, "cannot open for writing"};
-    file << text;
-    file.close();
-    if (!file) return Error{path, "write failed"};
-    return true;
 }
 
 }  // namespace

@@ -472,6 +472,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     auto plan = PlanShadowMaps(*decoded);
     if (!plan) return InvalidArgument(InPlan(plan.error()));
     MaskJob job;
+    // What ViewResponse.plan reports: the maps the method renders, with the scheduler's
+    // explanations for the plane-optimal ones.
+    Plan used;
     job.viewer = decoded->viewer;
     job.viewport = decoded->viewport;
     job.light = plan->hull.light;
@@ -485,6 +488,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         }
     } else if (request.method() == v1::METHOD_PLANE_OPTIMAL) {
         job.maps = plan->maps;
+        used.left_out = plan->left_out;
+        used.warnings = plan->warnings;
+        used.plane_scale = plan->plane_scale;
     } else {
         const BaselineFitting fitting = request.method() == v1::METHOD_UNIFORM ? BaselineFitting::kUniform
                                         : request.method() == v1::METHOD_PSM ? BaselineFitting::kPsm
@@ -496,6 +502,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         auto baseline = PlanBaseline(*decoded, fitting, plan->hull, *cascades);
         if (!baseline) return InvalidArgument(baseline.error());
         job.maps = std::move(baseline->maps);
+        used.left_out = std::move(baseline->left_out);
+        used.warnings = std::move(baseline->warnings);
+        used.plane_scale = 0.0;
     }
     // The filter decides the one pass every map needs, casters or not: second depth and the
     // silhouette map's corner depths stand in for the first depth, which they never read.
@@ -557,6 +566,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         lixels += static_cast<std::uint64_t>(m.map.width) * m.map.height;
     }
     response->set_total_lixels(lixels);
+    used.maps = job.maps;
+    used.total_lixels = static_cast<std::int64_t>(lixels);
+    EncodePlan(used, response->mutable_plan());
     response->set_width(static_cast<std::uint32_t>(mask->width));
     response->set_height(static_cast<std::uint32_t>(mask->height));
     response->set_mask(reinterpret_cast<const char*>(mask->pixels.data()),

@@ -1,0 +1,75 @@
+// lixel sequence: flicker, reallocations, error and cost of every method over a frame sequence
+// (sequence_run.h, docs/frames.md), written as sequence.csv (a line per method and frame) and
+// sequence.md (a line per method).
+#include <absl/flags/flag.h>
+#include <lixel/eval/progress.h>
+#include <lixel/eval/sequence.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "commands.h"
+#include "sequence_run.h"
+
+namespace lixel::cli {
+
+namespace {
+
+// Shortest form: "30", "0.25".
+std::string Num(double value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+}
+
+}  // namespace
+
+int SequenceCommand(client::Client& client, const Flags& flags) {
+    const std::string out = OutFolder(flags, "out/sequence");
+    std::filesystem::create_directories(out);
+    SequenceRun run;
+    run.scene = absl::GetFlag(FLAGS_scene);
+    run.frames.frames = absl::GetFlag(FLAGS_frames);
+    const int side = absl::GetFlag(FLAGS_size);
+    run.frames.viewport = {side, side};
+    run.budget = static_cast<std::int64_t>(absl::GetFlag(FLAGS_budget));
+    run.coherence.set_waste_bound(absl::GetFlag(FLAGS_waste_bound));
+    run.coherence.set_scale_steps(static_cast<std::uint32_t>(absl::GetFlag(FLAGS_scale_steps)));
+    run.coherence.set_twist_saving(absl::GetFlag(FLAGS_twist_saving));
+
+    eval::ProgressBar bar(static_cast<std::int64_t>(run.frames.frames) *
+                              static_cast<std::int64_t>(run.methods.size()),
+                          "sequence");
+    auto rows = RunSequence(client, run, [&](int frame, const std::string& method) {
+        bar.Advance(1, "frame " + std::to_string(frame) + " " + method);
+    });
+    bar.Finish();
+    if (!rows) return Fail(rows.error());
+    const auto summaries = eval::SummariseSequences(*rows);
+    const std::vector<std::string> notes = {
+        run.scene + ": " + std::to_string(run.frames.frames) + " frames at " +
+            Num(run.frames.fps) + " fps, " + std::to_string(side) + "² pixels, " +
+            std::to_string(run.budget) + " lixels for every method; the camera orbits " +
+            Num(run.frames.orbit_degrees) + "° about the scene's target and dollies " +
+            Num(run.frames.dolly * 100.0) + " % (scene::SequenceFrame).",
+        "coherent: plane-optimal with FrameCoherence (waste bound " +
+            Num(run.coherence.waste_bound()) + ", " +
+            std::to_string(run.coherence.scale_steps()) + " scale steps per octave, twist kept "
+            "unless another saves " + Num(run.coherence.twist_saving() * 100.0) +
+            " % of lixels), the previous frame's maps sent back from its ViewResponse.plan. "
+            "Baselines allocate square maps of a size set by the budget alone.",
+        "Each frame is one View call, evaluated against exact visibility; its costs are "
+        "divided by the bare passes measured in the same call (docs/eval.md \"Costs\"). The "
+        "first frame's reallocations (every map) are not counted.",
+    };
+    if (auto w = eval::WriteSequenceCsv(out + "/sequence.csv", *rows); !w) return Fail(w.error());
+    if (auto w = eval::WriteSequenceMarkdown(out + "/sequence.md", summaries, notes); !w) {
+        return Fail(w.error());
+    }
+    std::printf("%s/sequence.md: %zu methods over %d frames\n", out.c_str(), summaries.size(),
+                run.frames.frames);
+    return 0;
+}
+
+}  // namespace lixel::cli

@@ -1,0 +1,53 @@
+// The frame-sequence report's driver (`lixel sequence`, docs/frames.md): for every frame of a
+// scene::SequenceFrame sequence it uploads that frame's scene and asks View, evaluated and with
+// its cost baselines, for every method; frame-coherent methods send back the maps the previous
+// frame's View reported (ViewResponse.plan) as FrameCoherence. No files: tests drive it against
+// an in-process server.
+#pragma once
+
+#include <lixel/client/client.h>
+#include <lixel/eval/methods.h>
+#include <lixel/eval/sequence.h>
+#include <lixel/scene/frame_sequence.h>
+#include <lixel/solver/result.h>
+#include <lixel/v1/lixel.pb.h>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace lixel::cli {
+
+struct SequenceMethod {
+    eval::Method method;    // fitting and shadow test
+    bool coherent = false;  // send FrameCoherence (only plane maps use it)
+    std::string Name() const { return method.Name(); }
+};
+
+// Every fitting with plain depth as each frame is planned on its own, then plane-optimal with
+// frame-coherent planning: the report's rows, at equal budget.
+std::vector<SequenceMethod> DefaultSequenceMethods();
+
+struct SequenceRun {
+    std::string scene = "floor_wall";  // a built-in scene (scene::SequenceFrame)
+    scene::SequenceOptions frames;
+    std::int64_t budget = 512 * 512;
+    std::int64_t fallback_floor = 0;  // the plan's fallback floor; 0: the server's default
+    std::vector<SequenceMethod> methods = DefaultSequenceMethods();
+    // FrameCoherence's settings for the coherent methods (unset fields: the server's defaults).
+    v1::FrameCoherence coherence;
+};
+
+// Runs the sequence; `progress(frame, method)` after each call. Stops at the first failed call
+// with its error, prefixed by the frame and method.
+Result<std::vector<eval::SequenceFrameRow>> RunSequence(
+    client::Client& client, const SequenceRun& run,
+    const std::function<void(int, const std::string&)>& progress = {});
+
+// The maps a View response reports (ViewResponse.plan), as allocations and as FrameCoherence's
+// previous maps.
+std::vector<eval::MapAllocation> AllocationsOf(const v1::ViewResponse& view);
+void SetPreviousMaps(const v1::PlanResponse& plan, v1::FrameCoherence* coherence);
+
+}  // namespace lixel::cli

@@ -1,0 +1,98 @@
+// Tests for the frame-sequence report's driver (client/cli/sequence_run.h) against an in-process
+// server: a 60-frame sequence of the animated floor/wall room at a small size, every method, the
+// previous frame's maps sent back for coherent planning, and the figures it yields.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "../../client/cli/sequence_run.h"
+#include "service_fixture.h"
+
+namespace lixel::cli {
+namespace {
+
+TEST(SequenceRun, SixtyFramesOfTheAnimatedRoomForEveryMethod) {
+    auto server = testing::StartServer(testing::SmallServerOptions("sequence"));
+    ASSERT_NE(server, nullptr);
+    auto client = testing::Connect(testing::Target(*server));
+    SequenceRun run;
+    run.frames.frames = 60;
+    run.frames.viewport = {40, 40};
+    run.budget = 48 * 48;
+    run.fallback_floor = 16 * 16;
+    auto rows = RunSequence(*client, run);
+    ASSERT_TRUE(rows.ok()) << rows.error().Message();
+    ASSERT_EQ(rows->size(), 60 * run.methods.size());
+
+    std::map<std::pair<std::string, bool>, int> frames_per_method;
+    for (const eval::SequenceFrameRow& r : *rows) {
+        ++frames_per_method[{r.method, r.coherent}];
+        EXPECT_GT(r.error.decided, 0);
+        EXPECT_LE(r.total_lixels, run.budget) << r.method << " frame " << r.frame;
+        EXPECT_FALSE(r.maps.empty()) << r.method << " frame " << r.frame;
+        EXPECT_GT(r.cost.baseline_view_ms, 0.0);
+        EXPECT_GT(r.cost.baseline_depth_ms, 0.0);
+        EXPECT_LE(r.flicker.flickering, r.flicker.steady);
+        if (r.frame == 0) {
+            EXPECT_EQ(r.flicker.steady, 0);
+            EXPECT_EQ(r.reallocations, static_cast<int>(r.maps.size()));
+        } else {
+            EXPECT_GT(r.flicker.steady, 0) << r.method << " frame " << r.frame;
+        }
+    }
+    EXPECT_EQ(frames_per_method.size(), run.methods.size());
+    for (const auto& [method, frames] : frames_per_method) EXPECT_EQ(frames, 60);
+
+    const auto summaries = eval::SummariseSequences(*rows);
+    ASSERT_EQ(summaries.size(), run.methods.size());
+    const eval::SequenceSummary* tight = nullptr;
+    const eval::SequenceSummary* coherent = nullptr;
+    for (const eval::SequenceSummary& s : summaries) {
+        SCOPED_TRACE(s.method + (s.coherent ? " (coherent)" : ""));
+        // The moving shapes change the truth, so every method meets steady pixels; the
+        // baselines' square maps have one size set by the budget.
+        EXPECT_GT(s.flicker.steady, 0);
+        if (s.method == "uniform + depth" || s.method == "PSM + depth" ||
+            s.method == "LiSPSM + depth") {
+            EXPECT_EQ(s.reallocations, 0);
+        }
+        if (s.method == "plane-optimal + depth") (s.coherent ? coherent : tight) = &s;
+    }
+    ASSERT_NE(tight, nullptr);
+    ASSERT_NE(coherent, nullptr);
+    // The tight plans follow the moving camera, so their maps change size; coherent planning
+    // keeps sizes at the same budget.
+    EXPECT_GT(tight->reallocations, 0);
+    EXPECT_LT(coherent->reallocations, tight->reallocations);
+}
+
+TEST(SequenceRun, PreviousMapsGoBackAsTheRequestsFrameCoherence) {
+    v1::PlanResponse plan;
+    v1::PlannedMap* m = plan.add_maps();
+    m->set_name("floor");
+    m->set_role(v1::MAP_ROLE_PLANE);
+    m->set_plane_index(0);
+    m->set_cube_face(-1);
+    m->mutable_map()->set_width(300);
+    m->mutable_map()->set_height(200);
+    m->set_twist_radians(0.25);
+    v1::FrameCoherence coherence;
+    coherence.add_previous()->set_width(1);  // replaced, not appended to
+    SetPreviousMaps(plan, &coherence);
+    ASSERT_EQ(coherence.previous_size(), 1);
+    EXPECT_EQ(coherence.previous(0).width(), 300u);
+    EXPECT_EQ(coherence.previous(0).height(), 200u);
+    EXPECT_EQ(coherence.previous(0).plane_index(), 0);
+    EXPECT_EQ(coherence.previous(0).cube_face(), -1);
+    EXPECT_DOUBLE_EQ(coherence.previous(0).twist_radians(), 0.25);
+
+    v1::ViewResponse view;
+    *view.mutable_plan() = plan;
+    const auto maps = AllocationsOf(view);
+    ASSERT_EQ(maps.size(), 1u);
+    EXPECT_EQ(maps[0].name, "floor");
+    EXPECT_EQ(maps[0].width, 300);
+}
+
+}  // namespace
+}  // namespace lixel::cli
