@@ -3,6 +3,7 @@
 // sequence.md (a line per method).
 #include <absl/flags/flag.h>
 #include <lixel/eval/progress.h>
+#include <lixel/eval/report.h>
 #include <lixel/eval/sequence.h>
 
 #include <cstdio>
@@ -66,6 +67,11 @@ int SequenceCommand(client::Client& client, const Flags& flags) {
     if (auto w = eval::WriteSequenceCsv(out + "/sequence.csv", *rows); !w) return Fail(w.error());
     if (auto w = eval::WriteSequenceMarkdown(out + "/sequence.md", summaries, notes); !w) {
         return Fail(w.error());
+    }
+    if (eval::GnuplotAvailable()) {
+        if (auto w = eval::PlotSequence(out, *rows); !w) return Fail(w.error());
+    } else {
+        std::fprintf(stderr, "lixel: gnuplot not found; sequence.png skipped\n");
     }
     std::printf("%s/sequence.md: %zu methods over %d frames\n", out.c_str(), summaries.size(),
                 run.frames.frames);

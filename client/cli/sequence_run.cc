@@ -92,6 +92,13 @@ Result<std::vector<eval::SequenceFrameRow>> RunSequence(
             request.set_evaluate(true);
             request.set_timings(true);
             request.set_cost_baselines(true);
+            if (frame == 0 && run.warm_up) {
+                v1::ViewRequest warm_up = request;
+                warm_up.set_evaluate(false);
+                if (auto w = client.View(warm_up); !w) {
+                    return Error{"warm-up, " + method.Name(), w.error().Message()};
+                }
+            }
             const auto start = Clock::now();
             auto view = client.View(request);
             const double round_trip =

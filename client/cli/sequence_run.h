@@ -34,6 +34,9 @@ struct SequenceRun {
     scene::SequenceOptions frames;
     std::int64_t budget = 512 * 512;
     std::int64_t fallback_floor = 0;  // the plan's fallback floor; 0: the server's default
+    // One untimed call per method before the first frame (the server compiles shader variants
+    // on first use), so the first frame's costs are like the others'.
+    bool warm_up = true;
     std::vector<SequenceMethod> methods = DefaultSequenceMethods();
     // FrameCoherence's settings for the coherent methods (unset fields: the server's defaults).
     v1::FrameCoherence coherence;

@@ -98,4 +98,9 @@ Result<bool> WriteSequenceMarkdown(const std::string& path,
                                    const std::vector<SequenceSummary>& summaries,
                                    const std::vector<std::string>& notes);
 
+// sequence.png in `folder` (gnuplot; see GnuplotAvailable in report.h): per frame, a line per
+// method for its flicker %, its misclassified % and its lixels, with the data and the script
+// beside it (sequence.dat, sequence.gp).
+Result<bool> PlotSequence(const std::string& folder, const std::vector<SequenceFrameRow>& rows);
+
 }  // namespace lixel::eval
