@@ -1,0 +1,130 @@
+// The engine client's frame loop: for each frame of a scene::SequenceFrame sequence, upload that
+// frame's scene, call Render for the plan and its maps, build the kit's frame (KitFrameOf), upload
+// it and the meshes to the engine's own GL context and draw the engine's own view. With `check`,
+// also call View for the same plan and filter (METHOD_PLANE_OPTIMAL, evaluate) and compare the
+// engine's mask with the server's and both with the exact visibility View returns.
+#pragma once
+
+#include <lixel/client/client.h>
+#include <lixel/engine/egl_context.h>
+#include <lixel/engine/engine_view.h>
+#include <lixel/solver/result.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace lixel::engine {
+
+struct FramesOptions {
+    std::string scene = "floor_wall";  // a built-in scene (scene::SequenceFrame)
+    int frames = 60;                   // [1, 100000]
+    int size = 512;                    // the viewport's side, pixels, [1, 16384]
+    std::uint64_t budget = 512 * 512;  // the plan's lixels, >= 1
+    EngineFilter filter = EngineFilter::kDepth;
+    EngineShadowOptions shadow;
+    bool check = false;  // also call View and compare (FrameCheck)
+};
+
+// Wall-clock seconds of the engine's own frame, on the client.
+struct EngineFrameTimes {
+    double upload_scene = 0.0;   // UploadScene of the frame's meshes
+    double render = 0.0;         // the Render call: plan, maps, transfer and reassembly
+    double kit_frame = 0.0;      // KitFrameOf: decoding, atlas packing, the block
+    double gl_upload = 0.0;      // meshes and KitUploader::Upload, finished (glFinish)
+    double draw_readback = 0.0;  // EngineView::Draw: pre-pass, shading pass, read-back
+    double Total() const { return upload_scene + render + kit_frame + gl_upload + draw_readback; }
+};
+
+// Two masks pixel by pixel (GL-free): the lit answer is mask >= 0.5; only pixels where both show
+// a surface (mask >= 0) are compared.
+struct MaskComparison {
+    std::int64_t compared = 0;          // pixels where both show a surface
+    std::int64_t differing = 0;         // of those, with different lit answers
+    std::int64_t surface_mismatch = 0;  // pixels where exactly one of them shows a surface
+};
+// Errors: "mask" when the sizes differ.
+Result<MaskComparison> CompareMasks(std::span<const float> engine, std::span<const float> server);
+
+// A mask against View's exact visibility (ViewResponse.truth: 0 none, 1 lit, 2 shadow, 3
+// undecided): decided pixels (1 or 2) whose lit answer differs. A pixel the mask shows no surface
+// at counts as lit, as View's own evaluation counts it. Errors: "truth" when the sizes differ.
+struct TruthScore {
+    std::int64_t decided = 0;
+    std::int64_t wrong = 0;
+    double Percent() const {
+        return decided > 0 ? 100.0 * static_cast<double>(wrong) / static_cast<double>(decided)
+                           : 0.0;
+    }
+};
+Result<TruthScore> ScoreAgainstTruth(std::span<const float> mask, std::string_view truth);
+
+struct FrameCheck {
+    MaskComparison masks;  // engine against server
+    TruthScore engine;     // each against the truth
+    TruthScore server;
+    double server_view_seconds = 0.0;  // View's "view" + "readback" stages, on the server
+};
+
+struct EngineFrame {
+    int frame = 0;
+    EngineImages images;
+    EngineFrameTimes times;
+    int maps = 0;                          // maps in the plan
+    std::uint64_t lixels = 0;              // their total
+    std::uint64_t streamed_bytes = 0;      // map bytes Render streamed
+    std::int64_t atlas_reallocations = 0;  // KitUploader's, since the loop started
+    std::optional<FrameCheck> check;
+};
+
+class FrameLoop {
+  public:
+    // Makes the engine's EGL context (current on this thread) and view. Errors: "egl", "gl",
+    // "options.*".
+    static Result<std::unique_ptr<FrameLoop>> Create(client::Client& client,
+                                                     const FramesOptions& options);
+
+    // Frame `frame` of the sequence, drawn (and checked with options.check). Errors name the step
+    // ("scene", "upload", "render", "kit", "draw", "view") and what failed.
+    Result<EngineFrame> Run(int frame);
+
+    const std::string& renderer() const { return context_->renderer(); }
+    const FramesOptions& options() const { return options_; }
+
+  private:
+    FrameLoop(client::Client& client, FramesOptions options, std::unique_ptr<EglContext> context,
+              EngineView view)
+        : client_(&client),
+          options_(std::move(options)),
+          context_(std::move(context)),
+          view_(std::move(view)) {}
+
+    client::Client* client_;
+    FramesOptions options_;
+    std::unique_ptr<EglContext> context_;
+    EngineView view_;
+};
+
+// A grid of small copies of the frames (every frame's shaded image, box-filtered to at most
+// `tile` pixels a side), for one look at a whole sequence. GL-free.
+class ContactSheet {
+  public:
+    explicit ContactSheet(int tile = 128) : tile_(tile) {}
+    void Add(const EngineImages& images);
+    // Errors: "contact sheet" when nothing was added, or the PNG writer's.
+    Result<bool> Write(const std::string& path) const;
+
+  private:
+    int tile_;
+    int tile_width_ = 0;
+    int tile_height_ = 0;
+    std::vector<std::vector<std::uint8_t>> tiles_;
+};
+
+// The shaded image as an 8-bit RGB PNG (lixel::png).
+Result<bool> WriteShadedPng(const std::string& path, const EngineImages& images);
+
+}  // namespace lixel::engine

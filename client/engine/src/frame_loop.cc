@@ -1,0 +1,277 @@
+// The engine client's frame loop (frame_loop.h).
+#include <lixel/client/kit_frame.h>
+#include <lixel/engine/frame_loop.h>
+#include <lixel/png/rgb_png.h>
+#include <lixel/scene/frame_sequence.h>
+#include <lixel/service/proto_convert.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <utility>
+
+namespace lixel::engine {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+Error Step(const char* step, const Error& e) { return Error{step, e.Message()}; }
+
+v1::Filter WireFilter(EngineFilter filter) {
+    switch (filter) {
+        case EngineFilter::kPcf:
+            return v1::FILTER_PCF;
+        case EngineFilter::kSecondDepth:
+            return v1::FILTER_SECOND_DEPTH;
+        case EngineFilter::kDepth:
+            break;
+    }
+    return v1::FILTER_DEPTH;
+}
+
+// The scheduler plans a second-depth pass only for maps with a caster inside their needed rays
+// (scheduler.cc PlanPasses), so Render streams none for the others, while View renders every
+// map's. Nothing casts into such a map: an image of stored depth 0 ("nothing here", which every
+// kit test counts as lit) stands in for it.
+void FillMissingSecondDepth(client::RenderedMaps& rendered) {
+    const int maps = rendered.header.plan().maps_size();
+    std::vector<bool> found(static_cast<std::size_t>(maps), false);
+    for (const v1::MapImage& image : rendered.header.images()) {
+        if (image.pass() == v1::PASS_SECOND_DEPTH && image.map_index() < found.size()) {
+            found[image.map_index()] = true;
+        }
+    }
+    for (int i = 0; i < maps; ++i) {
+        if (found[static_cast<std::size_t>(i)]) continue;
+        const v1::LightMap& map = rendered.header.plan().maps(i).map();
+        v1::MapImage* image = rendered.header.add_images();
+        image->set_map_index(static_cast<std::uint32_t>(i));
+        image->set_pass(v1::PASS_SECOND_DEPTH);
+        image->set_width(map.width());
+        image->set_height(map.height());
+        image->set_bytes(std::uint64_t{map.width()} * map.height() * 4);
+        rendered.images.emplace_back(std::size_t{map.width()} * map.height(), 0.0f);
+    }
+}
+
+}  // namespace
+
+Result<MaskComparison> CompareMasks(std::span<const float> engine, std::span<const float> server) {
+    if (engine.size() != server.size()) {
+        return Error{"mask", std::to_string(engine.size()) + " pixels against " +
+                                 std::to_string(server.size())};
+    }
+    MaskComparison c;
+    for (std::size_t i = 0; i < engine.size(); ++i) {
+        const bool a = engine[i] >= 0.0f;
+        const bool b = server[i] >= 0.0f;
+        if (a != b) ++c.surface_mismatch;
+        if (!a || !b) continue;
+        ++c.compared;
+        if ((engine[i] >= 0.5f) != (server[i] >= 0.5f)) ++c.differing;
+    }
+    return c;
+}
+
+Result<TruthScore> ScoreAgainstTruth(std::span<const float> mask, std::string_view truth) {
+    if (mask.size() != truth.size()) {
+        return Error{"truth", std::to_string(truth.size()) + " pixels against the mask's " +
+                                  std::to_string(mask.size())};
+    }
+    TruthScore s;
+    for (std::size_t i = 0; i < mask.size(); ++i) {
+        const auto t = static_cast<unsigned char>(truth[i]);
+        if (t != 1 && t != 2) continue;  // no surface, or undecided
+        ++s.decided;
+        const bool lit = mask[i] < 0.0f || mask[i] >= 0.5f;
+        if (lit != (t == 1)) ++s.wrong;
+    }
+    return s;
+}
+
+Result<std::unique_ptr<FrameLoop>> FrameLoop::Create(client::Client& client,
+                                                     const FramesOptions& options) {
+    if (options.frames < 1 || options.frames > 100000) {
+        return Error{"options.frames", std::to_string(options.frames) + " outside [1, 100000]"};
+    }
+    if (options.size < 1 || options.size > 16384) {
+        return Error{"options.size", std::to_string(options.size) + " outside [1, 16384]"};
+    }
+    if (options.budget < 1) return Error{"options.budget", "at least 1 lixel"};
+    auto context = EglContext::Create();
+    if (!context) return context.error();
+    auto view = EngineView::Create(&EglContext::Loader);
+    if (!view) return view.error();
+    return std::unique_ptr<FrameLoop>(
+        new FrameLoop(client, options, std::move(context).value(), std::move(view).value()));
+}
+
+Result<EngineFrame> FrameLoop::Run(int frame_index) {
+    if (auto ok = context_->MakeCurrent(); !ok) return ok.error();
+    scene::SequenceOptions sequence;
+    sequence.frames = options_.frames;
+    sequence.viewport = Viewport{options_.size, options_.size};
+    auto scene = scene::SequenceFrame(options_.scene, frame_index, sequence);
+    if (!scene) return Step("scene", scene.error());
+    EngineFrame out;
+    out.frame = frame_index;
+
+    auto start = Clock::now();
+    v1::Scene message;
+    service::EncodeScene(service::MakeSceneRecord(*scene), &message);
+    auto uploaded = client_->UploadScene(message);
+    if (!uploaded) return Step("upload", uploaded.error());
+    out.times.upload_scene = Since(start);
+
+    v1::PlanRequest plan;
+    plan.set_scene_id(uploaded->scene_id());
+    plan.set_lixel_budget(options_.budget);
+    service::EncodeMat4(scene->camera.Viewer(), plan.mutable_camera()->mutable_viewer());
+    plan.mutable_camera()->set_width(static_cast<std::uint32_t>(scene->camera.viewport.width));
+    plan.mutable_camera()->set_height(static_cast<std::uint32_t>(scene->camera.viewport.height));
+    service::EncodeVec4(scene->light, plan.mutable_light()->mutable_position());
+    plan.mutable_passes()->set_second_depth(options_.filter == EngineFilter::kSecondDepth);
+    start = Clock::now();
+    v1::RenderRequest render_request;
+    *render_request.mutable_plan() = plan;
+    auto rendered = client_->Render(render_request);
+    if (!rendered) return Step("render", rendered.error());
+    out.times.render = Since(start);
+    out.maps = rendered->header.plan().maps_size();
+    out.lixels = rendered->header.plan().total_lixels();
+    for (const auto& image : rendered->images) out.streamed_bytes += image.size() * sizeof(float);
+
+    // lixel's GPU scene is relative to its bounds' centre; the same origin makes the engine's
+    // float positions and matrices the server's, bit for bit.
+    const Aabb bounds = scene->Bounds();
+    const Vec3 origin =
+        (bounds.min.array() <= bounds.max.array()).all() ? bounds.Center() : Vec3::Zero();
+    start = Clock::now();
+    if (options_.filter == EngineFilter::kSecondDepth) FillMissingSecondDepth(rendered.value());
+    auto kit = client::KitFrameOf(*rendered, KitDepthFor(options_.filter), origin);
+    if (!kit) return Step("kit", kit.error());
+    out.times.kit_frame = Since(start);
+
+    start = Clock::now();
+    if (auto ok = view_.UploadMeshes(scene->meshes, origin); !ok) return Step("upload", ok.error());
+    if (auto ok = view_.UploadKit(*kit); !ok) return Step("upload", ok.error());
+    view_.Finish();
+    out.times.gl_upload = Since(start);
+    out.atlas_reallocations = view_.uploader().reallocations();
+
+    EngineCamera camera;
+    camera.viewer = scene->camera.Viewer();
+    camera.viewport = scene->camera.viewport;
+    camera.light = scene->light;
+    start = Clock::now();
+    auto images = view_.Draw(camera, options_.filter, options_.shadow);
+    if (!images) return Step("draw", images.error());
+    out.times.draw_readback = Since(start);
+    out.images = std::move(images).value();
+
+    if (options_.check) {
+        v1::ViewRequest request;
+        *request.mutable_plan() = plan;
+        request.set_method(v1::METHOD_PLANE_OPTIMAL);
+        request.set_filter(WireFilter(options_.filter));
+        request.set_evaluate(true);
+        request.set_timings(true);
+        auto view = client_->View(request);
+        if (!view) return Step("view", view.error());
+        if (view->mask().size() != out.images.mask.size() * sizeof(float)) {
+            return Error{"view", "mask of " + std::to_string(view->mask().size()) +
+                                     " bytes for the engine's " +
+                                     std::to_string(out.images.mask.size()) + " pixels"};
+        }
+        std::vector<float> server(out.images.mask.size());
+        std::memcpy(server.data(), view->mask().data(), view->mask().size());
+        FrameCheck check;
+        auto masks = CompareMasks(out.images.mask, server);
+        if (!masks) return Step("view", masks.error());
+        check.masks = *masks;
+        auto engine_score = ScoreAgainstTruth(out.images.mask, view->truth());
+        if (!engine_score) return Step("view", engine_score.error());
+        auto server_score = ScoreAgainstTruth(server, view->truth());
+        if (!server_score) return Step("view", server_score.error());
+        check.engine = *engine_score;
+        check.server = *server_score;
+        for (const v1::StageTime& t : view->timings()) {
+            if (t.stage() == "view" || t.stage() == "readback") {
+                check.server_view_seconds += t.seconds();
+            }
+        }
+        out.check = check;
+    }
+    return out;
+}
+
+void ContactSheet::Add(const EngineImages& images) {
+    if (images.width <= 0 || images.height <= 0) return;
+    // Box filter by a whole factor: every tile of a sequence gets the same size.
+    const int factor = std::max(1, (std::max(images.width, images.height) + tile_ - 1) / tile_);
+    const int w = images.width / factor;
+    const int h = images.height / factor;
+    if (tiles_.empty()) {
+        tile_width_ = w;
+        tile_height_ = h;
+    }
+    if (w != tile_width_ || h != tile_height_ || w == 0 || h == 0) return;
+    std::vector<std::uint8_t> tile(static_cast<std::size_t>(w) * h * 3);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                int sum = 0;
+                for (int dy = 0; dy < factor; ++dy) {
+                    for (int dx = 0; dx < factor; ++dx) {
+                        const std::size_t i =
+                            (static_cast<std::size_t>(y * factor + dy) * images.width +
+                             (x * factor + dx)) *
+                                3 +
+                            c;
+                        sum += images.rgb[i];
+                    }
+                }
+                tile[(static_cast<std::size_t>(y) * w + x) * 3 + c] =
+                    static_cast<std::uint8_t>(sum / (factor * factor));
+            }
+        }
+    }
+    tiles_.push_back(std::move(tile));
+}
+
+Result<bool> ContactSheet::Write(const std::string& path) const {
+    if (tiles_.empty()) return Error{"contact sheet", "no frames"};
+    const int count = static_cast<int>(tiles_.size());
+    const int columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(count))));
+    const int rows = (count + columns - 1) / columns;
+    constexpr int kGap = 2;
+    const int width = columns * (tile_width_ + kGap) + kGap;
+    const int height = rows * (tile_height_ + kGap) + kGap;
+    std::vector<std::uint8_t> rgb(static_cast<std::size_t>(width) * height * 3, 32);
+    for (int k = 0; k < count; ++k) {
+        // Frame 0 at the top left, in reading order; rows are numbered from the bottom.
+        const int column = k % columns;
+        const int row = rows - 1 - k / columns;
+        const int x0 = kGap + column * (tile_width_ + kGap);
+        const int y0 = kGap + row * (tile_height_ + kGap);
+        for (int y = 0; y < tile_height_; ++y) {
+            std::memcpy(
+                &rgb[(static_cast<std::size_t>(y0 + y) * width + x0) * 3],
+                &tiles_[static_cast<std::size_t>(k)][static_cast<std::size_t>(y) * tile_width_ * 3],
+                static_cast<std::size_t>(tile_width_) * 3);
+        }
+    }
+    return png::WriteRgb(path, width, height, rgb);
+}
+
+Result<bool> WriteShadedPng(const std::string& path, const EngineImages& images) {
+    return png::WriteRgb(path, images.width, images.height, images.rgb);
+}
+
+}  // namespace lixel::engine

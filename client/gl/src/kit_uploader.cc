@@ -1,0 +1,144 @@
+// A KitFrame's block and atlas "a" in GL objects kept across frames (kit_uploader.h).
+#include <lixel/client/kit_uploader.h>
+#include <lixel/kit/shadow_block.h>
+
+#include <string>
+#include <utility>
+
+namespace lixel::client {
+
+Viewport KitAtlasTextureSize(const KitFrame& frame) {
+    if (frame.atlas.width <= 0 || frame.atlas.height <= 0) return Viewport{1, 1};
+    return Viewport{frame.atlas.width, frame.atlas.height};
+}
+
+Result<bool> ValidateKitFrame(const KitFrame& frame, int max_texture_size) {
+    if (frame.block.size() != kit::ShadowBlockLayout::kBytes) {
+        return Error{"block", std::to_string(frame.block.size()) + " bytes; the kit's block has " +
+                                  std::to_string(kit::ShadowBlockLayout::kBytes)};
+    }
+    const bool empty = frame.atlas.width == 0 && frame.atlas.height == 0;
+    if (empty != frame.maps.empty()) {
+        return Error{"atlas", empty ? "empty, but the frame has maps" : "set, but no maps"};
+    }
+    if (empty) return true;
+    if (frame.atlas.width < 1 || frame.atlas.width > max_texture_size) {
+        return Error{"atlas.width", std::to_string(frame.atlas.width) + " outside [1, " +
+                                        std::to_string(max_texture_size) +
+                                        "] (GL_MAX_TEXTURE_SIZE)"};
+    }
+    if (frame.atlas.height < 1 || frame.atlas.height > max_texture_size) {
+        return Error{"atlas.height", std::to_string(frame.atlas.height) + " outside [1, " +
+                                         std::to_string(max_texture_size) +
+                                         "] (GL_MAX_TEXTURE_SIZE)"};
+    }
+    const std::size_t texels =
+        static_cast<std::size_t>(frame.atlas.width) * static_cast<std::size_t>(frame.atlas.height);
+    if (frame.atlas.texels.size() != texels) {
+        return Error{"atlas.texels", std::to_string(frame.atlas.texels.size()) + " texels for a " +
+                                         std::to_string(frame.atlas.width) + " x " +
+                                         std::to_string(frame.atlas.height) + " atlas"};
+    }
+    return true;
+}
+
+Result<KitUploader> KitUploader::Create(GlLoader loader) {
+    auto gl = GlFunctions::Load(loader);
+    if (!gl) return gl.error();
+    GLint max_side = 0;
+    gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_side);
+    GLuint block = 0;
+    gl->CreateBuffers(1, &block);
+    gl->NamedBufferData(block, static_cast<GLsizeiptr>(kit::ShadowBlockLayout::kBytes), nullptr,
+                        GL_DYNAMIC_DRAW);
+    KitUploader uploader(*gl, block, max_side);
+    if (auto ok = gl->Check("gl"); !ok) return Error{"gl", "uploader setup: " + ok.error().reason};
+    return uploader;
+}
+
+KitUploader::KitUploader(KitUploader&& other) noexcept
+    : gl_(other.gl_),
+      block_(std::exchange(other.block_, 0)),
+      atlas_(std::exchange(other.atlas_, 0)),
+      atlas_size_(std::exchange(other.atlas_size_, Viewport{})),
+      max_texture_size_(other.max_texture_size_),
+      reallocations_(other.reallocations_),
+      uploads_(other.uploads_) {}
+
+KitUploader& KitUploader::operator=(KitUploader&& other) noexcept {
+    if (this != &other) {
+        Release();
+        gl_ = other.gl_;
+        block_ = std::exchange(other.block_, 0);
+        atlas_ = std::exchange(other.atlas_, 0);
+        atlas_size_ = std::exchange(other.atlas_size_, Viewport{});
+        max_texture_size_ = other.max_texture_size_;
+        reallocations_ = other.reallocations_;
+        uploads_ = other.uploads_;
+    }
+    return *this;
+}
+
+KitUploader::~KitUploader() { Release(); }
+
+void KitUploader::Release() noexcept {
+    if (atlas_ != 0) gl_.DeleteTextures(1, &atlas_);
+    if (block_ != 0) gl_.DeleteBuffers(1, &block_);
+    atlas_ = 0;
+    block_ = 0;
+}
+
+Result<bool> KitUploader::Upload(const KitFrame& frame) {
+    if (auto ok = ValidateKitFrame(frame, max_texture_size_); !ok) return ok;
+    gl_.NamedBufferSubData(block_, 0, static_cast<GLsizeiptr>(frame.block.size()),
+                           frame.block.data());
+    const Viewport size = KitAtlasTextureSize(frame);
+    if (atlas_ == 0 || size.width != atlas_size_.width || size.height != atlas_size_.height) {
+        if (atlas_ != 0) gl_.DeleteTextures(1, &atlas_);
+        atlas_ = 0;
+        gl_.CreateTextures(GL_TEXTURE_2D, 1, &atlas_);
+        gl_.TextureStorage2D(atlas_, 1, GL_R32F, size.width, size.height);
+        // The kit reads texels with texelFetch and textureGather: NEAREST, no mipmaps; its border
+        // of edge texels (kit::kAtlasBorder) keeps taps inside, clamping is a second guard.
+        gl_.TextureParameteri(atlas_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        gl_.TextureParameteri(atlas_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        gl_.TextureParameteri(atlas_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        gl_.TextureParameteri(atlas_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        atlas_size_ = size;
+        ++reallocations_;
+    }
+    // The caller's unpack state, set to tightly packed rows from client memory for the upload.
+    GLint unpack_buffer = 0, row_length = 0, skip_rows = 0, skip_pixels = 0, alignment = 4;
+    gl_.GetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &unpack_buffer);
+    gl_.GetIntegerv(GL_UNPACK_ROW_LENGTH, &row_length);
+    gl_.GetIntegerv(GL_UNPACK_SKIP_ROWS, &skip_rows);
+    gl_.GetIntegerv(GL_UNPACK_SKIP_PIXELS, &skip_pixels);
+    gl_.GetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
+    gl_.BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    gl_.PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    gl_.PixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+    gl_.PixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+    gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    if (frame.atlas.texels.empty()) {
+        const float nothing = 0.0f;  // no maps: nothing is read, the texture is only complete
+        gl_.TextureSubImage2D(atlas_, 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &nothing);
+    } else {
+        gl_.TextureSubImage2D(atlas_, 0, 0, 0, size.width, size.height, GL_RED, GL_FLOAT,
+                              frame.atlas.texels.data());
+    }
+    gl_.BindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(unpack_buffer));
+    gl_.PixelStorei(GL_UNPACK_ROW_LENGTH, row_length);
+    gl_.PixelStorei(GL_UNPACK_SKIP_ROWS, skip_rows);
+    gl_.PixelStorei(GL_UNPACK_SKIP_PIXELS, skip_pixels);
+    gl_.PixelStorei(GL_UNPACK_ALIGNMENT, alignment);
+    ++uploads_;
+    if (auto ok = gl_.Check("gl"); !ok) return Error{"gl", "kit upload: " + ok.error().reason};
+    return true;
+}
+
+void KitUploader::Bind(GLuint block_binding, GLuint atlas_unit) const {
+    gl_.BindBufferBase(GL_UNIFORM_BUFFER, block_binding, block_);
+    gl_.BindTextureUnit(atlas_unit, atlas_);
+}
+
+}  // namespace lixel::client

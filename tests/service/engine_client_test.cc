@@ -1,0 +1,276 @@
+// lixel::engine and lixel::client_gl (issue 15): an engine that draws its own view from what
+// Render streams, through the client shader kit, reads back the mask View returns for the same
+// plan and filter (the same bias defaults, lookup rule, depth and clip conventions), up to the
+// few pixels measured here; the kit uploader keeps its GL objects across frames and counts
+// reallocations; bad input is refused by name. GL through the engine's own EGL surfaceless
+// context (llvmpipe here), beside the in-process server's workers.
+#include <gtest/gtest.h>
+#include <lixel/client/kit_uploader.h>
+#include <lixel/engine/egl_context.h>
+#include <lixel/engine/engine_view.h>
+#include <lixel/engine/frame_loop.h>
+#include <lixel/kit/shadow_block.h>
+#include <lixel/render/view_pass.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "service_fixture.h"
+
+namespace lixel::engine {
+namespace {
+
+struct SceneCase {
+    const char* scene;
+    EngineFilter filter;
+    std::vector<int> frames;
+    // Per frame, the most pixels (of those where both show a surface) whose lit answer may
+    // differ between the engine's mask and View's: the worst measured plus a little.
+    std::int64_t max_differing;
+};
+
+// Runs `c` at 128 x 128 against an in-process server and checks every frame.
+void ExpectMasksAgree(const SceneCase& c) {
+    auto server = testing::StartServer(testing::SmallServerOptions("engine-client"));
+    ASSERT_NE(server, nullptr);
+    auto client = testing::Connect(testing::Target(*server));
+    FramesOptions options;
+    options.scene = c.scene;
+    options.frames = 60;
+    options.size = 128;
+    options.budget = 256 * 256;
+    options.filter = c.filter;
+    options.check = true;
+    auto loop = FrameLoop::Create(*client, options);
+    ASSERT_TRUE(loop.ok()) << loop.error().Message();
+    std::int64_t worst = 0;
+    for (int f : c.frames) {
+        auto frame = (*loop)->Run(f);
+        ASSERT_TRUE(frame.ok()) << frame.error().Message();
+        ASSERT_TRUE(frame->check.has_value());
+        const FrameCheck& k = *frame->check;
+        std::printf(
+            "[ ENGINE   ] %s %s frame %d: %lld of %lld pixels differ (%lld surface "
+            "mismatches); misclassified engine %.3f%% server %.3f%% of %lld\n",
+            c.scene, EngineFilterName(c.filter), f, static_cast<long long>(k.masks.differing),
+            static_cast<long long>(k.masks.compared),
+            static_cast<long long>(k.masks.surface_mismatch), k.engine.Percent(),
+            k.server.Percent(), static_cast<long long>(k.server.decided));
+        // Most of the view shows a surface, and both see the same pixels.
+        EXPECT_GT(k.masks.compared, 128 * 128 / 4);
+        EXPECT_EQ(k.masks.surface_mismatch, 0);
+        EXPECT_LE(k.masks.differing, c.max_differing) << c.scene << " frame " << f;
+        // The same mask scores the same against the truth, to the differing pixels.
+        EXPECT_LE(std::abs(k.engine.wrong - k.server.wrong), k.masks.differing);
+        worst = std::max(worst, k.masks.differing);
+    }
+    std::printf("[ ENGINE   ] %s %s: worst %lld differing pixels\n", c.scene,
+                EngineFilterName(c.filter), static_cast<long long>(worst));
+}
+
+TEST(EngineClient, FloorWallMaskIsViewsMask) {
+    ExpectMasksAgree({"floor_wall", EngineFilter::kDepth, {0, 13, 29, 44, 59}, 2});
+}
+
+TEST(EngineClient, TableFloorMaskIsViewsMask) {
+    ExpectMasksAgree({"table_floor", EngineFilter::kDepth, {0, 20, 40, 59}, 2});
+}
+
+TEST(EngineClient, PcfAndSecondDepthMasksAreViews) {
+    ExpectMasksAgree({"floor_wall", EngineFilter::kPcf, {0, 30}, 2});
+    ExpectMasksAgree({"floor_wall", EngineFilter::kSecondDepth, {0, 30}, 2});
+}
+
+TEST(EngineView, BiasDefaultsAreTheViewPasss) {
+    const EngineShadowOptions engine;
+    const render::ShadowOptions server;
+    EXPECT_EQ(engine.depth_bias, server.depth_bias);
+    EXPECT_EQ(engine.slope_bias, server.slope_bias);
+    EXPECT_EQ(engine.max_bias, server.max_bias);
+    EXPECT_EQ(engine.second_depth_bias, server.second_depth_bias);
+    EXPECT_EQ(engine.open_second_depth_bias, server.open_second_depth_bias);
+    EXPECT_EQ(engine.virtual_samples, server.virtual_samples);
+    EXPECT_EQ(engine.pcf_radius, server.pcf_radius);
+}
+
+// A frame of `maps` maps (their block content does not matter to the uploader) with a w x h atlas
+// whose texel i holds i.
+client::KitFrame SyntheticFrame(int w, int h) {
+    client::KitFrame frame;
+    frame.block.assign(kit::ShadowBlockLayout::kBytes, std::byte{0});
+    frame.maps.resize(1);
+    frame.lookups.resize(1);
+    frame.atlas.width = w;
+    frame.atlas.height = h;
+    frame.atlas.origins = {Eigen::Vector2i(0, 0)};
+    frame.atlas.texels.resize(static_cast<std::size_t>(w) * h);
+    for (std::size_t i = 0; i < frame.atlas.texels.size(); ++i) {
+        frame.atlas.texels[i] = static_cast<float>(i);
+    }
+    return frame;
+}
+
+TEST(KitUploader, KeepsItsObjectsAndReallocatesOnlyWhenTheAtlasSizeChanges) {
+    auto context = EglContext::Create();
+    ASSERT_TRUE(context.ok()) << context.error().Message();
+    auto gl = client::GlFunctions::Load(&EglContext::Loader);
+    ASSERT_TRUE(gl.ok()) << gl.error().Message();
+    auto uploader = client::KitUploader::Create(&EglContext::Loader);
+    ASSERT_TRUE(uploader.ok()) << uploader.error().Message();
+    // A caller's unpack state that would scramble a tightly packed upload: restored afterwards.
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 8);
+    gl->PixelStorei(GL_UNPACK_ROW_LENGTH, 50);
+    const auto read_back = [&](int w, int h) {
+        std::vector<float> texels(static_cast<std::size_t>(w) * h);
+        gl->GetTextureImage(uploader->atlas_texture(), 0, GL_RED, GL_FLOAT,
+                            static_cast<GLsizei>(texels.size() * sizeof(float)), texels.data());
+        return texels;
+    };
+    const client::KitFrame a = SyntheticFrame(37, 21);
+    ASSERT_TRUE(uploader->Upload(a).ok());
+    const GLuint block = uploader->block_buffer();
+    const GLuint atlas = uploader->atlas_texture();
+    EXPECT_EQ(uploader->reallocations(), 1);
+    EXPECT_EQ(read_back(37, 21), a.atlas.texels);
+    client::KitFrame a2 = SyntheticFrame(37, 21);
+    for (float& t : a2.atlas.texels) t = -t;
+    ASSERT_TRUE(uploader->Upload(a2).ok());
+    EXPECT_EQ(uploader->reallocations(), 1);  // same size: the same texture, new texels
+    EXPECT_EQ(uploader->atlas_texture(), atlas);
+    EXPECT_EQ(read_back(37, 21), a2.atlas.texels);
+    const client::KitFrame b = SyntheticFrame(64, 40);
+    ASSERT_TRUE(uploader->Upload(b).ok());
+    EXPECT_EQ(uploader->reallocations(), 2);
+    EXPECT_EQ(uploader->atlas_size().width, 64);
+    EXPECT_EQ(uploader->atlas_size().height, 40);
+    EXPECT_EQ(read_back(64, 40), b.atlas.texels);
+    EXPECT_EQ(uploader->block_buffer(), block);  // the block's buffer is never reallocated
+    EXPECT_EQ(uploader->uploads(), 3);
+    GLint alignment = 0, row_length = 0;
+    gl->GetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
+    gl->GetIntegerv(GL_UNPACK_ROW_LENGTH, &row_length);
+    EXPECT_EQ(alignment, 8);
+    EXPECT_EQ(row_length, 50);
+    gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    gl->PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+}
+
+TEST(KitUploader, RefusesFramesItCannotUploadByName) {
+    auto context = EglContext::Create();
+    ASSERT_TRUE(context.ok()) << context.error().Message();
+    auto uploader = client::KitUploader::Create(&EglContext::Loader);
+    ASSERT_TRUE(uploader.ok()) << uploader.error().Message();
+    client::KitFrame short_block = SyntheticFrame(8, 8);
+    short_block.block.resize(16);
+    EXPECT_EQ(uploader->Upload(short_block).error().field, "block");
+    client::KitFrame torn = SyntheticFrame(8, 8);
+    torn.atlas.texels.pop_back();
+    EXPECT_EQ(uploader->Upload(torn).error().field, "atlas.texels");
+    GLint max_side = 0;
+    auto gl = client::GlFunctions::Load(&EglContext::Loader);
+    ASSERT_TRUE(gl.ok());
+    gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_side);
+    client::KitFrame wide = SyntheticFrame(1, 1);
+    wide.atlas.width = max_side + 1;  // refused before any texel is read
+    EXPECT_EQ(uploader->Upload(wide).error().field, "atlas.width");
+    client::KitFrame no_atlas = SyntheticFrame(1, 1);
+    no_atlas.atlas = {};
+    EXPECT_EQ(uploader->Upload(no_atlas).error().field, "atlas");
+    EXPECT_EQ(uploader->reallocations(), 0);  // nothing reached GL
+    // A frame without maps still gets a complete 1 x 1 texture for the sampler.
+    client::KitFrame empty = SyntheticFrame(1, 1);
+    empty.maps.clear();
+    empty.lookups.clear();
+    empty.atlas = {};
+    ASSERT_TRUE(uploader->Upload(empty).ok());
+    EXPECT_EQ(uploader->atlas_size().width, 1);
+    // A loader that knows nothing.
+    auto none = client::KitUploader::Create([](const char*) -> void* { return nullptr; });
+    ASSERT_FALSE(none.ok());
+    EXPECT_EQ(none.error().field, "gl.glGetError");
+}
+
+TEST(EngineView, RefusesDrawsItCannotMakeByName) {
+    auto context = EglContext::Create();
+    ASSERT_TRUE(context.ok()) << context.error().Message();
+    auto view = EngineView::Create(&EglContext::Loader);
+    ASSERT_TRUE(view.ok()) << view.error().Message();
+    const scene::Scene scene = scene::FloorWallScene();
+    EngineCamera camera;
+    camera.viewer = scene.camera.Viewer();
+    camera.viewport = {64, 64};
+    camera.light = scene.light;
+    EXPECT_EQ(view->Draw(camera, EngineFilter::kDepth).error().field, "meshes");
+    ASSERT_TRUE(view->UploadMeshes(scene.meshes, Vec3(1, 2, 3)).ok());
+    EXPECT_EQ(view->Draw(camera, EngineFilter::kDepth).error().field, "kit");
+    client::KitFrame frame = SyntheticFrame(4, 4);
+    frame.maps.clear();
+    frame.lookups.clear();
+    frame.atlas = {};
+    frame.origin = Vec3(0, 0, 0);
+    ASSERT_TRUE(view->UploadKit(frame).ok());
+    // Maps relative to one point, meshes to another: refused, not drawn wrong.
+    EXPECT_EQ(view->Draw(camera, EngineFilter::kDepth).error().field, "origin");
+    frame.origin = Vec3(1, 2, 3);
+    ASSERT_TRUE(view->UploadKit(frame).ok());
+    EngineShadowOptions wide;
+    wide.pcf_radius = 5;
+    EXPECT_EQ(view->Draw(camera, EngineFilter::kPcf, wide).error().field, "options.pcf_radius");
+    EngineShadowOptions negative;
+    negative.slope_bias = -1.0f;
+    EXPECT_EQ(view->Draw(camera, EngineFilter::kDepth, negative).error().field,
+              "options.slope_bias");
+    EngineCamera bad = camera;
+    bad.light = Vec4(0, 0, 0, 0);
+    EXPECT_EQ(view->Draw(bad, EngineFilter::kDepth).error().field, "camera.light");
+    bad = camera;
+    bad.viewer = Mat4::Zero();
+    EXPECT_EQ(view->Draw(bad, EngineFilter::kDepth).error().field, "camera.viewer");
+    Mesh broken = scene.meshes.front();
+    broken.indices.push_back(0);
+    EXPECT_EQ(view->UploadMeshes(std::span<const Mesh>(&broken, 1), Vec3::Zero()).error().field,
+              "meshes[0].indices");
+    // With no maps every pixel facing the light is lit, the rest shadowed; the view is drawn.
+    auto images = view->Draw(camera, EngineFilter::kDepth);
+    ASSERT_TRUE(images.ok()) << images.error().Message();
+    EXPECT_EQ(images->mask.size(), 64u * 64u);
+    EXPECT_EQ(images->rgb.size(), 64u * 64u * 3u);
+}
+
+TEST(FrameLoop, RefusesAnUnknownSceneByStep) {
+    auto server = testing::StartServer(testing::SmallServerOptions("engine-client-bad"));
+    ASSERT_NE(server, nullptr);
+    auto client = testing::Connect(testing::Target(*server));
+    FramesOptions options;
+    options.scene = "no_such_scene";
+    options.size = 32;
+    auto loop = FrameLoop::Create(*client, options);
+    ASSERT_TRUE(loop.ok()) << loop.error().Message();
+    auto frame = (*loop)->Run(0);
+    ASSERT_FALSE(frame.ok());
+    EXPECT_EQ(frame.error().field, "scene");
+    options.size = 0;
+    EXPECT_EQ(FrameLoop::Create(*client, options).error().field, "options.size");
+}
+
+TEST(MaskComparison, ComparesOnlyWhereBothShowASurface) {
+    const std::vector<float> engine = {-1.0f, 0.2f, 0.7f, 0.5f, 1.0f};
+    const std::vector<float> server = {0.0f, 0.6f, 0.9f, 0.49f, -1.0f};
+    auto c = CompareMasks(engine, server);
+    ASSERT_TRUE(c.ok());
+    EXPECT_EQ(c->compared, 3);
+    EXPECT_EQ(c->differing, 2);  // 0.2 against 0.6, 0.5 against 0.49
+    EXPECT_EQ(c->surface_mismatch, 2);
+    const std::string truth = {0, 1, 2, 3, 1};
+    auto s = ScoreAgainstTruth(engine, truth);
+    ASSERT_TRUE(s.ok());
+    EXPECT_EQ(s->decided, 3);
+    EXPECT_EQ(s->wrong, 2);  // 0.2 where lit, 0.7 where shadow; no surface counts as lit
+    EXPECT_EQ(CompareMasks(engine, std::vector<float>(2)).error().field, "mask");
+}
+
+}  // namespace
+}  // namespace lixel::engine
