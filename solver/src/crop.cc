@@ -8,6 +8,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lixel {
@@ -144,6 +145,26 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
         return Error{"crop.guard", "must be in [0, max_side / 2), got " +
                                        std::to_string(options.guard)};
     }
+    if (options.previous_twist && !std::isfinite(*options.previous_twist)) {
+        return Error{"crop.previous_twist", "is not finite"};
+    }
+    if (!(options.twist_saving >= 0.0 && options.twist_saving < 1.0)) {
+        return Error{"crop.twist_saving", "must be in [0, 1), got " +
+                                              std::to_string(options.twist_saving)};
+    }
+    if (!(options.waste_bound >= 0.0 && options.waste_bound < 1.0)) {
+        return Error{"crop.waste_bound", "must be in [0, 1), got " +
+                                             std::to_string(options.waste_bound)};
+    }
+    for (const auto& [side, name] : {std::pair{options.previous_width, "crop.previous_width"},
+                                     std::pair{options.previous_height, "crop.previous_height"}}) {
+        if (side < 0 || side > kMaxImageSide ||
+            (side == 0) != (options.previous_width == 0 && options.previous_height == 0)) {
+            return Error{name, "must be in [1, " + std::to_string(kMaxImageSide) +
+                                   "], or 0 with the other side 0 (no previous size), got " +
+                                   std::to_string(side)};
+        }
+    }
     if (needed_points.empty()) return Error{"needed_points", "is empty: nothing to crop to"};
     if (!matrix.allFinite()) return Error{"matrix", "has non-finite entries"};
 
@@ -207,6 +228,18 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
             best_theta = theta;
         }
     }
+    if (options.twist == Twist::kMinimizeArea && options.previous_twist) {
+        // Frame coherence: the previous twist stays unless the best one saves `twist_saving` of
+        // the map's lixels (guard band included, as the texture is allocated).
+        const double previous = *options.previous_twist;
+        const auto guarded = [&](double theta) {
+            return static_cast<double>(GuardedArea(
+                IntegerRectangle(RotatedBounds(image, theta), options.scale), options.guard));
+        };
+        const double kept = guarded(previous);
+        const double best = guarded(best_theta);
+        if (!(best < kept && kept - best >= options.twist_saving * kept)) best_theta = previous;
+    }
 
     const Bounds2d bounds = RotatedBounds(image, best_theta);
     double scale = options.scale;
@@ -222,11 +255,28 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
     // A_l = renumber(guard - x0, guard - y0) * scale * rotate(theta).
     const double g = options.guard;
     out.guard = options.guard;
-    out.affine << scale * c, -scale * s, g - rect->x0, scale * s, scale * c, g - rect->y0, 0.0,
-        0.0, 1.0;
-    out.map.matrix = ApplyImageAffine(out.affine, matrix);
     out.map.width = static_cast<int>(rect->width) + 2 * options.guard;
     out.map.height = static_cast<int>(rect->height) + 2 * options.guard;
+    // Frame coherence: the previous size when the map fits in it with little waste, the needed
+    // rectangle centred on whole lixels (so the lookup rectangle, the map less its band, still
+    // holds every needed ray).
+    const std::int64_t previous_area =
+        static_cast<std::int64_t>(options.previous_width) * options.previous_height;
+    if (previous_area > 0 && out.map.width <= options.previous_width &&
+        out.map.height <= options.previous_height && options.previous_width <= options.max_side &&
+        options.previous_height <= options.max_side &&
+        (options.lixel_budget == 0 || previous_area <= options.lixel_budget) &&
+        static_cast<double>(out.map.width) * out.map.height >=
+            (1.0 - options.waste_bound) * static_cast<double>(previous_area)) {
+        out.pad_x = (options.previous_width - out.map.width) / 2;
+        out.pad_y = (options.previous_height - out.map.height) / 2;
+        out.map.width = options.previous_width;
+        out.map.height = options.previous_height;
+        out.kept_previous_size = true;
+    }
+    out.affine << scale * c, -scale * s, g + out.pad_x - rect->x0, scale * s, scale * c,
+        g + out.pad_y - rect->y0, 0.0, 0.0, 1.0;
+    out.map.matrix = ApplyImageAffine(out.affine, matrix);
     if (!out.map.matrix.allFinite()) return Error{"matrix", "crop produced non-finite entries"};
     return out;
 }

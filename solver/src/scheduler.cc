@@ -52,6 +52,10 @@ struct Candidate {
 // straight angle or a vertex on an edge's line, within what rounding the vertices carry.
 constexpr double kPolygonSlack = 1e-9;
 
+// FrameCoherence's limits (scheduler.h; lixel.proto FrameCoherence).
+constexpr int kMaxScaleSteps = 64;
+constexpr std::size_t kMaxPreviousMaps = 64;
+
 // A bounded plane of interest must be convex and counter-clockwise seen from its normal's side:
 // the lookup's edge tests (paper §3: "four explicit point line tests") and EstimatePixels keep a
 // point when it lies left of every edge, which is its inside only then. Names the first vertex
@@ -161,6 +165,58 @@ Result<Aabb> ValidatedBounds(const PlanRequest& r) {
         return Error{"objects", "empty and scene_bounds not given: nothing bounds the scene"};
     }
     return united;
+}
+
+// FrameCoherence's ranges (scheduler.h), each refusal naming its field.
+Result<bool> ValidateCoherence(const FrameCoherence& f) {
+    if (!(f.waste_bound > 0.0 && f.waste_bound < 1.0)) {
+        return Error{"coherence.waste_bound", "must be in (0, 1), got " + Format(f.waste_bound)};
+    }
+    if (f.scale_steps < 1 || f.scale_steps > kMaxScaleSteps) {
+        return Error{"coherence.scale_steps", "must be in [1, " + std::to_string(kMaxScaleSteps) +
+                                                  "], got " + std::to_string(f.scale_steps)};
+    }
+    if (!(f.twist_saving >= 0.0 && f.twist_saving < 1.0)) {
+        return Error{"coherence.twist_saving", "must be in [0, 1), got " + Format(f.twist_saving)};
+    }
+    if (f.previous.size() > kMaxPreviousMaps) {
+        return Error{"coherence.previous", "has " + std::to_string(f.previous.size()) +
+                                               " maps, at most " +
+                                               std::to_string(kMaxPreviousMaps)};
+    }
+    const std::string range = "must be in [1, " + std::to_string(kMaxImageSide) + "], got ";
+    for (size_t i = 0; i < f.previous.size(); ++i) {
+        const PreviousMap& p = f.previous[i];
+        const std::string field = "coherence.previous[" + std::to_string(i) + "]";
+        if (p.width < 1 || p.width > kMaxImageSide) {
+            return Error{field + ".width", range + std::to_string(p.width)};
+        }
+        if (p.height < 1 || p.height > kMaxImageSide) {
+            return Error{field + ".height", range + std::to_string(p.height)};
+        }
+        if (!std::isfinite(p.twist_radians)) {
+            return Error{field + ".twist_radians", "is not finite"};
+        }
+        for (size_t j = 0; j < i; ++j) {
+            const PreviousMap& q = f.previous[j];
+            const bool same = q.role == p.role &&
+                              (p.role != MapRole::kPlane || q.plane_index == p.plane_index) &&
+                              (p.role != MapRole::kCubeFace || q.cube_face == p.cube_face);
+            if (same) {
+                return Error{field, "repeats the map of coherence.previous[" + std::to_string(j) +
+                                        "] (one per role, plane index and cube face)"};
+            }
+        }
+    }
+    return true;
+}
+
+// The largest 2^(-k / steps), k whole, not above `scale` (FrameCoherence::scale_steps); the
+// tolerance keeps a scale already on a step there rather than one step down.
+double QuantizedScale(double scale, int steps) {
+    if (!(scale > 0.0) || scale >= 1.0) return std::min(scale, 1.0);
+    const double k = std::ceil(-static_cast<double>(steps) * std::log2(scale) - 1e-9);
+    return std::exp2(-k / steps);
 }
 
 // A box with at least `thickness` on every axis: a floor slab still has rays to cover.
@@ -443,8 +499,11 @@ void RefitDepth(const Context& c, PlannedMap& m, const std::vector<Vec4>& receiv
 
 // Solves every candidate plane's map at one uniform scale, in priority order, leaving out
 // those whose needed rays earlier maps already accept.
+// With frame coherence, each map's crop starts from the previous frame's map of its plane (its
+// twist always, its size when `keep_sizes`).
 Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
-                                               std::vector<LeftOut>& left_out) {
+                                               std::vector<LeftOut>& left_out,
+                                               bool keep_sizes = true) {
     const PlanRequest& r = c.request;
     const int guard = GuardFor(r.lixel_budget, r.max_texture_size);
     std::vector<PlannedMap> maps;
@@ -483,6 +542,21 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
             pr.crop.line_b = line_b;
         } else {
             pr.crop.twist = Twist::kMinimizeArea;
+        }
+        if (r.coherence) {
+            for (const PreviousMap& p : r.coherence->previous) {
+                if (p.role != MapRole::kPlane || p.plane_index != static_cast<int>(cand.index)) {
+                    continue;
+                }
+                pr.crop.previous_twist = p.twist_radians;
+                pr.crop.twist_saving = r.coherence->twist_saving;
+                if (keep_sizes) {
+                    pr.crop.previous_width = p.width;
+                    pr.crop.previous_height = p.height;
+                    pr.crop.waste_bound = r.coherence->waste_bound;
+                }
+                break;
+            }
         }
         auto solved = SolvePlaneMap(pr);
         if (!solved) {
@@ -525,6 +599,7 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
         m.needed_image = ImageHull(m.map.matrix, Points(cand.polygon));
         m.diagnostics = solved->diagnostics;
         m.scale = solved->crop.scale;
+        m.twist_radians = solved->crop.twist_radians;
         m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
         m.lookup.half_planes = half_planes;
         m.lookup.guard = solved->crop.guard;
@@ -1379,6 +1454,9 @@ void PlanPasses(const Context& c, Plan& plan) {
 Result<Plan> PlanChecked(const PlanRequest& r) {
     auto bounds = ValidatedBounds(r);
     if (!bounds) return bounds.error();
+    if (r.coherence) {
+        if (auto valid = ValidateCoherence(*r.coherence); !valid) return valid.error();
+    }
     auto hull = ComputeExtentHull(r.viewer, r.light, *bounds);
     if (!hull) return hull.error();
 
@@ -1443,6 +1521,23 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     // Budget (paper §4: 350^2 + 350^2 + 128^2 against 512^2): one lixel per pixel when it fits,
     // else one uniform scale for every plane map; the fallback keeps at least its floor.
     std::vector<LeftOut> left_out;
+    auto total = [](const std::vector<PlannedMap>& ms) {
+        std::int64_t t = 0;
+        for (const PlannedMap& m : ms) t += m.lixels;
+        return t;
+    };
+    // Frame coherence: maps that kept their previous sizes but together go over `available`
+    // give way to the tight maps at the same scale before the scale is lowered.
+    auto solve = [&](double scale, std::int64_t available) -> Result<std::vector<PlannedMap>> {
+        left_out.clear();
+        auto kept = SolvePlaneMaps(c, scale, left_out);
+        if (!kept || !r.coherence || total(*kept) <= available) return kept;
+        std::vector<LeftOut> tight_left_out;
+        auto tight = SolvePlaneMaps(c, scale, tight_left_out, false);
+        if (!tight || total(*tight) > available) return kept;
+        left_out = std::move(tight_left_out);
+        return tight;
+    };
     auto maps = SolvePlaneMaps(c, 1.0, left_out);
     if (!maps) return maps.error();
     // What the maps at one lixel per pixel leave uncovered; still the answer below when the
@@ -1453,21 +1548,27 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
         fallback_needed ? std::max<std::int64_t>(1, std::min(r.fallback_floor, r.lixel_budget / 2))
                         : 0;
     const std::int64_t available = r.lixel_budget - floor;
-    auto total = [](const std::vector<PlannedMap>& ms) {
-        std::int64_t t = 0;
-        for (const PlannedMap& m : ms) t += m.lixels;
-        return t;
-    };
     double scale = 1.0;
     bool rescaled = false;
+    if (r.coherence && total(*maps) > available) {
+        std::vector<LeftOut> tight_left_out;
+        auto tight = SolvePlaneMaps(c, scale, tight_left_out, false);
+        if (tight && total(*tight) <= available) {
+            rescaled = true;  // other maps than the ones `uncovered` was found for
+            maps = std::move(tight);
+            left_out = std::move(tight_left_out);
+        }
+    }
     for (int attempt = 0; attempt < 40 && total(*maps) > available; ++attempt) {
         rescaled = true;
         const double shrink = std::sqrt(static_cast<double>(std::max<std::int64_t>(available, 0)) /
                                         static_cast<double>(total(*maps)));
         scale *= std::min(shrink, 0.999) * (attempt < 4 ? 1.0 : 0.98);
+        // Frame coherence: down to a step of 2^(-1/steps), so the scale, and with it every map's
+        // size, stays put while the view moves a little. Down, so the budget still holds.
+        if (r.coherence) scale = QuantizedScale(scale, r.coherence->scale_steps);
         if (!(scale > 0.0)) break;
-        left_out.clear();
-        maps = SolvePlaneMaps(c, scale, left_out);
+        maps = solve(scale, available);
         if (!maps) return maps.error();
     }
     if (total(*maps) > available) {

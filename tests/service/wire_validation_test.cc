@@ -2,6 +2,8 @@
 // are not convex and counter-clockwise, enum values the proto does not define, normals that are
 // not of unit length, Solve budgets out of range, and solver errors named from the request's
 // root. Each refusal is INVALID_ARGUMENT naming the field; the server keeps serving.
+#include <limits>
+
 #include "service_fixture.h"
 
 namespace lixel {
@@ -169,6 +171,64 @@ TEST_F(WireValidation, SolverErrorsAreNamedFromThePlanRoot) {
     const grpc::Status s = stub_->Plan(&context, plan, &response);
     ASSERT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << s.error_message();
     EXPECT_EQ(s.error_message().rfind("plan.camera", 0), 0u) << s.error_message();
+}
+
+// Frame coherence on the wire: each bad field of PlanRequest.coherence is refused by its name
+// from the plan's root; a good one plans, and the plan's maps (twists included) sent back as the
+// previous frame's plan again.
+TEST_F(WireValidation, CoherenceFieldsAreRefusedByName) {
+    v1::PlanRequest plan;
+    v1::ObjectBounds* room = plan.add_objects();
+    room->set_name("room");
+    service::EncodeVec3(Vec3(-10, 0, -5), room->mutable_bounds()->mutable_min());
+    service::EncodeVec3(Vec3(10, 8, 10), room->mutable_bounds()->mutable_max());
+    *plan.mutable_camera() = testing::SmallSolve().views(0);
+    plan.add_planes()->mutable_plane()->set_y(1.0);
+    service::EncodeVec4(Vec4(4, 9, 3, 1), plan.mutable_light()->mutable_position());
+    const auto run = [&](const v1::PlanRequest& request, v1::PlanResponse* response) {
+        grpc::ClientContext context;
+        WithDeadline(context, 30.0);
+        return stub_->Plan(&context, request, response);
+    };
+    plan.mutable_coherence();  // set and empty: the defaults
+    v1::PlanResponse first;
+    const grpc::Status ok = run(plan, &first);
+    ASSERT_TRUE(ok.ok()) << ok.error_message();
+    for (const v1::PlannedMap& m : first.maps()) {
+        v1::PreviousMap* p = plan.mutable_coherence()->add_previous();
+        p->set_role(m.role());
+        p->set_plane_index(m.plane_index());
+        p->set_cube_face(m.cube_face());
+        p->set_width(m.map().width());
+        p->set_height(m.map().height());
+        p->set_twist_radians(m.twist_radians());
+    }
+    v1::PlanResponse second;
+    const grpc::Status again = run(plan, &second);
+    ASSERT_TRUE(again.ok()) << again.error_message();
+    ASSERT_EQ(second.maps_size(), first.maps_size());
+    EXPECT_EQ(second.maps(0).map().width(), first.maps(0).map().width());
+
+    const auto refused = [&](auto change, const std::string& field) {
+        v1::PlanRequest bad = plan;
+        change(*bad.mutable_coherence());
+        v1::PlanResponse response;
+        ExpectRefused(run(bad, &response), field);
+    };
+    refused([](v1::FrameCoherence& c) { c.set_waste_bound(1.5); }, "plan.coherence.waste_bound");
+    refused([](v1::FrameCoherence& c) { c.set_scale_steps(65); }, "plan.coherence.scale_steps");
+    refused([](v1::FrameCoherence& c) { c.set_twist_saving(-0.1); },
+            "plan.coherence.twist_saving");
+    refused([](v1::FrameCoherence& c) { c.mutable_previous(0)->set_width(0); },
+            "plan.coherence.previous[0].width");
+    refused([](v1::FrameCoherence& c) { c.mutable_previous(0)->set_height(16385); },
+            "plan.coherence.previous[0].height");
+    refused([](v1::FrameCoherence& c) {
+        c.mutable_previous(0)->set_twist_radians(std::numeric_limits<double>::infinity());
+    }, "plan.coherence.previous[0].twist_radians");
+    refused([](v1::FrameCoherence& c) {
+        c.mutable_previous(0)->set_role(static_cast<v1::MapRole>(9));
+    }, "plan.coherence.previous[0].role");
 }
 
 }  // namespace

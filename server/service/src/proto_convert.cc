@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <string>
+#include <utility>
 
 namespace lixel::service {
 
@@ -189,6 +191,65 @@ Result<PlaneOfInterest> DecodePlane(const v1::PlaneOfInterest& plane, std::size_
     return out;
 }
 
+namespace {
+
+// FrameCoherence (lixel.proto): zeros mean the defaults, each refusal names its field.
+Result<FrameCoherence> DecodeCoherence(const v1::FrameCoherence& message,
+                                       const std::string& field) {
+    constexpr int kMaxPreviousMaps = 64;
+    constexpr std::uint32_t kMaxScaleSteps = 64;
+    FrameCoherence out;
+    out.waste_bound = message.waste_bound() == 0.0 ? 0.25 : message.waste_bound();
+    if (!(out.waste_bound > 0.0 && out.waste_bound < 1.0)) {
+        return Error{field + ".waste_bound", "must be in (0, 1) (0 means 0.25), got " +
+                                                 std::to_string(message.waste_bound())};
+    }
+    const std::uint32_t steps = message.scale_steps() == 0 ? 4 : message.scale_steps();
+    if (steps > kMaxScaleSteps) {
+        return Error{field + ".scale_steps", "must be in [1, 64] (0 means 4), got " +
+                                                 std::to_string(message.scale_steps())};
+    }
+    out.scale_steps = static_cast<int>(steps);
+    out.twist_saving = message.twist_saving() == 0.0 ? 0.1 : message.twist_saving();
+    if (!(out.twist_saving >= 0.0 && out.twist_saving < 1.0)) {
+        return Error{field + ".twist_saving", "must be in [0, 1) (0 means 0.1), got " +
+                                                  std::to_string(message.twist_saving())};
+    }
+    if (message.previous_size() > kMaxPreviousMaps) {
+        return Error{field + ".previous", "has " + std::to_string(message.previous_size()) +
+                                              " maps, at most 64"};
+    }
+    for (int i = 0; i < message.previous_size(); ++i) {
+        const v1::PreviousMap& p = message.previous(i);
+        const std::string path = Index(field + ".previous", i);
+        PreviousMap map;
+        switch (p.role()) {
+            case v1::MAP_ROLE_PLANE: map.role = MapRole::kPlane; break;
+            case v1::MAP_ROLE_FALLBACK: map.role = MapRole::kFallback; break;
+            case v1::MAP_ROLE_CUBE_FACE: map.role = MapRole::kCubeFace; break;
+            default:
+                return Error{path + ".role", "unknown value " + std::to_string(p.role())};
+        }
+        map.plane_index = p.plane_index();
+        map.cube_face = p.cube_face();
+        for (const auto& [side, name] : {std::pair{p.width(), ".width"},
+                                         std::pair{p.height(), ".height"}}) {
+            if (side < 1 || side > static_cast<std::uint32_t>(kMaxImageSide)) {
+                return Error{path + name, "must be in [1, " + std::to_string(kMaxImageSide) +
+                                              "], got " + std::to_string(side)};
+            }
+        }
+        map.width = static_cast<int>(p.width());
+        map.height = static_cast<int>(p.height());
+        if (auto ok = Finite(p.twist_radians(), path + ".twist_radians"); !ok) return ok.error();
+        map.twist_radians = p.twist_radians();
+        out.previous.push_back(map);
+    }
+    return out;
+}
+
+}  // namespace
+
 SceneRecord MakeSceneRecord(scene::Scene scene) {
     SceneRecord record;
     record.default_viewer = scene.camera.Viewer();
@@ -277,6 +338,11 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
     out.passes.second_depth = message.passes().second_depth();
     out.passes.silhouette_map = message.passes().silhouette_map();
     out.passes.volumes = message.passes().volumes();
+    if (message.has_coherence()) {
+        auto coherence = DecodeCoherence(message.coherence(), field + ".coherence");
+        if (!coherence) return coherence.error();
+        out.coherence = std::move(*coherence);
+    }
     return out;
 }
 
@@ -414,6 +480,7 @@ void EncodePlan(const Plan& plan, v1::PlanResponse* out) {
         pm->set_expected_pixels(m.expected_pixels);
         pm->set_kept_for(m.kept_for);
         pm->set_guard(static_cast<std::uint32_t>(m.lookup.guard));
+        pm->set_twist_radians(m.twist_radians);
         if (!m.lookup.world_limit.isZero()) {
             const Vec4& h = m.lookup.world_limit;
             v1::Vec4* limit = pm->mutable_world_limit();

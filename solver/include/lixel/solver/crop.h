@@ -8,6 +8,7 @@
 #include <lixel/solver/types.h>
 
 #include <cstdint>
+#include <optional>
 #include <span>
 
 namespace lixel {
@@ -32,6 +33,21 @@ struct CropOptions {
     // Lixels of border added on every side of the needed rectangle (a guard band for filter
     // taps, scheduler.h kGuardLixels), counted in the budget and the side; [0, max_side / 2).
     int guard = 0;
+
+    // Frame coherence (scheduler.h FrameCoherence): what the previous frame's map was.
+    // Its twist, radians, finite: with kMinimizeArea it is one more candidate and is kept
+    // unless the best candidate's map (guard band included) has at least `twist_saving` share
+    // fewer lixels. kNone and kLineHorizontal ignore it: there the twist is fixed (0, or the
+    // line's, which moves with the view continuously and is what makes the floor map tight).
+    std::optional<double> previous_twist;
+    double twist_saving = 0.0;  // [0, 1)
+    // Its size, guard band included, lixels; 0 x 0: none. When the final rectangle with its
+    // guard band fits inside previous_width x previous_height (and max_side and lixel_budget
+    // allow that size) and fills at least 1 - waste_bound of it, the map gets exactly that size,
+    // the rectangle centred in it on whole lixels; [0, kMaxImageSide] each.
+    int previous_width = 0;
+    int previous_height = 0;
+    double waste_bound = 0.0;  // [0, 1)
 };
 
 struct CropResult {
@@ -40,7 +56,13 @@ struct CropResult {
     double twist_radians = 0.0;   // rotation applied, counter-clockwise
     double scale = 1.0;           // uniform scale applied (lixels per uncropped lixel)
     Vec2 origin = Vec2::Zero();   // lower-left corner of the rectangle before renumbering
-    int guard = 0;                // the needed rectangle is [guard, width - guard) x ...
+    // The needed rectangle is [guard + pad_x, width - guard - pad_x') x [guard + pad_y, ...):
+    // pad_x and pad_y are 0 for a tight map and centre the rectangle in a kept previous size
+    // (pad_x' = width - 2 guard - pad_x - the rectangle's width).
+    int guard = 0;
+    int pad_x = 0;
+    int pad_y = 0;
+    bool kept_previous_size = false;  // the map took CropOptions' previous size
 };
 
 // The rectangle holds every needed image to within 1e-6 lixel (images that close past an
