@@ -78,8 +78,10 @@ namespace lixel::render {
     X(VertexArrayAttribFormat, VERTEXARRAYATTRIBFORMAT)         \
     X(VertexArrayAttribBinding, VERTEXARRAYATTRIBBINDING)       \
     X(DrawElements, DRAWELEMENTS)                               \
+    X(DrawArrays, DRAWARRAYS)                                   \
     X(CreateTextures, CREATETEXTURES)                           \
     X(TextureStorage2D, TEXTURESTORAGE2D)                       \
+    X(TextureSubImage2D, TEXTURESUBIMAGE2D)                     \
     X(TextureParameteri, TEXTUREPARAMETERI)                     \
     X(DeleteTextures, DELETETEXTURES)                           \
     X(BindTextureUnit, BINDTEXTUREUNIT)                         \
