@@ -60,6 +60,9 @@ ABSL_DECLARE_FLAG(int, size);
 ABSL_DECLARE_FLAG(double, waste_bound);
 ABSL_DECLARE_FLAG(int, scale_steps);
 ABSL_DECLARE_FLAG(double, twist_saving);
+// frames: compare with View's mask, and the most differing pixels a frame may have.
+ABSL_DECLARE_FLAG(bool, check);
+ABSL_DECLARE_FLAG(std::int64_t, max_differing);
 
 namespace lixel::cli {
 

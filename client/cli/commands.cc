@@ -94,6 +94,8 @@ const std::set<std::string>* CommandFlags(const std::string& command) {
           "normal_offset"}},
         {"report",
          {"scene", "scene_file", "all", "full", "repeats", "out", "budgets", "depth_only"}},
+        {"frames",
+         {"scene", "frames", "size", "budget", "filter", "out", "check", "max_differing"}},
         {"sequence",
          {"scene", "frames", "size", "budget", "out", "waste_bound", "scale_steps",
           "twist_saving"}},

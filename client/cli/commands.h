@@ -15,6 +15,7 @@ int RenderCommand(client::Client& client, const Flags& flags);
 int ViewCommand(client::Client& client, const Flags& flags);
 int ReportCommand(client::Client& client, const Flags& flags);
 int SequenceCommand(client::Client& client, const Flags& flags);
+int FramesCommand(client::Client& client, const Flags& flags);
 
 // A failed call or file: prints the error, returns 1.
 int Fail(const Error& error);

@@ -27,6 +27,9 @@ constexpr const char* kUsage =
     "  sequence --scene=... [--frames=60] [--size=512] [--budget=N] [--out=DIR]\n"
     "          [--waste_bound=0.25] [--scale_steps=4] [--twist_saving=0.1]\n"
     "                                               flicker and reallocations per method\n"
+    "  frames  --scene=... [--frames=60] [--size=512] [--budget=N]\n"
+    "          [--filter=depth|pcf|second_depth] [--out=DIR] [--check] [--max_differing=8]\n"
+    "                                               an engine's own frames from Render\n"
     "scenes: floor_wall (default), table_floor, sphere_grid, thin_plates,\n"
     "        sphere_torus, pins; or a scene file (docs/scenes.md)\n"
     "lixel <command> --help lists every flag with its default.\n";
@@ -59,5 +62,6 @@ int main(int argc, char** argv) {
     if (command == "view") return lixel::cli::ViewCommand(c, *flags);
     if (command == "report") return lixel::cli::ReportCommand(c, *flags);
     if (command == "sequence") return lixel::cli::SequenceCommand(c, *flags);
+    if (command == "frames") return lixel::cli::FramesCommand(c, *flags);
     return lixel::cli::UsageError({command, "has flags but no handler"});  // a table out of step
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <utility>
@@ -209,6 +210,100 @@ Result<EngineFrame> FrameLoop::Run(int frame_index) {
         out.check = check;
     }
     return out;
+}
+
+namespace {
+
+double Median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string Format(const char* format, auto... values) {
+    char line[512];
+    std::snprintf(line, sizeof(line), format, values...);
+    return line;
+}
+
+}  // namespace
+
+FramesSummary Summarise(std::span<const EngineFrame> frames) {
+    FramesSummary s;
+    s.frames = static_cast<int>(frames.size());
+    const auto median_of = [&](double EngineFrameTimes::*stage) {
+        std::vector<double> v;
+        for (const EngineFrame& f : frames) v.push_back(f.times.*stage);
+        return Median(std::move(v));
+    };
+    s.median.upload_scene = median_of(&EngineFrameTimes::upload_scene);
+    s.median.render = median_of(&EngineFrameTimes::render);
+    s.median.kit_frame = median_of(&EngineFrameTimes::kit_frame);
+    s.median.gl_upload = median_of(&EngineFrameTimes::gl_upload);
+    s.median.draw_readback = median_of(&EngineFrameTimes::draw_readback);
+    std::vector<double> totals, server_view;
+    for (const EngineFrame& f : frames) {
+        totals.push_back(f.times.Total());
+        s.atlas_reallocations = std::max(s.atlas_reallocations, f.atlas_reallocations);
+        if (!f.check) continue;
+        ++s.checked;
+        s.worst_differing = std::max(s.worst_differing, f.check->masks.differing);
+        s.differing += f.check->masks.differing;
+        s.compared += f.check->masks.compared;
+        s.engine.decided += f.check->engine.decided;
+        s.engine.wrong += f.check->engine.wrong;
+        s.server.decided += f.check->server.decided;
+        s.server.wrong += f.check->server.wrong;
+        server_view.push_back(f.check->server_view_seconds);
+    }
+    s.median_total = Median(std::move(totals));
+    s.median_server_view = Median(std::move(server_view));
+    return s;
+}
+
+std::string FrameLine(const EngineFrame& f) {
+    const EngineFrameTimes& t = f.times;
+    std::string line = Format(
+        "frame %3d: %d maps, %llu lixels, %.0f KiB streamed; ms: upload %.2f, render %.2f, kit "
+        "%.2f, gl upload %.2f, draw+readback %.2f, total %.2f; atlas allocations %lld",
+        f.frame, f.maps, static_cast<unsigned long long>(f.lixels),
+        static_cast<double>(f.streamed_bytes) / 1024.0, 1e3 * t.upload_scene, 1e3 * t.render,
+        1e3 * t.kit_frame, 1e3 * t.gl_upload, 1e3 * t.draw_readback, 1e3 * t.Total(),
+        static_cast<long long>(f.atlas_reallocations));
+    if (f.check) {
+        const FrameCheck& c = *f.check;
+        line += Format(
+            "\n           check: %lld of %lld pixels differ from View's mask; misclassified "
+            "engine %.3f%%, server %.3f%%; server view+readback %.2f ms",
+            static_cast<long long>(c.masks.differing), static_cast<long long>(c.masks.compared),
+            c.engine.Percent(), c.server.Percent(), 1e3 * c.server_view_seconds);
+    }
+    return line;
+}
+
+std::string SummaryText(const FramesSummary& s) {
+    const EngineFrameTimes& m = s.median;
+    const double total = s.median_total > 0.0 ? s.median_total : 1.0;
+    std::string text = Format(
+        "%d frames; median ms: upload %.2f, render %.2f, kit %.2f, gl upload %.2f, "
+        "draw+readback %.2f, total %.2f\n"
+        "shares of the median total: upload %.2f, render %.2f, kit %.2f, gl upload %.2f, "
+        "draw+readback %.2f; atlas allocations %lld",
+        s.frames, 1e3 * m.upload_scene, 1e3 * m.render, 1e3 * m.kit_frame, 1e3 * m.gl_upload,
+        1e3 * m.draw_readback, 1e3 * s.median_total, m.upload_scene / total, m.render / total,
+        m.kit_frame / total, m.gl_upload / total, m.draw_readback / total,
+        static_cast<long long>(s.atlas_reallocations));
+    if (s.checked > 0) {
+        text += Format(
+            "\ncheck over %d frames: %lld of %lld pixels differ (worst frame %lld); "
+            "misclassified engine %.3f%%, server %.3f%%; engine draw+readback / server "
+            "view+readback %.2f",
+            s.checked, static_cast<long long>(s.differing), static_cast<long long>(s.compared),
+            static_cast<long long>(s.worst_differing), s.engine.Percent(), s.server.Percent(),
+            s.median_server_view > 0.0 ? m.draw_readback / s.median_server_view : 0.0);
+    }
+    return text;
 }
 
 void ContactSheet::Add(const EngineImages& images) {

@@ -108,6 +108,28 @@ class FrameLoop {
     EngineView view_;
 };
 
+// A sequence's figures: per-stage medians of the engine's own frame, and with the check the masks'
+// agreement, both misclassified shares and the server's View time.
+struct FramesSummary {
+    int frames = 0;
+    EngineFrameTimes median;    // each stage's median over the frames
+    double median_total = 0.0;  // median of the frames' totals
+    std::int64_t atlas_reallocations = 0;
+    // With the check (checked > 0).
+    int checked = 0;
+    std::int64_t worst_differing = 0;  // the most differing pixels in one frame
+    std::int64_t differing = 0;        // over every frame
+    std::int64_t compared = 0;
+    TruthScore engine;  // summed over the frames
+    TruthScore server;
+    double median_server_view = 0.0;  // seconds
+};
+FramesSummary Summarise(std::span<const EngineFrame> frames);
+
+// One line per frame and a few for the summary, for people (lixel frames, the example).
+std::string FrameLine(const EngineFrame& frame);
+std::string SummaryText(const FramesSummary& summary);
+
 // A grid of small copies of the frames (every frame's shaded image, box-filtered to at most
 // `tile` pixels a side), for one look at a whole sequence. GL-free.
 class ContactSheet {
