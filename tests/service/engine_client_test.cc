@@ -256,6 +256,37 @@ TEST(FrameLoop, RefusesAnUnknownSceneByStep) {
     EXPECT_EQ(FrameLoop::Create(*client, options).error().field, "options.size");
 }
 
+TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySecondDepth) {
+    // Two 3 x 2 maps; only map 0 streamed a second depth (map 1 has no caster).
+    client::RenderedMaps rendered;
+    for (int i = 0; i < 2; ++i) {
+        v1::PlannedMap* m = rendered.header.mutable_plan()->add_maps();
+        service::EncodeMat4(Mat4::Identity(), m->mutable_map()->mutable_matrix());
+        m->mutable_map()->set_width(3);
+        m->mutable_map()->set_height(2);
+    }
+    v1::MapImage* image = rendered.header.add_images();
+    image->set_map_index(0);
+    image->set_pass(v1::PASS_SECOND_DEPTH);
+    image->set_width(3);
+    image->set_height(2);
+    rendered.images.emplace_back(6, 0.5f);
+    EXPECT_EQ(
+        client::KitFrameOf(rendered, client::KitDepth::kSecondDepth, Vec3::Zero()).error().field,
+        "images");
+    FillMissingSecondDepth(rendered);
+    FillMissingSecondDepth(rendered);  // once per map, however often called
+    ASSERT_EQ(rendered.header.images_size(), 2);
+    auto frame = client::KitFrameOf(rendered, client::KitDepth::kSecondDepth, Vec3::Zero());
+    ASSERT_TRUE(frame.ok()) << frame.error().Message();
+    const auto texel = [&](int map, int x, int y) {
+        const Eigen::Vector2i at = frame->atlas.origins[map] + Eigen::Vector2i(x, y);
+        return frame->atlas.texels[static_cast<std::size_t>(at.y()) * frame->atlas.width + at.x()];
+    };
+    EXPECT_EQ(texel(0, 2, 1), 0.5f);
+    EXPECT_EQ(texel(1, 2, 1), 0.0f);
+}
+
 TEST(MaskComparison, ComparesOnlyWhereBothShowASurface) {
     const std::vector<float> engine = {-1.0f, 0.2f, 0.7f, 0.5f, 1.0f};
     const std::vector<float> server = {0.0f, 0.6f, 0.9f, 0.49f, -1.0f};

@@ -36,10 +36,8 @@ v1::Filter WireFilter(EngineFilter filter) {
     return v1::FILTER_DEPTH;
 }
 
-// The scheduler plans a second-depth pass only for maps with a caster inside their needed rays
-// (scheduler.cc PlanPasses), so Render streams none for the others, while View renders every
-// map's. Nothing casts into such a map: an image of stored depth 0 ("nothing here", which every
-// kit test counts as lit) stands in for it.
+}  // namespace
+
 void FillMissingSecondDepth(client::RenderedMaps& rendered) {
     const int maps = rendered.header.plan().maps_size();
     std::vector<bool> found(static_cast<std::size_t>(maps), false);
@@ -60,8 +58,6 @@ void FillMissingSecondDepth(client::RenderedMaps& rendered) {
         rendered.images.emplace_back(std::size_t{map.width()} * map.height(), 0.0f);
     }
 }
-
-}  // namespace
 
 Result<MaskComparison> CompareMasks(std::span<const float> engine, std::span<const float> server) {
     if (engine.size() != server.size()) {

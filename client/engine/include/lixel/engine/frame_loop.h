@@ -39,6 +39,13 @@ struct EngineFrameTimes {
     double Total() const { return upload_scene + render + kit_frame + gl_upload + draw_readback; }
 };
 
+// The scheduler plans a second-depth pass only for maps with a caster inside their needed rays,
+// so Render streams none for the others, while View renders every map's. Nothing casts into such a
+// map: this adds, for each map without one, a second-depth image of stored depth 0 ("nothing
+// here", which every kit test counts as lit), so KitFrameOf(kSecondDepth) finds one per map.
+// GL-free.
+void FillMissingSecondDepth(client::RenderedMaps& rendered);
+
 // Two masks pixel by pixel (GL-free): the lit answer is mask >= 0.5; only pixels where both show
 // a surface (mask >= 0) are compared.
 struct MaskComparison {
