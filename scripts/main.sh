@@ -2,7 +2,8 @@
 # The main job: install what is missing, build Release, start lixel_server on loopback, and drive
 # it with the thin client on the built-in default scene (the paper's floor/wall room): the plan,
 # the maps (OpenEXR + PNG), a view mask with its error against exact visibility, and the
-# error-vs-run-time report. Everything lands in out/ (or $LIXEL_OUT_DIR).
+# error-vs-run-time report, and every method over a 60-frame sequence of the animated room
+# (flicker and reallocations). Everything lands in out/ (or $LIXEL_OUT_DIR).
 #   LIXEL_FULL=1   sweep every built-in scene instead of the default one
 #   LIXEL_GL=osmesa  render through OSMesa instead of EGL
 set -euo pipefail
@@ -35,5 +36,7 @@ if [[ ${LIXEL_FULL:-0} == 1 ]]; then
 else
     lixel report --scene=floor_wall --out="$out_dir/report"
 fi
+lixel sequence --scene=floor_wall --frames=60 --size=512 --out="$out_dir/sequence"
 echo "lixel: wrote $out_dir/plan.txt, solve.txt, maps/, view/, report/ (report.md, report.csv," \
-     "error_vs_time.png, floor_wall_masks.png)"
+     "error_vs_time.png, floor_wall_masks.png), sequence/ (sequence.md, sequence.csv," \
+     "sequence.png)"

@@ -152,6 +152,9 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
         return Error{"crop.twist_saving", "must be in [0, 1), got " +
                                               std::to_string(options.twist_saving)};
     }
+    if (!(options.headroom >= 0.0 && options.headroom <= 1.0)) {
+        return Error{"crop.headroom", "must be in [0, 1], got " + std::to_string(options.headroom)};
+    }
     if (!(options.waste_bound >= 0.0 && options.waste_bound < 1.0)) {
         return Error{"crop.waste_bound", "must be in [0, 1), got " +
                                              std::to_string(options.waste_bound)};
@@ -273,6 +276,20 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
         out.map.width = options.previous_width;
         out.map.height = options.previous_height;
         out.kept_previous_size = true;
+    } else if (options.headroom > 0.0) {
+        const auto grown = [&](int side) {
+            return std::min(options.max_side,
+                            static_cast<int>(std::ceil(side * (1.0 + options.headroom))));
+        };
+        const int width = grown(out.map.width);
+        const int height = grown(out.map.height);
+        if (options.lixel_budget == 0 ||
+            static_cast<std::int64_t>(width) * height <= options.lixel_budget) {
+            out.pad_x = (width - out.map.width) / 2;
+            out.pad_y = (height - out.map.height) / 2;
+            out.map.width = width;
+            out.map.height = height;
+        }
     }
     out.affine << scale * c, -scale * s, g + out.pad_x - rect->x0, scale * s, scale * c,
         g + out.pad_y - rect->y0, 0.0, 0.0, 1.0;

@@ -219,6 +219,26 @@ double QuantizedScale(double scale, int steps) {
     return std::exp2(-k / steps);
 }
 
+// The share a coherent map's new size grows by on each side (CropOptions::headroom): it then
+// starts filled to 1 - waste_bound / 2, halfway to the bound, so its rectangle can grow by the
+// headroom or shrink by about as much again before the map needs another size.
+double CoherentHeadroom(const FrameCoherence& f) {
+    return 1.0 / std::sqrt(1.0 - 0.5 * f.waste_bound) - 1.0;
+}
+
+// The previous frame's map of a role (and plane index or cube face), or null.
+const PreviousMap* PreviousOf(const PlanRequest& r, MapRole role, int plane_index = -1,
+                              int cube_face = -1) {
+    if (!r.coherence) return nullptr;
+    for (const PreviousMap& p : r.coherence->previous) {
+        if (p.role == role && (role != MapRole::kPlane || p.plane_index == plane_index) &&
+            (role != MapRole::kCubeFace || p.cube_face == cube_face)) {
+            return &p;
+        }
+    }
+    return nullptr;
+}
+
 // A box with at least `thickness` on every axis: a floor slab still has rays to cover.
 Aabb Thickened(const Aabb& box, double thickness) {
     Aabb out = box;
@@ -543,19 +563,17 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
         } else {
             pr.crop.twist = Twist::kMinimizeArea;
         }
+        if (r.coherence && keep_sizes) pr.crop.headroom = CoherentHeadroom(*r.coherence);
         if (r.coherence) {
-            for (const PreviousMap& p : r.coherence->previous) {
-                if (p.role != MapRole::kPlane || p.plane_index != static_cast<int>(cand.index)) {
-                    continue;
-                }
-                pr.crop.previous_twist = p.twist_radians;
+            if (const PreviousMap* p =
+                    PreviousOf(r, MapRole::kPlane, static_cast<int>(cand.index))) {
+                pr.crop.previous_twist = p->twist_radians;
                 pr.crop.twist_saving = r.coherence->twist_saving;
                 if (keep_sizes) {
-                    pr.crop.previous_width = p.width;
-                    pr.crop.previous_height = p.height;
+                    pr.crop.previous_width = p->width;
+                    pr.crop.previous_height = p->height;
                     pr.crop.waste_bound = r.coherence->waste_bound;
                 }
-                break;
             }
         }
         auto solved = SolvePlaneMap(pr);
@@ -783,9 +801,34 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
     const int max_side = c.request.max_texture_size;
     if (!c.hull.light_inside) {
         int guard = GuardFor(budget, max_side);
-        auto fallback = FitWithGuard(
-            [&](const MapSize& size) { return FitFrustum(c.light, points, size); }, budget,
-            max_side, guard);
+        const auto fit = [&](const MapSize& size) { return FitFrustum(c.light, points, size); };
+        auto fallback = FitWithGuard(fit, budget, max_side, guard);
+        // Frame coherence: the previous fallback's size, when it fits what is left of the budget
+        // and the map fitted to that many lixels is stretched onto it by at least
+        // sqrt(1 - waste_bound) along each axis: its lixels grow by at most 1 / sqrt(1 - waste)
+        // along one axis (1.15 at the default 0.25) and shrink along the other, as the fallback's
+        // rays turn with the view.
+        const PreviousMap* previous = PreviousOf(c.request, MapRole::kFallback);
+        const std::int64_t previous_area =
+            previous != nullptr ? static_cast<std::int64_t>(previous->width) * previous->height
+                                : 0;
+        if (fallback.ok() && previous_area > 0 && previous_area <= budget &&
+            std::max(previous->width, previous->height) <= max_side) {
+            int kept_guard = GuardFor(previous_area, max_side);
+            auto natural = FitWithGuard(fit, previous_area, max_side, kept_guard);
+            const std::int64_t w = natural.ok() ? natural->width + 2 * kept_guard : 0;
+            const std::int64_t h = natural.ok() ? natural->height + 2 * kept_guard : 0;
+            const double least = std::sqrt(1.0 - c.request.coherence->waste_bound);
+            if (natural.ok() && previous->width >= least * static_cast<double>(w) &&
+                previous->height >= least * static_cast<double>(h)) {
+                auto kept = fit(MapSize{previous->width - 2 * kept_guard,
+                                        previous->height - 2 * kept_guard, 0});
+                if (kept.ok()) {
+                    fallback = std::move(kept);
+                    guard = kept_guard;
+                }
+            }
+        }
         if (fallback.ok()) {
             PlannedMap m;
             m.role = MapRole::kFallback;

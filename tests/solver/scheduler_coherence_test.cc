@@ -149,13 +149,16 @@ struct SequenceFigures {
     int twist_jumps = 0;        // of those, by more than 2 degrees
     int twist_maps = 0;
     int kept_sizes = 0;         // coherent: plane maps that kept a size wider than tight
+    int roomy_sizes = 0;        // coherent: new sizes with their headroom
+    int fallbacks = 0;          // fallback maps compared with the previous frame's
+    int fallback_changes = 0;   // of those, how many changed size
     int scale_changes = 0;
     int lookups = 0;            // needed points compared between the two plans
 };
 
 // Plans `frames` frames of a walk with and without coherence and checks the contract on every
 // coherent plan: (i) the budget, (ii) each plane map's size is the previous one (wasting at most
-// waste_bound) or tight, (iii) the scale is a power of 2^(-1/steps), (iv) every needed point the
+// waste_bound) or new, tight or with its headroom, (iii) the scale is a power of 2^(-1/steps), (iv) every needed point the
 // plain plan sends to plane map i goes to the coherent plan's map of the same plane, and its own
 // needed points are accepted by its own maps.
 void RunWalk(std::uint64_t seed, int frames, bool table, const FrameCoherence& settings,
@@ -188,12 +191,19 @@ void RunWalk(std::uint64_t seed, int frames, bool table, const FrameCoherence& s
         for (const PlannedMap& m : c->maps) {
             if (m.role != MapRole::kPlane) continue;
             EXPECT_EQ(m.scale, c->plane_scale) << f << " " << m.name;
-            // (ii) Previous or tight.
+            // (ii) Previous, or new: tight, or tight with the headroom on each side (a new size
+            // starts filled to 1 - waste_bound / 2).
             const auto [tw, th] = TightSize(m);
+            const double headroom = 1.0 / std::sqrt(1.0 - 0.5 * settings.waste_bound) - 1.0;
+            const auto grown = [&](int side) {
+                return static_cast<int>(std::ceil(side * (1.0 + headroom)));
+            };
             const bool tight = m.map.width == tw && m.map.height == th;
+            const bool roomy = m.map.width == grown(tw) && m.map.height == grown(th);
+            if (roomy) ++coherent.roomy_sizes;
             const PlannedMap* before = last_coherent ? PlaneMap(*last_coherent, m.plane_index)
                                                      : nullptr;
-            if (!tight) {
+            if (!tight && !roomy) {
                 ASSERT_NE(before, nullptr) << f << " " << m.name << " is not tight (" << tw
                                            << " x " << th << ") and had no previous map";
                 EXPECT_EQ(m.map.width, before->map.width) << f << " " << m.name;
@@ -250,6 +260,20 @@ void RunWalk(std::uint64_t seed, int frames, bool table, const FrameCoherence& s
             ++figures->frames;
             if (!*last) continue;
             if (plan->plane_scale != (*last)->plane_scale) ++figures->scale_changes;
+            const auto fallback = [](const Plan& q) -> const PlannedMap* {
+                for (const PlannedMap& m : q.maps) {
+                    if (m.role == MapRole::kFallback) return &m;
+                }
+                return nullptr;
+            };
+            const PlannedMap* now = fallback(*plan);
+            const PlannedMap* then = fallback(**last);
+            if (now != nullptr && then != nullptr) {
+                ++figures->fallbacks;
+                if (now->map.width != then->map.width || now->map.height != then->map.height) {
+                    ++figures->fallback_changes;
+                }
+            }
             for (const PlannedMap& m : plan->maps) {
                 if (m.role != MapRole::kPlane) continue;
                 const PlannedMap* before = PlaneMap(**last, m.plane_index);
@@ -275,16 +299,19 @@ void RunWalk(std::uint64_t seed, int frames, bool table, const FrameCoherence& s
 
 void Print(const char* what, const SequenceFigures& s) {
     std::printf("%s: %d frames, %d of %d plane maps changed size, %d scale changes, "
-                "%d of %d table twists moved (%d by > 2 degrees), %d kept sizes, %d lookups\n",
+                "%d of %d table twists moved (%d by > 2 degrees), %d kept sizes, %d new sizes "
+                "with headroom, %d of %d fallbacks changed size, %d lookups\n",
                 what, s.frames, s.size_changes, s.plane_maps, s.scale_changes, s.twist_changes,
-                s.twist_maps, s.twist_jumps, s.kept_sizes, s.lookups);
+                s.twist_maps, s.twist_jumps, s.kept_sizes, s.roomy_sizes, s.fallback_changes,
+                s.fallbacks, s.lookups);
 }
 
 // The floor/wall room over three walks of 60 frames (seeds 1-3, the defaults: waste 0.25,
 // 4 scale steps). Measured: without coherence 264 of 354 plane maps changed size from the frame
-// before and the scale changed in 159 of 177 frames; with it 135 and 0. Every remaining change
-// is a map whose needed rectangle outgrew its previous size (a kept size may only shrink into
-// waste; a new one is tight), so the walk's steady drift still costs about one change in three.
+// before, the fallback 108 of 151 times and the scale in 159 of 177 frames; with it 4, 4 and 0.
+// New sizes start with headroom: with tight new sizes (previous or tight) the walk's steady
+// drift outgrew them every few frames (135 of 354 changes); with the fallback refitted to the
+// budget every frame it changed 108 times.
 TEST(SchedulerCoherence, WalkThroughTheRoomKeepsSizesWithinTheContract) {
     SequenceFigures plain, coherent;
     for (std::uint64_t seed = 1; seed <= 3; ++seed) {
@@ -295,7 +322,10 @@ TEST(SchedulerCoherence, WalkThroughTheRoomKeepsSizesWithinTheContract) {
     Print("coherent", coherent);
     EXPECT_GT(coherent.lookups, 10000);
     EXPECT_GT(coherent.kept_sizes, 50);
-    EXPECT_LE(coherent.size_changes * 10, plain.size_changes * 6);  // measured 0.51
+    EXPECT_LE(coherent.size_changes * 20, plain.size_changes);  // measured 4 of 264
+    EXPECT_GT(coherent.roomy_sizes, 0);
+    EXPECT_GT(plain.fallback_changes, 50);
+    EXPECT_LE(coherent.fallback_changes * 10, plain.fallback_changes);  // measured 4 of 108
     EXPECT_GT(plain.scale_changes, 100);
     EXPECT_LE(coherent.scale_changes * 10, plain.scale_changes);  // measured 0
 }
@@ -303,8 +333,8 @@ TEST(SchedulerCoherence, WalkThroughTheRoomKeepsSizesWithinTheContract) {
 // With the table first: its map takes the minimal-area twist, which turns with the view (in
 // every frame, measured) and now and then jumps to another edge of the image; coherence keeps
 // it. Seeds 7-9, 8 scale steps, waste 0.15. Measured: without coherence 363 of 531 plane maps
-// changed size, the scale 175 times in 177 frames, the table's twist 177 times (3 by more than
-// 2 degrees); with it 133, 0 and 1.
+// changed size, the fallback 133 of 177 times, the scale 175 times in 177 frames, the table's
+// twist 177 times (3 by more than 2 degrees); with it 51, 9, 3 and 1.
 TEST(SchedulerCoherence, WalkWithATableKeepsTheTwist) {
     SequenceFigures plain, coherent;
     FrameCoherence settings;
@@ -316,7 +346,8 @@ TEST(SchedulerCoherence, WalkWithATableKeepsTheTwist) {
     }
     Print("plain", plain);
     Print("coherent", coherent);
-    EXPECT_LE(coherent.size_changes * 2, plain.size_changes);  // measured 0.37
+    EXPECT_LE(coherent.size_changes * 5, plain.size_changes);  // measured 51 of 363
+    EXPECT_LE(coherent.fallback_changes * 10, plain.fallback_changes);  // measured 9 of 133
     EXPECT_GT(plain.twist_changes, 150);
     EXPECT_LE(coherent.twist_changes * 10, plain.twist_changes);  // measured 1 in 177
     EXPECT_LE(coherent.scale_changes * 10, plain.scale_changes);
@@ -362,7 +393,8 @@ TEST(SchedulerCoherence, FirstFrameOnlyStepsTheScale) {
 
 // Previous sizes a little larger than the maps need are kept while the budget has room for
 // them; ones that would overrun it give way to the tight maps at the same scale (not a lower
-// scale). The budget holds either way.
+// scale, and not new sizes with headroom, which would overrun it too). The budget holds either
+// way.
 TEST(SchedulerCoherence, KeptSizesGiveWayToTheBudgetBeforeTheScaleDoes) {
     PlanRequest r = RoomRequest(Vec3(0, 3, 8), Vec3(0, 0.5, -2), false);
     r.coherence = FrameCoherence{};
@@ -419,8 +451,10 @@ TEST(SchedulerCoherence, KeptSizesGiveWayToTheBudgetBeforeTheScaleDoes) {
         if (m.role != MapRole::kPlane) continue;
         const PlannedMap* t = PlaneMap(*tight, m.plane_index);
         ASSERT_NE(t, nullptr);
-        EXPECT_EQ(t->map.width, m.map.width) << m.name;
-        EXPECT_EQ(t->map.height, m.map.height) << m.name;
+        // Tight: neither the previous size nor a new one with headroom fits the budget.
+        const auto [tw, th] = TightSize(*t);
+        EXPECT_EQ(t->map.width, tw) << m.name;
+        EXPECT_EQ(t->map.height, th) << m.name;
     }
 }
 

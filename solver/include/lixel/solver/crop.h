@@ -48,6 +48,10 @@ struct CropOptions {
     int previous_width = 0;
     int previous_height = 0;
     double waste_bound = 0.0;  // [0, 1)
+    // A size that is not kept (none, or the rectangle outgrew it) gets this share more on each
+    // side, the rectangle centred in it, so that the next frames' rectangles, a little larger or
+    // smaller, fit it again; only where max_side and lixel_budget allow. [0, 1], 0: tight.
+    double headroom = 0.0;
 };
 
 struct CropResult {

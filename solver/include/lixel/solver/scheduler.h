@@ -57,14 +57,18 @@ struct PreviousMap {
     double twist_radians = 0.0;
 };
 
-// Frame-coherent planning (docs/frames.md): from one frame to the next, plane maps keep their
-// size while it still holds their needed rectangle with little waste, the plane scale moves in
-// a few steps instead of continuously, and a twist stays unless another saves many lixels. The
-// scheduler stays a function of its request: the previous frame's maps come with it.
+// Frame-coherent planning (docs/solver.md, docs/frames.md): from one frame to the next, plane
+// maps keep their size while it still holds their needed rectangle with little waste (and a new
+// size starts with headroom), the fallback keeps its size while little stretched, the plane
+// scale moves in a few steps instead of continuously, and a twist stays unless another saves
+// many lixels. The scheduler stays a function of its request: the previous frame's maps come
+// with it.
 struct FrameCoherence {
     std::vector<PreviousMap> previous;  // empty on the first frame
     // A plane map keeps its previous size while its needed rectangle (guard band included) fits
-    // inside it and fills at least 1 - waste_bound of it; (0, 1).
+    // inside it and fills at least 1 - waste_bound of it; a new size starts filled to
+    // 1 - waste_bound / 2. The fallback keeps its size while the map the budget would fit
+    // needs at most 1 / sqrt(1 - waste_bound) of it along either axis. (0, 1).
     double waste_bound = 0.25;
     // The plane scale is rounded down to 2^(-k / scale_steps), k whole; [1, 64].
     int scale_steps = 4;
