@@ -90,6 +90,9 @@ ABSL_FLAG(int, scale_steps, 4,
 ABSL_FLAG(double, twist_saving, 0.1,
           "sequence: coherent plane maps keep their twist unless another saves this share of "
           "lixels, [0, 1)");
+ABSL_FLAG(bool, coherent, false,
+          "frames: frame-coherent planning, each request carrying the previous frame's maps "
+          "(FrameCoherence, server defaults)");
 ABSL_FLAG(bool, check, false,
           "frames: also call View for each frame and compare the engine's mask with the server's");
 ABSL_FLAG(std::int64_t, max_differing, 8,

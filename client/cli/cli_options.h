@@ -62,6 +62,7 @@ ABSL_DECLARE_FLAG(int, scale_steps);
 ABSL_DECLARE_FLAG(double, twist_saving);
 // frames: compare with View's mask, and the most differing pixels a frame may have.
 ABSL_DECLARE_FLAG(bool, check);
+ABSL_DECLARE_FLAG(bool, coherent);
 ABSL_DECLARE_FLAG(std::int64_t, max_differing);
 
 namespace lixel::cli {

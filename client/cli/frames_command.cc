@@ -36,14 +36,16 @@ int FramesCommand(client::Client& client, const Flags& flags) {
     options.budget = absl::GetFlag(FLAGS_budget);
     options.filter = *filter;
     options.check = absl::GetFlag(FLAGS_check);
+    options.coherent = absl::GetFlag(FLAGS_coherent);
     auto loop = engine::FrameLoop::Create(client, options);
     if (!loop) return Fail(loop.error());
     const std::string out = OutFolder(flags, "out/frames");
     std::filesystem::create_directories(out);
-    std::printf("engine: %s; %s, %d frames at %d x %d, %s, %llu lixels\n",
+    std::printf("engine: %s; %s, %d frames at %d x %d, %s, %llu lixels%s\n",
                 (*loop)->renderer().c_str(), options.scene.c_str(), options.frames, options.size,
                 options.size, engine::EngineFilterName(options.filter),
-                static_cast<unsigned long long>(options.budget));
+                static_cast<unsigned long long>(options.budget),
+                options.coherent ? ", frame-coherent plans" : "");
     engine::ContactSheet sheet;
     std::vector<engine::EngineFrame> frames;
     int over = 0;

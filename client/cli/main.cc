@@ -29,6 +29,7 @@ constexpr const char* kUsage =
     "                                               flicker and reallocations per method\n"
     "  frames  --scene=... [--frames=60] [--size=512] [--budget=N]\n"
     "          [--filter=depth|pcf|second_depth] [--out=DIR] [--check] [--max_differing=8]\n"
+    "          [--coherent]\n"
     "                                               an engine's own frames from Render\n"
     "scenes: floor_wall (default), table_floor, sphere_grid, thin_plates,\n"
     "        sphere_torus, pins; or a scene file (docs/scenes.md)\n"

@@ -1,6 +1,7 @@
 // The frame-sequence report's driver (sequence_run.h).
 #include "sequence_run.h"
 
+#include <lixel/client/coherence.h>
 #include <lixel/service/proto_convert.h>
 
 #include <chrono>
@@ -41,19 +42,6 @@ std::vector<eval::MapAllocation> AllocationsOf(const v1::ViewResponse& view) {
     return maps;
 }
 
-void SetPreviousMaps(const v1::PlanResponse& plan, v1::FrameCoherence* coherence) {
-    coherence->clear_previous();
-    for (const v1::PlannedMap& m : plan.maps()) {
-        v1::PreviousMap* p = coherence->add_previous();
-        p->set_role(m.role());
-        p->set_plane_index(m.plane_index());
-        p->set_cube_face(m.cube_face());
-        p->set_width(m.map().width());
-        p->set_height(m.map().height());
-        p->set_twist_radians(m.twist_radians());
-    }
-}
-
 Result<std::vector<eval::SequenceFrameRow>> RunSequence(
     client::Client& client, const SequenceRun& run,
     const std::function<void(int, const std::string&)>& progress) {
@@ -85,7 +73,7 @@ Result<std::vector<eval::SequenceFrameRow>> RunSequence(
             }();
             if (method.coherent) {
                 *plan->mutable_coherence() = run.coherence;
-                SetPreviousMaps(state.plan, plan->mutable_coherence());
+                client::SetPreviousMaps(state.plan, plan->mutable_coherence());
             }
             request.set_method(ProtoMethod(method.method.fitting));
             request.set_filter(ProtoFilter(method.method.test));

@@ -48,9 +48,7 @@ Result<std::vector<eval::SequenceFrameRow>> RunSequence(
     client::Client& client, const SequenceRun& run,
     const std::function<void(int, const std::string&)>& progress = {});
 
-// The maps a View response reports (ViewResponse.plan), as allocations and as FrameCoherence's
-// previous maps.
+// The maps a View response reports (ViewResponse.plan), as allocations.
 std::vector<eval::MapAllocation> AllocationsOf(const v1::ViewResponse& view);
-void SetPreviousMaps(const v1::PlanResponse& plan, v1::FrameCoherence* coherence);
 
 }  // namespace lixel::cli

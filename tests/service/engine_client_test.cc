@@ -84,6 +84,37 @@ TEST(EngineClient, PcfAndSecondDepthMasksAreViews) {
     ExpectMasksAgree({"floor_wall", EngineFilter::kSecondDepth, {0, 30}, 2});
 }
 
+// Frame-coherent plans (each request carrying the previous frame's maps, as an engine would):
+// the atlas keeps its size from frame to frame, and the masks are still View's for the same
+// request. 20 consecutive frames of the animated room at 128 x 128.
+TEST(EngineClient, CoherentPlansKeepTheAtlasAndStayViews) {
+    auto server = testing::StartServer(testing::SmallServerOptions("engine-coherent"));
+    ASSERT_NE(server, nullptr);
+    auto client = testing::Connect(testing::Target(*server));
+    std::int64_t reallocations[2] = {0, 0};
+    for (const bool coherent : {false, true}) {
+        FramesOptions options;
+        options.frames = 60;
+        options.size = 128;
+        options.budget = 128 * 128;
+        options.check = true;
+        options.coherent = coherent;
+        auto loop = FrameLoop::Create(*client, options);
+        ASSERT_TRUE(loop.ok()) << loop.error().Message();
+        for (int f = 0; f < 20; ++f) {
+            auto frame = (*loop)->Run(f);
+            ASSERT_TRUE(frame.ok()) << frame.error().Message();
+            EXPECT_LE(frame->check->masks.differing, 2) << "frame " << f;
+            reallocations[coherent] = frame->atlas_reallocations;
+        }
+    }
+    std::printf("[ ENGINE   ] atlas reallocations over 20 frames: %lld planned alone, %lld "
+                "coherent\n",
+                static_cast<long long>(reallocations[0]), static_cast<long long>(reallocations[1]));
+    EXPECT_GT(reallocations[0], 10);
+    EXPECT_LE(reallocations[1] * 4, reallocations[0]);
+}
+
 TEST(EngineView, BiasDefaultsAreTheViewPasss) {
     const EngineShadowOptions engine;
     const render::ShadowOptions server;

@@ -3,6 +3,8 @@
 // previous frame's maps sent back for coherent planning, and the figures it yields.
 #include <gtest/gtest.h>
 
+#include <lixel/client/coherence.h>
+
 #include <map>
 
 #include "../../client/cli/sequence_run.h"
@@ -78,7 +80,7 @@ TEST(SequenceRun, PreviousMapsGoBackAsTheRequestsFrameCoherence) {
     m->set_twist_radians(0.25);
     v1::FrameCoherence coherence;
     coherence.add_previous()->set_width(1);  // replaced, not appended to
-    SetPreviousMaps(plan, &coherence);
+    client::SetPreviousMaps(plan, &coherence);
     ASSERT_EQ(coherence.previous_size(), 1);
     EXPECT_EQ(coherence.previous(0).width(), 300u);
     EXPECT_EQ(coherence.previous(0).height(), 200u);

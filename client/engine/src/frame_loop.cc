@@ -1,4 +1,5 @@
 // The engine client's frame loop (frame_loop.h).
+#include <lixel/client/coherence.h>
 #include <lixel/client/kit_frame.h>
 #include <lixel/engine/frame_loop.h>
 #include <lixel/png/rgb_png.h>
@@ -134,12 +135,14 @@ Result<EngineFrame> FrameLoop::Run(int frame_index) {
     plan.mutable_camera()->set_height(static_cast<std::uint32_t>(scene->camera.viewport.height));
     service::EncodeVec4(scene->light, plan.mutable_light()->mutable_position());
     plan.mutable_passes()->set_second_depth(options_.filter == EngineFilter::kSecondDepth);
+    if (options_.coherent) client::SetPreviousMaps(previous_plan_, plan.mutable_coherence());
     start = Clock::now();
     v1::RenderRequest render_request;
     *render_request.mutable_plan() = plan;
     auto rendered = client_->Render(render_request);
     if (!rendered) return Step("render", rendered.error());
     out.times.render = Since(start);
+    previous_plan_ = rendered->header.plan();
     out.maps = rendered->header.plan().maps_size();
     out.lixels = rendered->header.plan().total_lixels();
     for (const auto& image : rendered->images) out.streamed_bytes += image.size() * sizeof(float);

@@ -27,6 +27,9 @@ struct FramesOptions {
     EngineFilter filter = EngineFilter::kDepth;
     EngineShadowOptions shadow;
     bool check = false;  // also call View and compare (FrameCheck)
+    // Frame-coherent planning (FrameCoherence with the server's defaults): each frame's request
+    // carries the previous frame's maps, so map sizes, and with them the atlas, stay put.
+    bool coherent = false;
 };
 
 // Wall-clock seconds of the engine's own frame, on the client.
@@ -111,6 +114,7 @@ class FrameLoop {
 
     client::Client* client_;
     FramesOptions options_;
+    v1::PlanResponse previous_plan_;  // the last frame's, for FramesOptions::coherent
     std::unique_ptr<EglContext> context_;
     EngineView view_;
 };

@@ -1,0 +1,19 @@
+// The previous frame's maps as FrameCoherence carries them (coherence.h).
+#include <lixel/client/coherence.h>
+
+namespace lixel::client {
+
+void SetPreviousMaps(const v1::PlanResponse& plan, v1::FrameCoherence* coherence) {
+    coherence->clear_previous();
+    for (const v1::PlannedMap& m : plan.maps()) {
+        v1::PreviousMap* p = coherence->add_previous();
+        p->set_role(m.role());
+        p->set_plane_index(m.plane_index());
+        p->set_cube_face(m.cube_face());
+        p->set_width(m.map().width());
+        p->set_height(m.map().height());
+        p->set_twist_radians(m.twist_radians());
+    }
+}
+
+}  // namespace lixel::client
