@@ -1,12 +1,13 @@
 # What `cmake --install` puts under the prefix for other projects (docs/package.md):
 #   include/lixel/{solver,kit,client,v1}                           public headers
-#   lib/liblixel_{solver,kit,proto,client}.a                         the libraries
+#   lib/liblixel_{solver,kit,proto,client,client_gl}.a               the libraries
 #   share/lixel/glsl/lixel_shadows.glsl                              the client shader kit
 #   lib/cmake/lixel/lixelConfig.cmake (+ Version, Targets)           find_package(lixel CONFIG)
 #   lib/pkgconfig/lixel.pc                                           pkg-config --cflags --libs lixel
 #   share/lixel/proto/lixel/v1/lixel.proto                           the wire, for other languages
 # Imported targets: lixel::solver (Eigen), lixel::kit (the shader kit's data), lixel::proto
-# (protobuf, gRPC), lixel::client (both); lixel_GLSL_DIR names the kit's folder.
+# (protobuf, gRPC), lixel::client (both), lixel::client_gl (the kit's block and atlas on a GL
+# context, through the caller's GL loader: no GL library); lixel_GLSL_DIR names the kit's folder.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
@@ -19,7 +20,8 @@ set_target_properties(lixel_solver PROPERTIES EXPORT_NAME solver)
 set_target_properties(lixel_kit PROPERTIES EXPORT_NAME kit)
 set_target_properties(lixel_proto PROPERTIES EXPORT_NAME proto)
 set_target_properties(lixel_client PROPERTIES EXPORT_NAME client)
-install(TARGETS lixel_warnings lixel_solver lixel_kit lixel_proto lixel_client
+set_target_properties(lixel_client_gl PROPERTIES EXPORT_NAME client_gl)
+install(TARGETS lixel_warnings lixel_solver lixel_kit lixel_proto lixel_client lixel_client_gl
         EXPORT lixelTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
@@ -27,6 +29,7 @@ install(TARGETS lixel_warnings lixel_solver lixel_kit lixel_proto lixel_client
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/solver/include/lixel/solver
                   ${PROJECT_SOURCE_DIR}/client/kit/include/lixel/kit
                   ${PROJECT_SOURCE_DIR}/client/include/lixel/client
+                  ${PROJECT_SOURCE_DIR}/client/gl/include/lixel/client
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/lixel
         FILES_MATCHING PATTERN "*.h")
 set(lixel_generated ${PROJECT_BINARY_DIR}/proto/generated/lixel/v1)

@@ -21,6 +21,7 @@ test -f "$work/prefix/lib/cmake/lixel/lixelConfig.cmake"
 test -f "$work/prefix/include/lixel/solver/plane_optimal.h"
 test -f "$work/prefix/include/lixel/v1/lixel.pb.h"
 test -f "$work/prefix/include/lixel/kit/shadow_block.h"
+test -f "$work/prefix/include/lixel/client/kit_uploader.h"
 test -f "$work/prefix/share/lixel/glsl/lixel_shadows.glsl"
 
 logged "$work/configure.log" cmake -S "$source/tests/package/consumer" -B "$work/consumer" -G Ninja \

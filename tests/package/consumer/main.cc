@@ -3,6 +3,8 @@
 // checks that both map the floor's visible corners to the same lixels up to the served crop
 // (a translation in lixels: the same scale 1). Exit 0 when all holds.
 #include <lixel/client/client.h>
+#include <lixel/client/coherence.h>
+#include <lixel/client/kit_uploader.h>
 #include <lixel/kit/shadow_block.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
@@ -35,6 +37,34 @@ int main(int argc, char** argv) {
     auto block = kit::BuildShadowBlock({&map, 1}, Viewport{264, 264});
     if (!block || block->size() != kit::ShadowBlockLayout::kBytes) {
         std::fprintf(stderr, "kit block: %s\n", block ? "wrong size" : block.error().Message().c_str());
+        return 1;
+    }
+    // lixel::client_gl's data side: the atlas texture a frame of this one map needs.
+    client::KitFrame frame;
+    frame.atlas.width = 264;
+    frame.atlas.height = 264;
+    frame.atlas.texels.assign(264 * 264, 0.0f);
+    frame.block = *block;
+    LightMap served_map;
+    served_map.matrix = local->matrix;
+    served_map.width = served_map.height = 256;
+    frame.maps.push_back(served_map);
+    const Viewport texture = client::KitAtlasTextureSize(frame);
+    if (auto valid = client::ValidateKitFrame(frame, 16384); !valid) {
+        std::fprintf(stderr, "kit frame: %s\n", valid.error().Message().c_str());
+        return 1;
+    }
+    if (texture.width != 264 || texture.height != 264) {
+        std::fprintf(stderr, "atlas texture %d x %d\n", texture.width, texture.height);
+        return 1;
+    }
+    // The next frame's request carries this one's maps (lixel::client, frame coherence).
+    v1::PlanResponse plan;
+    plan.add_maps()->mutable_map()->set_width(256);
+    v1::FrameCoherence coherence;
+    client::SetPreviousMaps(plan, &coherence);
+    if (coherence.previous_size() != 1 || coherence.previous(0).width() != 256) {
+        std::fprintf(stderr, "frame coherence: previous maps not set\n");
         return 1;
     }
 #ifdef LIXEL_KIT_GLSL
