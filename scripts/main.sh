@@ -2,8 +2,9 @@
 # The main job: install what is missing, build Release, start lixel_server on loopback, and drive
 # it with the thin client on the built-in default scene (the paper's floor/wall room): the plan,
 # the maps (OpenEXR + PNG), a view mask with its error against exact visibility, and the
-# error-vs-run-time report, and every method over a 60-frame sequence of the animated room
-# (flicker and reallocations). Everything lands in out/ (or $LIXEL_OUT_DIR).
+# error-vs-run-time report, every method over a 60-frame sequence of the animated room (flicker
+# and reallocations), and an engine client's own frames of it from what Render streams, checked
+# against View. Everything lands in out/ (or $LIXEL_OUT_DIR).
 #   LIXEL_FULL=1   sweep every built-in scene instead of the default one
 #   LIXEL_GL=osmesa  render through OSMesa instead of EGL
 set -euo pipefail
@@ -37,6 +38,9 @@ else
     lixel report --scene=floor_wall --out="$out_dir/report"
 fi
 lixel sequence --scene=floor_wall --frames=60 --size=512 --out="$out_dir/sequence"
+lixel frames --scene=floor_wall --frames=60 --size=512 --coherent --check --out="$out_dir/frames" \
+    > "$out_dir/frames.txt"
+tail -4 "$out_dir/frames.txt"
 echo "lixel: wrote $out_dir/plan.txt, solve.txt, maps/, view/, report/ (report.md, report.csv," \
      "error_vs_time.png, floor_wall_masks.png), sequence/ (sequence.md, sequence.csv," \
-     "sequence.png)"
+     "sequence.png), frames/ (frame_*.png, contact_sheet.png) and frames.txt"
