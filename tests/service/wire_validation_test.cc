@@ -2,6 +2,8 @@
 // are not convex and counter-clockwise, enum values the proto does not define, normals that are
 // not of unit length, Solve budgets out of range, and solver errors named from the request's
 // root. Each refusal is INVALID_ARGUMENT naming the field; the server keeps serving.
+#include <lixel/client/coherence.h>
+
 #include <limits>
 
 #include "service_fixture.h"
@@ -194,15 +196,7 @@ TEST_F(WireValidation, CoherenceFieldsAreRefusedByName) {
     v1::PlanResponse first;
     const grpc::Status ok = run(plan, &first);
     ASSERT_TRUE(ok.ok()) << ok.error_message();
-    for (const v1::PlannedMap& m : first.maps()) {
-        v1::PreviousMap* p = plan.mutable_coherence()->add_previous();
-        p->set_role(m.role());
-        p->set_plane_index(m.plane_index());
-        p->set_cube_face(m.cube_face());
-        p->set_width(m.map().width());
-        p->set_height(m.map().height());
-        p->set_twist_radians(m.twist_radians());
-    }
+    client::SetPreviousMaps(first, plan.mutable_coherence());
     v1::PlanResponse second;
     const grpc::Status again = run(plan, &second);
     ASSERT_TRUE(again.ok()) << again.error_message();
