@@ -1,6 +1,7 @@
 // A Render's maps as the shader kit reads them (kit_frame.h).
 #include <lixel/client/kit_frame.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -49,6 +50,93 @@ Result<bool> DecodePlannedMaps(const v1::RenderHeader& header, std::vector<Light
     return true;
 }
 
+namespace {
+
+const char* ImageName(v1::PassKind pass) {
+    switch (pass) {
+        case v1::PASS_DEPTH: return "depth";
+        case v1::PASS_SECOND_DEPTH: return "second depth";
+        case v1::PASS_CORNER_DEPTH: return "corner depth";
+        case v1::PASS_SILHOUETTE_MAP: return "silhouette points";
+        default: return "image";
+    }
+}
+
+// Per map, the header's image of `pass` (the first when several), checked against the size the
+// map gives it. Errors: "images".
+Result<std::vector<kit::ImageView>> ImagesOf(const RenderedMaps& rendered,
+                                             const std::vector<LightMap>& maps,
+                                             v1::PassKind pass) {
+    const bool corners = pass == v1::PASS_CORNER_DEPTH;
+    const std::size_t channels = pass == v1::PASS_SILHOUETTE_MAP ? 2 : 1;
+    std::vector<kit::ImageView> images(maps.size());
+    std::vector<bool> found(maps.size(), false);
+    for (int k = 0; k < rendered.header.images_size(); ++k) {
+        const v1::MapImage& image = rendered.header.images(k);
+        if (image.pass() != pass || image.map_index() >= maps.size()) continue;
+        if (found[image.map_index()]) continue;
+        if (static_cast<std::size_t>(k) >= rendered.images.size()) break;
+        const LightMap& map = maps[image.map_index()];
+        const int w = map.width + (corners ? 1 : 0);
+        const int h = map.height + (corners ? 1 : 0);
+        const std::vector<float>& texels = rendered.images[static_cast<std::size_t>(k)];
+        if (pass != v1::PASS_DEPTH && pass != v1::PASS_SECOND_DEPTH &&
+            (static_cast<int>(image.width()) != w || static_cast<int>(image.height()) != h ||
+             texels.size() != static_cast<std::size_t>(w) * static_cast<std::size_t>(h) *
+                                  channels)) {
+            return Error{"images", "image " + std::to_string(k) + " (map " +
+                                       std::to_string(image.map_index()) + "'s " +
+                                       ImageName(pass) + ") is " + std::to_string(image.width()) +
+                                       " x " + std::to_string(image.height()) + " with " +
+                                       std::to_string(texels.size()) + " floats; the map needs " +
+                                       std::to_string(w) + " x " + std::to_string(h) + " x " +
+                                       std::to_string(channels)};
+        }
+        images[image.map_index()] = {static_cast<int>(image.width()),
+                                     static_cast<int>(image.height()), texels};
+        found[image.map_index()] = true;
+    }
+    for (std::size_t i = 0; i < found.size(); ++i) {
+        if (!found[i]) {
+            return Error{"images", "map " + std::to_string(i) + " has no " + ImageName(pass) +
+                                       " image: render it with the " +
+                                       (pass == v1::PASS_SECOND_DEPTH ? "second_depth"
+                                        : pass == v1::PASS_DEPTH      ? "depth"
+                                                                      : "silhouette_map") +
+                                       " pass"};
+        }
+    }
+    return images;
+}
+
+// Atlas "b" of the silhouette points: no border, as the view pass's FillAtlases copies them.
+// `images` hold two floats per texel (their width and height are texels).
+Result<PointAtlas> PackPoints(const std::vector<kit::ImageView>& images, int max_side) {
+    std::vector<Viewport> sizes;
+    for (const kit::ImageView& image : images) sizes.push_back({image.width, image.height});
+    auto layout = kit::PackBorderedAtlas(sizes, 0, max_side);
+    if (!layout) return layout.error();
+    PointAtlas out;
+    out.width = layout->width;
+    out.height = layout->height;
+    out.origins = layout->origins;
+    out.texels.assign(static_cast<std::size_t>(out.width) * out.height * 2, kNoSilhouettePoint);
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        const kit::ImageView& image = images[i];
+        const Eigen::Vector2i o = out.origins[i];
+        const std::size_t row = static_cast<std::size_t>(image.width) * 2;
+        for (int y = 0; y < image.height; ++y) {
+            const float* from = image.texels.data() + static_cast<std::size_t>(y) * row;
+            float* to = out.texels.data() +
+                        (static_cast<std::size_t>(o.y() + y) * out.width + o.x()) * 2;
+            std::copy(from, from + row, to);
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
 Result<KitFrame> KitFrameOf(const RenderedMaps& rendered, KitDepth depth, const Vec3& origin,
                             int max_atlas_side) {
     KitFrame frame;
@@ -61,34 +149,34 @@ Result<KitFrame> KitFrameOf(const RenderedMaps& rendered, KitDepth depth, const 
                                       " maps; the kit's block holds " +
                                       std::to_string(kit::kMaxMaps)};
     }
-    const v1::PassKind wanted =
-        depth == KitDepth::kDepth ? v1::PASS_DEPTH : v1::PASS_SECOND_DEPTH;
-    std::vector<kit::ImageView> images(frame.maps.size());
-    std::vector<bool> found(frame.maps.size(), false);
-    for (int k = 0; k < rendered.header.images_size(); ++k) {
-        const v1::MapImage& image = rendered.header.images(k);
-        if (image.pass() != wanted || image.map_index() >= frame.maps.size()) continue;
-        if (static_cast<std::size_t>(k) >= rendered.images.size()) break;
-        images[image.map_index()] = {static_cast<int>(image.width()),
-                                     static_cast<int>(image.height()), rendered.images[k]};
-        found[image.map_index()] = true;
-    }
-    for (std::size_t i = 0; i < found.size(); ++i) {
-        if (!found[i]) {
-            return Error{"images", "map " + std::to_string(i) + " has no " +
-                                       (depth == KitDepth::kDepth ? "depth" : "second depth") +
-                                       " image: render it with that pass"};
-        }
+    const v1::PassKind wanted = depth == KitDepth::kDepth         ? v1::PASS_DEPTH
+                                : depth == KitDepth::kSecondDepth ? v1::PASS_SECOND_DEPTH
+                                                                  : v1::PASS_CORNER_DEPTH;
+    auto images = ImagesOf(rendered, frame.maps, wanted);
+    if (!images) return images.error();
+    std::vector<kit::ImageView> points;
+    if (depth == KitDepth::kSilhouette) {
+        auto found = ImagesOf(rendered, frame.maps, v1::PASS_SILHOUETTE_MAP);
+        if (!found) return found.error();
+        points = std::move(found).value();
     }
     std::vector<kit::KitMap> kit_maps;
-    if (!images.empty()) {
-        auto atlas = kit::PackImages(images, kit::kAtlasBorder, max_atlas_side);
+    if (!images->empty()) {
+        // Atlas "a" keeps its border for the corner depth too, as the view pass's FillAtlases
+        // copies every "a" texture (the corner maps (width + 1) x (height + 1)).
+        auto atlas = kit::PackImages(*images, kit::kAtlasBorder, max_atlas_side);
         if (!atlas) return atlas.error();
         frame.atlas = std::move(atlas).value();
+    }
+    if (!points.empty()) {
+        auto atlas_b = PackPoints(points, max_atlas_side);
+        if (!atlas_b) return atlas_b.error();
+        frame.atlas_b = std::move(atlas_b).value();
     }
     for (std::size_t i = 0; i < frame.maps.size(); ++i) {
         kit::KitMap m = kit::MakeKitMap(frame.maps[i], frame.lookups[i], origin);
         m.origin_a = frame.atlas.origins[i];
+        if (!points.empty()) m.origin_b = frame.atlas_b.origins[i];
         kit_maps.push_back(std::move(m));
     }
     auto block = kit::BuildShadowBlock(kit_maps, Viewport{frame.atlas.width, frame.atlas.height});

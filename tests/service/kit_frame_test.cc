@@ -8,6 +8,7 @@
 #include <lixel/scene/builtin_scenes.h>
 #include <lixel/solver/homogeneous.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -177,6 +178,230 @@ TEST(KitFrame, TheKitPicksTheSolversMapAndTexelFromWhatRenderStreams) {
     auto missing = client::KitFrameOf(*first_only, client::KitDepth::kSecondDepth, origin);
     ASSERT_FALSE(missing.ok());
     EXPECT_EQ(missing.error().field, "images");
+}
+
+
+// A RenderedMaps as Render streams a plan with the silhouette map, built by hand: per map its
+// corner depth ((w + 1) x (h + 1)) and its points (w x h, RG), every texel a distinct value.
+client::RenderedMaps SilhouetteStream(const std::vector<Viewport>& sizes) {
+    client::RenderedMaps rendered;
+    for (std::size_t i = 0; i < sizes.size(); ++i) {
+        v1::PlannedMap* m = rendered.header.mutable_plan()->add_maps();
+        m->set_name("map" + std::to_string(i));
+        m->mutable_map()->set_width(static_cast<std::uint32_t>(sizes[i].width));
+        m->mutable_map()->set_height(static_cast<std::uint32_t>(sizes[i].height));
+        Mat4 matrix = Mat4::Identity();
+        matrix(0, 0) = 0.5 + static_cast<double>(i);
+        matrix(3, 2) = -0.25;  // q depends on z: a perspective-like map
+        for (int k = 0; k < 16; ++k) m->mutable_map()->mutable_matrix()->add_m(matrix(k % 4, k / 4));
+        m->add_passes(v1::PASS_SILHOUETTE_MAP);
+    }
+    for (std::size_t i = 0; i < sizes.size(); ++i) {
+        const int w = sizes[i].width, h = sizes[i].height;
+        v1::MapImage* corners = rendered.header.add_images();
+        corners->set_map_index(static_cast<std::uint32_t>(i));
+        corners->set_pass(v1::PASS_CORNER_DEPTH);
+        corners->set_width(static_cast<std::uint32_t>(w + 1));
+        corners->set_height(static_cast<std::uint32_t>(h + 1));
+        std::vector<float> depth;
+        for (int y = 0; y <= h; ++y) {
+            for (int x = 0; x <= w; ++x) depth.push_back(1000.0f * i + 100.0f * y + x);
+        }
+        corners->set_bytes(depth.size() * 4);
+        rendered.images.push_back(std::move(depth));
+        v1::MapImage* points = rendered.header.add_images();
+        points->set_map_index(static_cast<std::uint32_t>(i));
+        points->set_pass(v1::PASS_SILHOUETTE_MAP);
+        points->set_width(static_cast<std::uint32_t>(w));
+        points->set_height(static_cast<std::uint32_t>(h));
+        std::vector<float> xy;
+        for (int y = 0; y < h; ++y) {
+            for (int x = 0; x < w; ++x) {
+                xy.push_back(-(1000.0f * i + 100.0f * y + x));
+                xy.push_back(0.5f + i);
+            }
+        }
+        points->set_bytes(xy.size() * 4);
+        rendered.images.push_back(std::move(xy));
+    }
+    return rendered;
+}
+
+// GL-free: KitFrameOf(kSilhouette) packs the corner depths into atlas "a" with the view pass's
+// border (kit::PackBorderedAtlas on the (w + 1) x (h + 1) sizes, edge texels kAtlasBorder deep,
+// as FillAtlases copies them) and the points into atlas "b" with none, and the block holds both
+// origins; a missing or mis-sized image is named "images".
+TEST(KitFrame, SilhouetteFramePacksCornerDepthWithItsBorderAndPointsWithout) {
+    const std::vector<Viewport> sizes = {{5, 3}, {4, 7}, {9, 2}};
+    const client::RenderedMaps rendered = SilhouetteStream(sizes);
+    auto frame = client::KitFrameOf(rendered, client::KitDepth::kSilhouette, Vec3(1, 2, 3));
+    ASSERT_TRUE(frame.ok()) << frame.error().Message();
+    ASSERT_EQ(frame->maps.size(), sizes.size());
+
+    std::vector<Viewport> corner_sizes, point_sizes;
+    for (const Viewport& v : sizes) {
+        corner_sizes.push_back({v.width + 1, v.height + 1});
+        point_sizes.push_back(v);
+    }
+    auto layout_a = kit::PackBorderedAtlas(corner_sizes, kit::kAtlasBorder, 16384);
+    auto layout_b = kit::PackBorderedAtlas(point_sizes, 0, 16384);
+    ASSERT_TRUE(layout_a.ok() && layout_b.ok());
+    EXPECT_EQ(frame->atlas.width, layout_a->width);
+    EXPECT_EQ(frame->atlas.height, layout_a->height);
+    EXPECT_EQ(frame->atlas_b.width, layout_b->width);
+    EXPECT_EQ(frame->atlas_b.height, layout_b->height);
+    ASSERT_EQ(frame->atlas_b.texels.size(),
+              static_cast<std::size_t>(frame->atlas_b.width) * frame->atlas_b.height * 2);
+    using L = ShadowBlockLayout;
+    EXPECT_EQ(At<std::int32_t>(frame->block, L::kCounts), 3);
+    const Eigen::Vector4f texel = Vec4At(frame->block, L::kAtlasTexel);
+    EXPECT_FLOAT_EQ(texel.x(), 1.0f / static_cast<float>(layout_a->width));
+    EXPECT_FLOAT_EQ(texel.y(), 1.0f / static_cast<float>(layout_a->height));
+    for (std::size_t m = 0; m < sizes.size(); ++m) {
+        const Eigen::Vector2i a = layout_a->origins[m], b = layout_b->origins[m];
+        EXPECT_EQ(frame->atlas.origins[m], a);
+        EXPECT_EQ(frame->atlas_b.origins[m], b);
+        const std::size_t o = L::kOrigin + 16 * m;
+        EXPECT_EQ(At<std::int32_t>(frame->block, o + 0), a.x());
+        EXPECT_EQ(At<std::int32_t>(frame->block, o + 4), a.y());
+        EXPECT_EQ(At<std::int32_t>(frame->block, o + 8), b.x());
+        EXPECT_EQ(At<std::int32_t>(frame->block, o + 12), b.y());
+        EXPECT_EQ(At<std::int32_t>(frame->block, L::kSize + 16 * m), sizes[m].width);
+        EXPECT_EQ(At<std::int32_t>(frame->block, L::kSize + 16 * m + 4), sizes[m].height);
+        // Atlas "a": every corner texel, and kAtlasBorder texels past each edge the edge's.
+        const int cw = sizes[m].width + 1, ch = sizes[m].height + 1;
+        for (int y = -kit::kAtlasBorder; y < ch + kit::kAtlasBorder; ++y) {
+            for (int x = -kit::kAtlasBorder; x < cw + kit::kAtlasBorder; ++x) {
+                const int sx = std::clamp(x, 0, cw - 1), sy = std::clamp(y, 0, ch - 1);
+                const float want = 1000.0f * m + 100.0f * sy + sx;
+                const std::size_t at =
+                    static_cast<std::size_t>(a.y() + y) * frame->atlas.width + (a.x() + x);
+                ASSERT_EQ(frame->atlas.texels[at], want)
+                    << "map " << m << " corner (" << x << ", " << y << ")";
+            }
+        }
+        // Atlas "b": every point where the block says, both components.
+        for (int y = 0; y < sizes[m].height; ++y) {
+            for (int x = 0; x < sizes[m].width; ++x) {
+                const std::size_t at =
+                    (static_cast<std::size_t>(b.y() + y) * frame->atlas_b.width + (b.x() + x)) * 2;
+                ASSERT_EQ(frame->atlas_b.texels[at], -(1000.0f * m + 100.0f * y + x));
+                ASSERT_EQ(frame->atlas_b.texels[at + 1], 0.5f + m);
+            }
+        }
+    }
+    // A depth frame of the same stream has no depth to read, and no atlas "b".
+    auto depth = client::KitFrameOf(rendered, client::KitDepth::kDepth, Vec3::Zero());
+    ASSERT_FALSE(depth.ok());
+    EXPECT_EQ(depth.error().field, "images");
+
+    // Without map 1's corner depth, without map 2's points, with a corner depth of the map's own
+    // size: refused, naming the images.
+    const auto without = [&](int k) {
+        client::RenderedMaps r = rendered;
+        r.header.mutable_images(k)->set_map_index(99);  // names no map: as if never streamed
+        return client::KitFrameOf(r, client::KitDepth::kSilhouette, Vec3::Zero());
+    };
+    auto no_corners = without(2);
+    ASSERT_FALSE(no_corners.ok());
+    EXPECT_EQ(no_corners.error().field, "images");
+    EXPECT_NE(no_corners.error().reason.find("map 1 has no corner depth"), std::string::npos)
+        << no_corners.error().reason;
+    auto no_points = without(5);
+    ASSERT_FALSE(no_points.ok());
+    EXPECT_EQ(no_points.error().field, "images");
+    EXPECT_NE(no_points.error().reason.find("map 2 has no silhouette points"), std::string::npos)
+        << no_points.error().reason;
+    client::RenderedMaps small = rendered;
+    small.header.mutable_images(0)->set_width(5);
+    small.header.mutable_images(0)->set_height(3);
+    small.images[0].resize(15);
+    auto mis_sized = client::KitFrameOf(small, client::KitDepth::kSilhouette, Vec3::Zero());
+    ASSERT_FALSE(mis_sized.ok());
+    EXPECT_EQ(mis_sized.error().field, "images");
+    EXPECT_NE(mis_sized.error().reason.find("6 x 4"), std::string::npos)
+        << mis_sized.error().reason;
+}
+
+// Render streams, for every map planned with the silhouette map, its corner depth ((w + 1) x
+// (h + 1), float32 stored depth) right before its points, and counts those bytes against its
+// response limit: a limit one byte below what it streams is refused before any work.
+TEST(KitFrame, RenderStreamsEverySilhouetteMapsCornerDepthBeforeItsPoints) {
+    auto server = testing::StartServer(testing::SmallServerOptions("kit-silhouette"));
+    ASSERT_NE(server, nullptr);
+    auto client = testing::Connect(testing::Target(*server));
+    auto uploaded = client->UploadScene(testing::SmallScene());
+    ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
+    v1::RenderRequest request;
+    request.mutable_plan()->set_scene_id(uploaded->scene_id());
+    request.mutable_plan()->set_lixel_budget(128 * 128);
+    request.mutable_plan()->mutable_passes()->set_silhouette_map(true);
+    auto rendered = client->Render(request);
+    ASSERT_TRUE(rendered.ok()) << rendered.error().Message();
+    const v1::RenderHeader& header = rendered->header;
+    int silhouette_maps = 0;
+    std::uint64_t streamed = 0;
+    for (int k = 0; k < header.images_size(); ++k) streamed += header.images(k).bytes();
+    for (int i = 0; i < header.plan().maps_size(); ++i) {
+        const v1::PlannedMap& m = header.plan().maps(i);
+        const bool planned = std::find(m.passes().begin(), m.passes().end(),
+                                       v1::PASS_SILHOUETTE_MAP) != m.passes().end();
+        int corners_at = -1, points_at = -1;
+        for (int k = 0; k < header.images_size(); ++k) {
+            const v1::MapImage& image = header.images(k);
+            if (image.map_index() != static_cast<std::uint32_t>(i)) continue;
+            if (image.pass() == v1::PASS_CORNER_DEPTH) corners_at = k;
+            if (image.pass() == v1::PASS_SILHOUETTE_MAP) points_at = k;
+        }
+        if (!planned) {
+            EXPECT_EQ(corners_at, -1) << "map " << i;
+            continue;
+        }
+        ++silhouette_maps;
+        ASSERT_GE(corners_at, 0) << "map " << i;
+        EXPECT_EQ(points_at, corners_at + 1) << "map " << i;
+        const v1::MapImage& c = header.images(corners_at);
+        EXPECT_EQ(c.width(), m.map().width() + 1);
+        EXPECT_EQ(c.height(), m.map().height() + 1);
+        EXPECT_EQ(c.bytes(), std::uint64_t{c.width()} * c.height() * 4);
+        const std::vector<float>& d = rendered->images[static_cast<std::size_t>(corners_at)];
+        ASSERT_EQ(d.size(), std::size_t{c.width()} * c.height());
+        int drawn = 0;
+        for (float v : d) {
+            ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;  // stored depth, reversed
+            drawn += v > 0.0f ? 1 : 0;
+        }
+        EXPECT_GT(drawn, static_cast<int>(d.size()) / 4) << "map " << i;
+    }
+    EXPECT_GE(silhouette_maps, 2);  // the floor's and the wall's maps hold the shapes' shadows
+    auto frame = client::KitFrameOf(*rendered, client::KitDepth::kSilhouette,
+                                    scene::FloorWallScene().Bounds().Center());
+    // A map the scheduler gave no silhouette pass (no caster) has nothing for atlas "a".
+    if (silhouette_maps == header.plan().maps_size()) {
+        EXPECT_TRUE(frame.ok()) << frame.error().Message();
+    } else {
+        ASSERT_FALSE(frame.ok());
+        EXPECT_EQ(frame.error().field, "images");
+    }
+
+    service::ServerOptions tight = testing::SmallServerOptions("kit-silhouette-tight");
+    tight.service.max_response_bytes = streamed - 1;
+    auto limited = testing::StartServer(tight);
+    ASSERT_NE(limited, nullptr);
+    auto limited_client = testing::Connect(testing::Target(*limited));
+    ASSERT_TRUE(limited_client->UploadScene(testing::SmallScene()).ok());
+    auto refused = limited_client->Render(request);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "RESOURCE_EXHAUSTED");
+    EXPECT_NE(refused.error().reason.find(std::to_string(streamed) + " bytes of maps"),
+              std::string::npos)
+        << refused.error().reason;
+    tight.service.max_response_bytes = streamed;
+    tight.service.instance = "kit-silhouette-exact";
+    auto exact = testing::StartServer(tight);
+    auto exact_client = testing::Connect(testing::Target(*exact));
+    ASSERT_TRUE(exact_client->UploadScene(testing::SmallScene()).ok());
+    EXPECT_TRUE(exact_client->Render(request).ok());
 }
 
 }  // namespace

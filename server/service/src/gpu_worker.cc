@@ -96,7 +96,11 @@ std::vector<ImageShape> PlannedImages(const Plan& plan) {
             shapes.push_back({index, Pass::kSecondDepth, m.map.width, m.map.height, 1});
         }
         if (asked(Pass::kSilhouetteMap)) {
-            shapes.push_back({index, Pass::kSilhouetteMap, m.map.width, m.map.height, 2});
+            // The corner depth first: the kit's silhouette test reads it (atlas "a") with the
+            // points (atlas "b"), so a client needs both (render::CornerDepthMap's size).
+            shapes.push_back(
+                {index, Pass::kSilhouetteMap, m.map.width + 1, m.map.height + 1, 1, true});
+            shapes.push_back({index, Pass::kSilhouetteMap, m.map.width, m.map.height, 2, false});
         }
     }
     return shapes;
@@ -111,11 +115,13 @@ Result<bool> RenderPlanImages(GpuWorker& worker, const render::GpuScene& scene, 
             scene, std::span<const PlannedMap>(&plan.maps[i], 1), plan.hull.light);
         if (!rendered) return rendered.error();
         render::RenderedMap& m = rendered->front();
-        auto hand_over = [&](Pass pass, auto read) -> Result<bool> {
+        auto hand_over = [&](Pass pass, auto read, bool corner_depth = false) -> Result<bool> {
             if (!room()) return Cancelled();
             auto image = read();
             if (!image) return image.error();
-            if (!take({static_cast<int>(i), pass, std::move(*image)})) return Cancelled();
+            if (!take({static_cast<int>(i), pass, corner_depth, std::move(*image)})) {
+                return Cancelled();
+            }
             return true;
         };
         if (m.depth) {
@@ -130,6 +136,10 @@ Result<bool> RenderPlanImages(GpuWorker& worker, const render::GpuScene& scene, 
             if (!ok) return ok;
         }
         if (m.silhouette) {
+            auto corners = hand_over(
+                Pass::kSilhouetteMap,
+                [&] { return render::ReadDepth(*worker.context, m.silhouette->corners); }, true);
+            if (!corners) return corners;
             auto ok = hand_over(Pass::kSilhouetteMap, [&] {
                 return render::ReadSilhouettePoints(*worker.context, *m.silhouette);
             });

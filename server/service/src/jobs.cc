@@ -60,7 +60,8 @@ grpc::Status FindScene(ServiceState& state, const v1::PlanRequest& plan, bool re
     return grpc::Status::OK;
 }
 
-// Bytes of every map a plan renders, as float32 (the memory cap of DESIGN §8).
+// Bytes of every image a plan renders and Render streams, as float32 (the memory cap of DESIGN
+// §8): PlannedImages' shapes, the silhouette map's corner depth included.
 std::uint64_t PlanBytes(const Plan& plan) {
     std::uint64_t bytes = 0;
     for (const ImageShape& image : PlannedImages(plan)) bytes += image.bytes();
@@ -91,7 +92,8 @@ grpc::Status GpuUnavailable(GpuWorker& worker) {
                                                            worker.error + ")");
 }
 
-v1::PassKind PassKindOf(Pass pass) {
+v1::PassKind PassKindOf(Pass pass, bool corner_depth) {
+    if (corner_depth) return v1::PASS_CORNER_DEPTH;
     switch (pass) {
         case Pass::kDepth: return v1::PASS_DEPTH;
         case Pass::kSecondDepth: return v1::PASS_SECOND_DEPTH;
@@ -354,7 +356,7 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     for (const ImageShape& shape : shapes) {
         v1::MapImage* m = h->add_images();
         m->set_map_index(static_cast<std::uint32_t>(shape.map_index));
-        m->set_pass(PassKindOf(shape.pass));
+        m->set_pass(PassKindOf(shape.pass, shape.corner_depth));
         m->set_width(static_cast<std::uint32_t>(shape.width));
         m->set_height(static_cast<std::uint32_t>(shape.height));
         m->set_bytes(shape.bytes());
@@ -386,7 +388,7 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
         [&](RenderedImage image) {
             const ImageShape& shape = shapes.at(next);
             if (image.map_index != shape.map_index || image.pass != shape.pass ||
-                image.image.width != shape.width || image.image.height != shape.height ||
+                image.corner_depth != shape.corner_depth || image.image.width != shape.width || image.image.height != shape.height ||
                 image.image.channels != shape.channels) {
                 mismatch = true;
                 return false;

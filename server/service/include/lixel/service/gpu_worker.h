@@ -63,17 +63,22 @@ using CancelCheck = std::function<bool()>;
 struct RenderedImage {
     int map_index = 0;
     Pass pass = Pass::kDepth;
-    render::FloatImage image;  // float32 z/w (two channels for silhouette points)
+    // With pass kSilhouetteMap: the map's corner depth ((width + 1) x (height + 1), one
+    // channel) rather than its points.
+    bool corner_depth = false;
+    render::FloatImage image;  // float32 stored depth (two channels for silhouette points)
 };
 
 // What RenderPlanImages will produce, in its order, before anything is rendered: per map its
-// depth (always rendered), then second depth and silhouette points when the plan asks for them.
+// depth, second depth when the plan asks for them, then for the silhouette map its corner depth
+// (corner_depth, (width + 1) x (height + 1)) and its points (RG), in that order.
 struct ImageShape {
     int map_index = 0;
     Pass pass = Pass::kDepth;
     int width = 0;
     int height = 0;
-    int channels = 1;  // 2 for silhouette points
+    int channels = 1;           // 2 for silhouette points
+    bool corner_depth = false;  // the silhouette map's corner depth (pass kSilhouetteMap)
 
     std::uint64_t bytes() const noexcept {
         return static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height) *
