@@ -98,8 +98,8 @@ const std::set<std::string>* CommandFlags(const std::string& command) {
          {"scene", "frames", "size", "budget", "filter", "out", "check", "max_differing",
           "coherent"}},
         {"sequence",
-         {"scene", "frames", "size", "budget", "out", "waste_bound", "scale_steps",
-          "twist_saving"}},
+         {"scene", "frames", "size", "budget", "fallback_floor", "out", "waste_bound",
+          "scale_steps", "twist_saving"}},
     };
     const auto it = flags.find(command);
     return it == flags.end() ? nullptr : &it->second;

@@ -5,6 +5,7 @@
 #include <lixel/eval/progress.h>
 #include <lixel/eval/report.h>
 #include <lixel/eval/sequence.h>
+#include <lixel/scene/frame_sequence.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -35,10 +36,15 @@ int SequenceCommand(client::Client& client, const Flags& flags) {
     const int side = absl::GetFlag(FLAGS_size);
     run.frames.viewport = {side, side};
     run.budget = static_cast<std::int64_t>(absl::GetFlag(FLAGS_budget));
+    run.fallback_floor = static_cast<std::int64_t>(absl::GetFlag(FLAGS_fallback_floor));
     run.coherence.set_waste_bound(absl::GetFlag(FLAGS_waste_bound));
     run.coherence.set_scale_steps(static_cast<std::uint32_t>(absl::GetFlag(FLAGS_scale_steps)));
     run.coherence.set_twist_saving(absl::GetFlag(FLAGS_twist_saving));
 
+    // The scene and the path before any call: a misspelt scene is a usage error.
+    if (auto first = scene::SequenceFrame(run.scene, 0, run.frames); !first) {
+        return UsageError(Error{"--scene", first.error().Message()});
+    }
     eval::ProgressBar bar(static_cast<std::int64_t>(run.frames.frames) *
                               static_cast<std::int64_t>(run.methods.size()),
                           "sequence");
