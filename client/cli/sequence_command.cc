@@ -48,13 +48,15 @@ int SequenceCommand(client::Client& client, const Flags& flags) {
     eval::ProgressBar bar(static_cast<std::int64_t>(run.frames.frames) *
                               static_cast<std::int64_t>(run.methods.size()),
                           "sequence");
-    auto rows = RunSequence(client, run, [&](int frame, const std::string& method) {
+    auto result = RunSequence(client, run, [&](int frame, const std::string& method) {
         bar.Advance(1, "frame " + std::to_string(frame) + " " + method);
     });
     bar.Finish();
-    if (!rows) return Fail(rows.error());
-    const auto summaries = eval::SummariseSequences(*rows);
-    const std::vector<std::string> notes = {
+    if (!result) return Fail(result.error());
+    if (result->rows.empty()) return Fail(Error{"sequence", "no method drew a frame"});
+    const std::vector<eval::SequenceFrameRow>& rows = result->rows;
+    const auto summaries = eval::SummariseSequences(rows);
+    std::vector<std::string> notes = {
         run.scene + ": " + std::to_string(run.frames.frames) + " frames at " +
             Num(run.frames.fps) + " fps, " + std::to_string(side) + "² pixels, " +
             std::to_string(run.budget) + " lixels for every method; the camera orbits " +
@@ -70,12 +72,13 @@ int SequenceCommand(client::Client& client, const Flags& flags) {
         "divided by the bare passes measured in the same call (docs/eval.md \"Costs\"). The "
         "first frame's reallocations (every map) are not counted.",
     };
-    if (auto w = eval::WriteSequenceCsv(out + "/sequence.csv", *rows); !w) return Fail(w.error());
+    for (const std::string& skipped : result->skipped) notes.push_back("skipped: " + skipped);
+    if (auto w = eval::WriteSequenceCsv(out + "/sequence.csv", rows); !w) return Fail(w.error());
     if (auto w = eval::WriteSequenceMarkdown(out + "/sequence.md", summaries, notes); !w) {
         return Fail(w.error());
     }
     if (eval::GnuplotAvailable()) {
-        if (auto w = eval::PlotSequence(out, *rows); !w) return Fail(w.error());
+        if (auto w = eval::PlotSequence(out, rows); !w) return Fail(w.error());
     } else {
         std::fprintf(stderr, "lixel: gnuplot not found; sequence.png skipped\n");
     }

@@ -24,6 +24,12 @@ struct MethodState {
     bool first = true;
 };
 
+// What the server refused for this frame's input, not for the service's state: the sequence
+// goes on without that call.
+bool RefusedInput(const Error& error) {
+    return error.field == "INVALID_ARGUMENT" || error.field == "RESOURCE_EXHAUSTED";
+}
+
 }  // namespace
 
 std::vector<SequenceMethod> DefaultSequenceMethods() {
@@ -42,10 +48,10 @@ std::vector<eval::MapAllocation> AllocationsOf(const v1::ViewResponse& view) {
     return maps;
 }
 
-Result<std::vector<eval::SequenceFrameRow>> RunSequence(
+Result<SequenceResult> RunSequence(
     client::Client& client, const SequenceRun& run,
     const std::function<void(int, const std::string&)>& progress) {
-    std::vector<eval::SequenceFrameRow> rows;
+    SequenceResult result;
     std::vector<MethodState> states(run.methods.size());
     for (int frame = 0; frame < run.frames.frames; ++frame) {
         auto scene = scene::SequenceFrame(run.scene, frame, run.frames);
@@ -80,10 +86,11 @@ Result<std::vector<eval::SequenceFrameRow>> RunSequence(
             request.set_evaluate(true);
             request.set_timings(true);
             request.set_cost_baselines(true);
+            const std::string call = "frame " + std::to_string(frame) + ", " + method.Name();
             if (frame == 0 && run.warm_up) {
                 v1::ViewRequest warm_up = request;
                 warm_up.set_evaluate(false);
-                if (auto w = client.View(warm_up); !w) {
+                if (auto w = client.View(warm_up); !w && !RefusedInput(w.error())) {
                     return Error{"warm-up, " + method.Name(), w.error().Message()};
                 }
             }
@@ -92,8 +99,11 @@ Result<std::vector<eval::SequenceFrameRow>> RunSequence(
             const double round_trip =
                 std::chrono::duration<double, std::milli>(Clock::now() - start).count();
             if (!view) {
-                return Error{"frame " + std::to_string(frame) + ", " + method.Name(),
-                             view.error().Message()};
+                if (!RefusedInput(view.error())) return Error{call, view.error().Message()};
+                result.skipped.push_back(call + ": " + view.error().Message());
+                state = MethodState{};
+                if (progress) progress(frame, method.Name());
+                continue;
             }
             eval::SequenceFrameRow row;
             row.scene = run.scene;
@@ -121,11 +131,11 @@ Result<std::vector<eval::SequenceFrameRow>> RunSequence(
             state.mask = std::move(mask);
             state.maps = row.maps;
             state.plan = view->plan();
-            rows.push_back(std::move(row));
+            result.rows.push_back(std::move(row));
             if (progress) progress(frame, method.Name());
         }
     }
-    return rows;
+    return result;
 }
 
 }  // namespace lixel::cli

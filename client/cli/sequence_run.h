@@ -42,9 +42,19 @@ struct SequenceRun {
     v1::FrameCoherence coherence;
 };
 
-// Runs the sequence; `progress(frame, method)` after each call. Stops at the first failed call
-// with its error, prefixed by the frame and method.
-Result<std::vector<eval::SequenceFrameRow>> RunSequence(
+struct SequenceResult {
+    std::vector<eval::SequenceFrameRow> rows;
+    // Calls the server refused for that frame's input (INVALID_ARGUMENT, RESOURCE_EXHAUSTED: a
+    // method that cannot fit a frame, a view over a limit), "frame 12, LiSPSM + depth: ...". The
+    // method's next frame starts afresh: no flicker against the frame before the gap, and its
+    // maps count as new.
+    std::vector<std::string> skipped;
+};
+
+// Runs the sequence; `progress(frame, method)` after each call. Stops at the first call that
+// fails for another reason (the server gone, a deadline) with its error, prefixed by the frame and
+// method.
+Result<SequenceResult> RunSequence(
     client::Client& client, const SequenceRun& run,
     const std::function<void(int, const std::string&)>& progress = {});
 

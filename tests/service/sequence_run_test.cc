@@ -22,8 +22,10 @@ TEST(SequenceRun, SixtyFramesOfTheAnimatedRoomForEveryMethod) {
     run.frames.viewport = {40, 40};
     run.budget = 48 * 48;
     run.fallback_floor = 16 * 16;
-    auto rows = RunSequence(*client, run);
-    ASSERT_TRUE(rows.ok()) << rows.error().Message();
+    auto result = RunSequence(*client, run);
+    ASSERT_TRUE(result.ok()) << result.error().Message();
+    EXPECT_TRUE(result->skipped.empty());
+    const std::vector<eval::SequenceFrameRow>* rows = &result->rows;
     ASSERT_EQ(rows->size(), 60 * run.methods.size());
 
     std::map<std::pair<std::string, bool>, int> frames_per_method;
@@ -66,6 +68,34 @@ TEST(SequenceRun, SixtyFramesOfTheAnimatedRoomForEveryMethod) {
     // keeps sizes at the same budget.
     EXPECT_GT(tight->reallocations, 0);
     EXPECT_LT(coherent->reallocations, tight->reallocations);
+}
+
+// A method the server refuses for a frame's input (here CSM: four cascades cannot share two
+// lixels) is skipped with its reason, and every other method's frames are still measured.
+TEST(SequenceRun, AMethodRefusedForAFrameIsSkippedAndTheOthersGoOn) {
+    auto server = testing::StartServer(testing::SmallServerOptions("sequence-skip"));
+    ASSERT_NE(server, nullptr);
+    auto client = testing::Connect(testing::Target(*server));
+    SequenceRun run;
+    run.frames.frames = 3;
+    run.frames.viewport = {24, 24};
+    run.budget = 2;
+    run.fallback_floor = 1;
+    auto result = RunSequence(*client, run);
+    ASSERT_TRUE(result.ok()) << result.error().Message();
+    ASSERT_FALSE(result->skipped.empty());
+    bool csm_skipped = false;
+    for (const std::string& s : result->skipped) {
+        csm_skipped = csm_skipped || (s.find("CSM") != std::string::npos &&
+                                      s.find("lixel_budget") != std::string::npos);
+    }
+    EXPECT_TRUE(csm_skipped) << result->skipped.front();
+    int uniform_frames = 0;
+    for (const eval::SequenceFrameRow& r : result->rows) {
+        EXPECT_NE(r.method, "CSM + depth");
+        uniform_frames += r.method == "uniform + depth";
+    }
+    EXPECT_EQ(uniform_frames, 3);
 }
 
 TEST(SequenceRun, PreviousMapsGoBackAsTheRequestsFrameCoherence) {
