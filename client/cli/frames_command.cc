@@ -19,7 +19,9 @@ Result<engine::EngineFilter> FramesFilter() {
     if (name == "depth") return engine::EngineFilter::kDepth;
     if (name == "pcf") return engine::EngineFilter::kPcf;
     if (name == "second_depth") return engine::EngineFilter::kSecondDepth;
-    return Error{"--filter", "frames draws depth, pcf or second_depth, not '" + name + "'"};
+    if (name == "silhouette_map") return engine::EngineFilter::kSilhouette;
+    return Error{"--filter",
+                 "frames draws depth, pcf, second_depth or silhouette_map, not '" + name + "'"};
 }
 
 }  // namespace

@@ -84,6 +84,13 @@ TEST(EngineClient, PcfAndSecondDepthMasksAreViews) {
     ExpectMasksAgree({"floor_wall", EngineFilter::kSecondDepth, {0, 30}, 2});
 }
 
+// The silhouette map (paper 000) from what Render streams: each map's corner depth in atlas "a"
+// (with the view pass's border) and its points in atlas "b", the same bias (kReachCorners).
+TEST(EngineClient, SilhouetteMasksAreViews) {
+    ExpectMasksAgree({"floor_wall", EngineFilter::kSilhouette, {0, 30}, 2});
+    ExpectMasksAgree({"table_floor", EngineFilter::kSilhouette, {0, 40}, 2});
+}
+
 // Frame-coherent plans (each request carrying the previous frame's maps, as an engine would):
 // the atlas keeps its size from frame to frame, and the masks are still View's for the same
 // request. 20 consecutive frames of the animated room at 128 x 128.
@@ -189,6 +196,34 @@ TEST(KitUploader, KeepsItsObjectsAndReallocatesOnlyWhenTheAtlasSizeChanges) {
     gl->PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
 }
 
+TEST(KitUploader, UploadsTheSilhouettePointsAsAnRgAtlas) {
+    auto context = EglContext::Create();
+    ASSERT_TRUE(context.ok()) << context.error().Message();
+    auto gl = client::GlFunctions::Load(&EglContext::Loader);
+    ASSERT_TRUE(gl.ok()) << gl.error().Message();
+    auto uploader = client::KitUploader::Create(&EglContext::Loader);
+    ASSERT_TRUE(uploader.ok()) << uploader.error().Message();
+    client::KitFrame frame = SyntheticFrame(9, 5);
+    frame.atlas_b.width = 7;
+    frame.atlas_b.height = 3;
+    frame.atlas_b.origins = {Eigen::Vector2i(0, 0)};
+    for (int i = 0; i < 7 * 3 * 2; ++i) frame.atlas_b.texels.push_back(0.25f * static_cast<float>(i));
+    ASSERT_TRUE(uploader->Upload(frame).ok());
+    ASSERT_TRUE(uploader->has_atlas_b());
+    EXPECT_EQ(uploader->atlas_b_reallocations(), 1);
+    std::vector<float> texels(frame.atlas_b.texels.size());
+    gl->GetTextureImage(uploader->atlas_b_texture(), 0, GL_RG, GL_FLOAT,
+                        static_cast<GLsizei>(texels.size() * sizeof(float)), texels.data());
+    EXPECT_EQ(texels, frame.atlas_b.texels);
+    ASSERT_TRUE(uploader->Upload(frame).ok());
+    EXPECT_EQ(uploader->atlas_b_reallocations(), 1);  // same size: kept
+    client::KitFrame torn = frame;
+    torn.atlas_b.texels.pop_back();
+    EXPECT_EQ(uploader->Upload(torn).error().field, "atlas_b.texels");
+    ASSERT_TRUE(uploader->Upload(SyntheticFrame(9, 5)).ok());
+    EXPECT_FALSE(uploader->has_atlas_b());  // a depth frame: "b" is not bound
+}
+
 TEST(KitUploader, RefusesFramesItCannotUploadByName) {
     auto context = EglContext::Create();
     ASSERT_TRUE(context.ok()) << context.error().Message();
@@ -245,6 +280,11 @@ TEST(EngineView, RefusesDrawsItCannotMakeByName) {
     ASSERT_TRUE(view->UploadKit(frame).ok());
     // Maps relative to one point, meshes to another: refused, not drawn wrong.
     EXPECT_EQ(view->Draw(camera, EngineFilter::kDepth).error().field, "origin");
+    // Maps without silhouette points: the silhouette test has nothing to read.
+    client::KitFrame depth_only = SyntheticFrame(4, 4);
+    depth_only.origin = Vec3(1, 2, 3);
+    ASSERT_TRUE(view->UploadKit(depth_only).ok());
+    EXPECT_EQ(view->Draw(camera, EngineFilter::kSilhouette).error().field, "kit");
     frame.origin = Vec3(1, 2, 3);
     ASSERT_TRUE(view->UploadKit(frame).ok());
     EngineShadowOptions wide;
@@ -316,6 +356,50 @@ TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySecondDepth) {
     };
     EXPECT_EQ(texel(0, 2, 1), 0.5f);
     EXPECT_EQ(texel(1, 2, 1), 0.0f);
+}
+
+TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySilhouetteMap) {
+    // Two 3 x 2 maps; only map 0 streamed its silhouette map (map 1 has no caster).
+    client::RenderedMaps rendered;
+    for (int i = 0; i < 2; ++i) {
+        v1::PlannedMap* m = rendered.header.mutable_plan()->add_maps();
+        service::EncodeMat4(Mat4::Identity(), m->mutable_map()->mutable_matrix());
+        m->mutable_map()->set_width(3);
+        m->mutable_map()->set_height(2);
+    }
+    v1::MapImage* corners = rendered.header.add_images();
+    corners->set_map_index(0);
+    corners->set_pass(v1::PASS_CORNER_DEPTH);
+    corners->set_width(4);
+    corners->set_height(3);
+    rendered.images.emplace_back(12, 0.5f);
+    v1::MapImage* points = rendered.header.add_images();
+    points->set_map_index(0);
+    points->set_pass(v1::PASS_SILHOUETTE_MAP);
+    points->set_width(3);
+    points->set_height(2);
+    rendered.images.emplace_back(12, 0.25f);
+    EXPECT_EQ(
+        client::KitFrameOf(rendered, client::KitDepth::kSilhouette, Vec3::Zero()).error().field,
+        "images");
+    FillMissingSilhouetteMap(rendered);
+    FillMissingSilhouetteMap(rendered);  // once per map, however often called
+    ASSERT_EQ(rendered.header.images_size(), 4);
+    auto frame = client::KitFrameOf(rendered, client::KitDepth::kSilhouette, Vec3::Zero());
+    ASSERT_TRUE(frame.ok()) << frame.error().Message();
+    const auto a = [&](int map, int x, int y) {
+        const Eigen::Vector2i at = frame->atlas.origins[map] + Eigen::Vector2i(x, y);
+        return frame->atlas.texels[static_cast<std::size_t>(at.y()) * frame->atlas.width + at.x()];
+    };
+    const auto b = [&](int map, int x, int y) {
+        const Eigen::Vector2i at = frame->atlas_b.origins[map] + Eigen::Vector2i(x, y);
+        return frame->atlas_b
+            .texels[(static_cast<std::size_t>(at.y()) * frame->atlas_b.width + at.x()) * 2];
+    };
+    EXPECT_EQ(a(0, 3, 2), 0.5f);
+    EXPECT_EQ(a(1, 3, 2), 0.0f);  // the corner beyond the last texel exists too
+    EXPECT_EQ(b(0, 2, 1), 0.25f);
+    EXPECT_EQ(b(1, 2, 1), client::kNoSilhouettePoint);
 }
 
 TEST(MaskComparison, ComparesOnlyWhereBothShowASurface) {

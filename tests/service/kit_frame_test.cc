@@ -183,6 +183,10 @@ TEST(KitFrame, TheKitPicksTheSolversMapAndTexelFromWhatRenderStreams) {
 
 // A RenderedMaps as Render streams a plan with the silhouette map, built by hand: per map its
 // corner depth ((w + 1) x (h + 1)) and its points (w x h, RG), every texel a distinct value.
+float Code(std::size_t map, int x, int y) {
+    return static_cast<float>(1000 * map + static_cast<std::size_t>(100 * y + x));
+}
+
 client::RenderedMaps SilhouetteStream(const std::vector<Viewport>& sizes) {
     client::RenderedMaps rendered;
     for (std::size_t i = 0; i < sizes.size(); ++i) {
@@ -205,7 +209,7 @@ client::RenderedMaps SilhouetteStream(const std::vector<Viewport>& sizes) {
         corners->set_height(static_cast<std::uint32_t>(h + 1));
         std::vector<float> depth;
         for (int y = 0; y <= h; ++y) {
-            for (int x = 0; x <= w; ++x) depth.push_back(1000.0f * i + 100.0f * y + x);
+            for (int x = 0; x <= w; ++x) depth.push_back(Code(i, x, y));
         }
         corners->set_bytes(depth.size() * 4);
         rendered.images.push_back(std::move(depth));
@@ -217,8 +221,8 @@ client::RenderedMaps SilhouetteStream(const std::vector<Viewport>& sizes) {
         std::vector<float> xy;
         for (int y = 0; y < h; ++y) {
             for (int x = 0; x < w; ++x) {
-                xy.push_back(-(1000.0f * i + 100.0f * y + x));
-                xy.push_back(0.5f + i);
+                xy.push_back(-Code(i, x, y));
+                xy.push_back(0.5f + static_cast<float>(i));
             }
         }
         points->set_bytes(xy.size() * 4);
@@ -273,7 +277,7 @@ TEST(KitFrame, SilhouetteFramePacksCornerDepthWithItsBorderAndPointsWithout) {
         for (int y = -kit::kAtlasBorder; y < ch + kit::kAtlasBorder; ++y) {
             for (int x = -kit::kAtlasBorder; x < cw + kit::kAtlasBorder; ++x) {
                 const int sx = std::clamp(x, 0, cw - 1), sy = std::clamp(y, 0, ch - 1);
-                const float want = 1000.0f * m + 100.0f * sy + sx;
+                const float want = Code(m, sx, sy);
                 const std::size_t at =
                     static_cast<std::size_t>(a.y() + y) * frame->atlas.width + (a.x() + x);
                 ASSERT_EQ(frame->atlas.texels[at], want)
@@ -285,8 +289,8 @@ TEST(KitFrame, SilhouetteFramePacksCornerDepthWithItsBorderAndPointsWithout) {
             for (int x = 0; x < sizes[m].width; ++x) {
                 const std::size_t at =
                     (static_cast<std::size_t>(b.y() + y) * frame->atlas_b.width + (b.x() + x)) * 2;
-                ASSERT_EQ(frame->atlas_b.texels[at], -(1000.0f * m + 100.0f * y + x));
-                ASSERT_EQ(frame->atlas_b.texels[at + 1], 0.5f + m);
+                ASSERT_EQ(frame->atlas_b.texels[at], -Code(m, x, y));
+                ASSERT_EQ(frame->atlas_b.texels[at + 1], 0.5f + static_cast<float>(m));
             }
         }
     }

@@ -11,6 +11,7 @@ in vec3 v_position;
 const int kFilterDepth = 0;
 const int kFilterPcf = 1;
 const int kFilterSecondDepth = 2;
+const int kFilterSilhouette = 3;
 const int kFilter = ENGINE_FILTER;  // one program per filter: the other tests fold away
 
 uniform vec4 u_light;  // relative to the origin: (l_xyz - l_w origin, l_w)
@@ -30,6 +31,7 @@ layout(location = 1) out vec4 o_colour;
 // How far the test's farthest sample lies from the point, lixels.
 const float kReachNearest = 0.70710678;
 const float kReachPerRadius = 1.41421356;
+const float kReachCorners = 1.41421356;  // a texel's corners (the silhouette test)
 
 void main() {
     vec3 p = v_position;
@@ -56,6 +58,11 @@ void main() {
             lit = lixel_pcf(map, s,
                             lixel_slope_bias(plane, reach, u_depth_bias, u_slope_bias, u_max_bias),
                             u_pcf_radius);
+        } else if (kFilter == kFilterSilhouette) {
+            // Paper 000: corner depth in atlas "a", silhouette points in atlas "b".
+            lit = lixel_silhouette_test(map, s, lixel_slope_bias(plane, kReachCorners,
+                                                                 u_depth_bias, u_slope_bias,
+                                                                 u_max_bias));
         } else {
             float bias = u_receiver_open != 0
                              ? u_open_second_depth_bias *

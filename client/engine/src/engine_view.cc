@@ -101,13 +101,23 @@ const char* EngineFilterName(EngineFilter filter) noexcept {
             return "pcf";
         case EngineFilter::kSecondDepth:
             return "second_depth";
+        case EngineFilter::kSilhouette:
+            return "silhouette_map";
     }
     return "?";
 }
 
 client::KitDepth KitDepthFor(EngineFilter filter) noexcept {
-    return filter == EngineFilter::kSecondDepth ? client::KitDepth::kSecondDepth
-                                                : client::KitDepth::kDepth;
+    switch (filter) {
+        case EngineFilter::kSecondDepth:
+            return client::KitDepth::kSecondDepth;
+        case EngineFilter::kSilhouette:
+            return client::KitDepth::kSilhouette;
+        case EngineFilter::kDepth:
+        case EngineFilter::kPcf:
+            break;
+    }
+    return client::KitDepth::kDepth;
 }
 
 Result<EngineView> EngineView::Create(client::GlLoader loader) {
@@ -121,7 +131,7 @@ Result<EngineView> EngineView::Create(client::GlLoader loader) {
     auto prepass = Link(*gl, vertex, nullptr, "depth pre-pass");
     if (!prepass) return prepass.error();
     view.prepass_ = *prepass;
-    for (int filter = 0; filter < 3; ++filter) {
+    for (int filter = 0; filter < kEngineFilters; ++filter) {
         const std::string fragment =
             version + "#define LIXEL_MAX_MAPS " + std::to_string(kit::kMaxMaps) +
             "\n#define LIXEL_MAX_HALF_PLANES " + std::to_string(kit::kMaxHalfPlanes) +
@@ -169,7 +179,7 @@ EngineView& EngineView::operator=(EngineView&& other) noexcept {
 }
 
 void EngineView::TakeHandles(EngineView& other) noexcept {
-    for (int i = 0; i < 3; ++i) programs_[i] = std::exchange(other.programs_[i], 0);
+    for (int i = 0; i < kEngineFilters; ++i) programs_[i] = std::exchange(other.programs_[i], 0);
     prepass_ = std::exchange(other.prepass_, 0);
     vao_ = std::exchange(other.vao_, 0);
     positions_ = std::exchange(other.positions_, 0);
@@ -183,6 +193,7 @@ void EngineView::TakeHandles(EngineView& other) noexcept {
     origin_ = other.origin_;
     has_meshes_ = std::exchange(other.has_meshes_, false);
     has_kit_ = std::exchange(other.has_kit_, false);
+    kit_has_maps_ = std::exchange(other.kit_has_maps_, false);
     kit_origin_ = other.kit_origin_;
 }
 
@@ -262,6 +273,7 @@ Result<bool> EngineView::UploadMeshes(std::span<const Mesh> meshes, const Vec3& 
 Result<bool> EngineView::UploadKit(const client::KitFrame& frame) {
     if (auto ok = uploader_.Upload(frame); !ok) return ok;
     has_kit_ = true;
+    kit_has_maps_ = !frame.maps.empty();
     kit_origin_ = frame.origin;
     return true;
 }
@@ -326,9 +338,16 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
         return Error{"options.pcf_radius", std::to_string(o.pcf_radius) + " outside [1, 4]"};
     }
     const int index = static_cast<int>(filter);
-    if (index < 0 || index > 2) return Error{"filter", "not depth, pcf or second_depth"};
+    if (index < 0 || index >= kEngineFilters) {
+        return Error{"filter", "not depth, pcf, second_depth or silhouette_map"};
+    }
     if (!has_meshes_) return Error{"meshes", "none uploaded (UploadMeshes)"};
     if (!has_kit_) return Error{"kit", "no maps uploaded (UploadKit)"};
+    if (filter == EngineFilter::kSilhouette && !uploader_.has_atlas_b() && kit_has_maps_) {
+        return Error{"kit",
+                     "the silhouette test needs the silhouette points (atlas \"b\"): upload a "
+                     "KitFrameOf(..., KitDepth::kSilhouette, ...)"};
+    }
     if (kit_origin_ != origin_) {
         return Error{"origin",
                      "the kit frame's origin is not the meshes': positions and maps "
@@ -357,8 +376,7 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
 
     // DESIGN §3: z/w in [0, 1], lower-left origin; pixel centres at +0.5 (GL's default).
     gl_.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    uploader_.Bind(kBlockBinding, kAtlasUnitA);
-    gl_.BindTextureUnit(kAtlasUnitB, 0);
+    uploader_.Bind(kBlockBinding, kAtlasUnitA, kAtlasUnitB);
     gl_.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
     gl_.Viewport(0, 0, camera.viewport.width, camera.viewport.height);
     gl_.Enable(GL_DEPTH_TEST);

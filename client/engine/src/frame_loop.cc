@@ -31,6 +31,8 @@ v1::Filter WireFilter(EngineFilter filter) {
             return v1::FILTER_PCF;
         case EngineFilter::kSecondDepth:
             return v1::FILTER_SECOND_DEPTH;
+        case EngineFilter::kSilhouette:
+            return v1::FILTER_SILHOUETTE_MAP;
         case EngineFilter::kDepth:
             break;
     }
@@ -57,6 +59,39 @@ void FillMissingSecondDepth(client::RenderedMaps& rendered) {
         image->set_height(map.height());
         image->set_bytes(std::uint64_t{map.width()} * map.height() * 4);
         rendered.images.emplace_back(std::size_t{map.width()} * map.height(), 0.0f);
+    }
+}
+
+void FillMissingSilhouetteMap(client::RenderedMaps& rendered) {
+    const int maps = rendered.header.plan().maps_size();
+    std::vector<bool> corners(static_cast<std::size_t>(maps), false);
+    std::vector<bool> points(static_cast<std::size_t>(maps), false);
+    for (const v1::MapImage& image : rendered.header.images()) {
+        if (image.map_index() >= corners.size()) continue;
+        if (image.pass() == v1::PASS_CORNER_DEPTH) corners[image.map_index()] = true;
+        if (image.pass() == v1::PASS_SILHOUETTE_MAP) points[image.map_index()] = true;
+    }
+    for (int i = 0; i < maps; ++i) {
+        const v1::LightMap& map = rendered.header.plan().maps(i).map();
+        const std::uint32_t w = map.width(), h = map.height();
+        if (!corners[static_cast<std::size_t>(i)]) {
+            v1::MapImage* image = rendered.header.add_images();
+            image->set_map_index(static_cast<std::uint32_t>(i));
+            image->set_pass(v1::PASS_CORNER_DEPTH);
+            image->set_width(w + 1);
+            image->set_height(h + 1);
+            image->set_bytes(std::uint64_t{w + 1} * (h + 1) * 4);
+            rendered.images.emplace_back(std::size_t{w + 1} * (h + 1), 0.0f);
+        }
+        if (!points[static_cast<std::size_t>(i)]) {
+            v1::MapImage* image = rendered.header.add_images();
+            image->set_map_index(static_cast<std::uint32_t>(i));
+            image->set_pass(v1::PASS_SILHOUETTE_MAP);
+            image->set_width(w);
+            image->set_height(h);
+            image->set_bytes(std::uint64_t{w} * h * 8);
+            rendered.images.emplace_back(std::size_t{w} * h * 2, client::kNoSilhouettePoint);
+        }
     }
 }
 
@@ -135,6 +170,7 @@ Result<EngineFrame> FrameLoop::Run(int frame_index) {
     plan.mutable_camera()->set_height(static_cast<std::uint32_t>(scene->camera.viewport.height));
     service::EncodeVec4(scene->light, plan.mutable_light()->mutable_position());
     plan.mutable_passes()->set_second_depth(options_.filter == EngineFilter::kSecondDepth);
+    plan.mutable_passes()->set_silhouette_map(options_.filter == EngineFilter::kSilhouette);
     if (options_.coherent) client::SetPreviousMaps(previous_plan_, plan.mutable_coherence());
     start = Clock::now();
     v1::RenderRequest render_request;
@@ -154,6 +190,7 @@ Result<EngineFrame> FrameLoop::Run(int frame_index) {
         (bounds.min.array() <= bounds.max.array()).all() ? bounds.Center() : Vec3::Zero();
     start = Clock::now();
     if (options_.filter == EngineFilter::kSecondDepth) FillMissingSecondDepth(rendered.value());
+    if (options_.filter == EngineFilter::kSilhouette) FillMissingSilhouetteMap(rendered.value());
     auto kit = client::KitFrameOf(*rendered, KitDepthFor(options_.filter), origin);
     if (!kit) return Step("kit", kit.error());
     out.times.kit_frame = Since(start);

@@ -1,4 +1,4 @@
-// A KitFrame's block and atlas "a" in GL objects kept across frames (kit_uploader.h).
+// A KitFrame's block and atlases in GL objects kept across frames (kit_uploader.h).
 #include <lixel/client/kit_uploader.h>
 #include <lixel/kit/shadow_block.h>
 
@@ -39,6 +39,23 @@ Result<bool> ValidateKitFrame(const KitFrame& frame, int max_texture_size) {
                                          std::to_string(frame.atlas.width) + " x " +
                                          std::to_string(frame.atlas.height) + " atlas"};
     }
+    const PointAtlas& b = frame.atlas_b;
+    if (b.width == 0 && b.height == 0 && b.texels.empty()) return true;  // no silhouette points
+    if (b.width < 1 || b.width > max_texture_size) {
+        return Error{"atlas_b.width", std::to_string(b.width) + " outside [1, " +
+                                          std::to_string(max_texture_size) +
+                                          "] (GL_MAX_TEXTURE_SIZE)"};
+    }
+    if (b.height < 1 || b.height > max_texture_size) {
+        return Error{"atlas_b.height", std::to_string(b.height) + " outside [1, " +
+                                           std::to_string(max_texture_size) +
+                                           "] (GL_MAX_TEXTURE_SIZE)"};
+    }
+    if (b.texels.size() != static_cast<std::size_t>(b.width) * b.height * 2) {
+        return Error{"atlas_b.texels", std::to_string(b.texels.size()) + " floats for a " +
+                                           std::to_string(b.width) + " x " +
+                                           std::to_string(b.height) + " RG atlas"};
+    }
     return true;
 }
 
@@ -61,6 +78,10 @@ KitUploader::KitUploader(KitUploader&& other) noexcept
       block_(std::exchange(other.block_, 0)),
       atlas_(std::exchange(other.atlas_, 0)),
       atlas_size_(std::exchange(other.atlas_size_, Viewport{})),
+      atlas_b_(std::exchange(other.atlas_b_, 0)),
+      atlas_b_size_(std::exchange(other.atlas_b_size_, Viewport{})),
+      has_atlas_b_(std::exchange(other.has_atlas_b_, false)),
+      atlas_b_reallocations_(other.atlas_b_reallocations_),
       max_texture_size_(other.max_texture_size_),
       reallocations_(other.reallocations_),
       uploads_(other.uploads_) {}
@@ -72,6 +93,10 @@ KitUploader& KitUploader::operator=(KitUploader&& other) noexcept {
         block_ = std::exchange(other.block_, 0);
         atlas_ = std::exchange(other.atlas_, 0);
         atlas_size_ = std::exchange(other.atlas_size_, Viewport{});
+        atlas_b_ = std::exchange(other.atlas_b_, 0);
+        atlas_b_size_ = std::exchange(other.atlas_b_size_, Viewport{});
+        has_atlas_b_ = std::exchange(other.has_atlas_b_, false);
+        atlas_b_reallocations_ = other.atlas_b_reallocations_;
         max_texture_size_ = other.max_texture_size_;
         reallocations_ = other.reallocations_;
         uploads_ = other.uploads_;
@@ -83,8 +108,10 @@ KitUploader::~KitUploader() { Release(); }
 
 void KitUploader::Release() noexcept {
     if (atlas_ != 0) gl_.DeleteTextures(1, &atlas_);
+    if (atlas_b_ != 0) gl_.DeleteTextures(1, &atlas_b_);
     if (block_ != 0) gl_.DeleteBuffers(1, &block_);
     atlas_ = 0;
+    atlas_b_ = 0;
     block_ = 0;
 }
 
@@ -126,6 +153,25 @@ Result<bool> KitUploader::Upload(const KitFrame& frame) {
         gl_.TextureSubImage2D(atlas_, 0, 0, 0, size.width, size.height, GL_RED, GL_FLOAT,
                               frame.atlas.texels.data());
     }
+    has_atlas_b_ = !frame.atlas_b.texels.empty();
+    if (has_atlas_b_) {
+        const PointAtlas& b = frame.atlas_b;
+        if (atlas_b_ == 0 || b.width != atlas_b_size_.width || b.height != atlas_b_size_.height) {
+            if (atlas_b_ != 0) gl_.DeleteTextures(1, &atlas_b_);
+            atlas_b_ = 0;
+            gl_.CreateTextures(GL_TEXTURE_2D, 1, &atlas_b_);
+            gl_.TextureStorage2D(atlas_b_, 1, GL_RG32F, b.width, b.height);
+            // texelFetch only, inside each map (no border): NEAREST, clamped as a second guard.
+            gl_.TextureParameteri(atlas_b_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            gl_.TextureParameteri(atlas_b_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            gl_.TextureParameteri(atlas_b_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            gl_.TextureParameteri(atlas_b_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            atlas_b_size_ = {b.width, b.height};
+            ++atlas_b_reallocations_;
+        }
+        gl_.TextureSubImage2D(atlas_b_, 0, 0, 0, b.width, b.height, GL_RG, GL_FLOAT,
+                              b.texels.data());
+    }
     gl_.BindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(unpack_buffer));
     gl_.PixelStorei(GL_UNPACK_ROW_LENGTH, row_length);
     gl_.PixelStorei(GL_UNPACK_SKIP_ROWS, skip_rows);
@@ -139,6 +185,11 @@ Result<bool> KitUploader::Upload(const KitFrame& frame) {
 void KitUploader::Bind(GLuint block_binding, GLuint atlas_unit) const {
     gl_.BindBufferBase(GL_UNIFORM_BUFFER, block_binding, block_);
     gl_.BindTextureUnit(atlas_unit, atlas_);
+}
+
+void KitUploader::Bind(GLuint block_binding, GLuint atlas_unit, GLuint atlas_b_unit) const {
+    Bind(block_binding, atlas_unit);
+    gl_.BindTextureUnit(atlas_b_unit, has_atlas_b_ ? atlas_b_ : 0);
 }
 
 }  // namespace lixel::client

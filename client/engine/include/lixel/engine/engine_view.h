@@ -20,9 +20,12 @@
 
 namespace lixel::engine {
 
-// The kit's tests a client frame can run (the silhouette test reads a corner-depth map Render
-// does not stream). Values match engine_view.frag's kFilter* constants.
-enum class EngineFilter { kDepth = 0, kPcf = 1, kSecondDepth = 2 };
+// The kit's tests a client frame can run: hard shadows, PCF, second depth (paper 003) and the
+// silhouette map (paper 000: the corner depth and the points Render streams for maps planned with
+// the silhouette_map pass, KitDepth::kSilhouette). Values match engine_view.frag's kFilter*
+// constants.
+enum class EngineFilter { kDepth = 0, kPcf = 1, kSecondDepth = 2, kSilhouette = 3 };
+inline constexpr int kEngineFilters = 4;
 
 const char* EngineFilterName(EngineFilter filter) noexcept;
 
@@ -32,8 +35,9 @@ client::KitDepth KitDepthFor(EngineFilter filter) noexcept;
 // The shadow tests' settings. The defaults are lixel's view pass's (render::ShadowOptions; the
 // test EngineView.BiasDefaultsAreTheViewPasss holds them equal), so the engine's mask is View's.
 struct EngineShadowOptions {
-    // Depth and PCF: lit when depth + min(depth_bias + slope_bias * reach * |grad d|, max_bias)
-    // >= the stored depth; clip-depth units except slope_bias (dimensionless, >= 0).
+    // Depth, PCF and the silhouette map: lit when depth + min(depth_bias + slope_bias * reach *
+    // |grad d|, max_bias) >= the stored (corner) depth; clip-depth units except slope_bias
+    // (dimensionless, >= 0).
     float depth_bias = 0.0f;
     float slope_bias = 1.5f;
     float max_bias = 1.0f;
@@ -87,7 +91,8 @@ class EngineView {
 
     // Draws the uploaded meshes with the uploaded maps and reads the mask and the colour back.
     // Errors: "camera.viewer", "camera.viewport", "camera.light", "options.pcf_radius",
-    // "options.*_bias", "meshes" (none uploaded), "kit" (none uploaded), "gl".
+    // "options.*_bias", "meshes" (none uploaded), "kit" (none uploaded, or kSilhouette on a frame
+    // without silhouette points), "filter", "gl".
     Result<EngineImages> Draw(const EngineCamera& camera, EngineFilter filter,
                               const EngineShadowOptions& options = {});
 
@@ -111,7 +116,7 @@ class EngineView {
 
     client::GlFunctions gl_;
     client::KitUploader uploader_;
-    GLuint programs_[3] = {0, 0, 0};  // by EngineFilter
+    GLuint programs_[kEngineFilters] = {0, 0, 0, 0};  // by EngineFilter
     GLuint prepass_ = 0;
     GLuint vao_ = 0;
     GLuint positions_ = 0;
@@ -125,6 +130,7 @@ class EngineView {
     Vec3 origin_ = Vec3::Zero();
     bool has_meshes_ = false;
     bool has_kit_ = false;
+    bool kit_has_maps_ = false;  // the uploaded frame's; a frame without maps needs no atlas "b"
     Vec3 kit_origin_ = Vec3::Zero();
 };
 

@@ -49,6 +49,13 @@ struct EngineFrameTimes {
 // GL-free.
 void FillMissingSecondDepth(client::RenderedMaps& rendered);
 
+// The same for the silhouette map, planned only for maps with a caster: for each map without a
+// corner depth, a corner depth of stored depth 0 ((width + 1) x (height + 1)) and, without
+// points, points all client::kNoSilhouettePoint (no silhouette), so KitFrameOf(kSilhouette) finds
+// both per map; with every corner at depth 0 the silhouette test counts the map's points lit.
+// GL-free.
+void FillMissingSilhouetteMap(client::RenderedMaps& rendered);
+
 // Two masks pixel by pixel (GL-free): the lit answer is mask >= 0.5; only pixels where both show
 // a surface (mask >= 0) are compared.
 struct MaskComparison {
