@@ -22,6 +22,7 @@ const char* PassName(v1::PassKind pass) {
         case v1::PASS_DEPTH: return "depth";
         case v1::PASS_SECOND_DEPTH: return "second_depth";
         case v1::PASS_SILHOUETTE_MAP: return "silhouette_map";
+        case v1::PASS_CORNER_DEPTH: return "corner_depth";
         default: return "pass";
     }
 }
