@@ -2,7 +2,9 @@
 // a light, up to 8 objects (some with a box mesh), up to 4 planes (some bounded), budgets,
 // texture limits and passes. No crash; an ok() plan is finite, within its budget, and its
 // lookup answers an index into its maps. The same request's baselines (uniform, PSM, LiSPSM,
-// cascades with random settings) from the plan's hull keep the same promises.
+// cascades with random settings) from the plan's hull keep the same promises, and so does the
+// next frame planned frame-coherently from this one's maps (sizes, twists and settings
+// perturbed).
 #include "fuzz_input.h"
 
 #include <lixel/solver/baseline_plan.h>
@@ -94,5 +96,24 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     cascades.stabilize = in.ConsumeBool();
     const auto baseline = lixel::PlanBaseline(request, fitting, plan->hull, cascades);
     if (baseline) lixel::fuzz::CheckPlan(request, *baseline, in);
+
+    // The next frame, frame-coherent: this plan's maps as the previous frame's, their sizes and
+    // twists perturbed, with random settings (out of range ones are refused, never a crash).
+    lixel::PlanRequest next = request;
+    lixel::FrameCoherence coherence;
+    if (in.ConsumeBool()) coherence.waste_bound = lixel::fuzz::PickDouble(in);
+    if (in.ConsumeBool()) coherence.scale_steps = in.ConsumeIntegral<int>();
+    if (in.ConsumeBool()) coherence.twist_saving = lixel::fuzz::PickDouble(in);
+    for (const lixel::PlannedMap& m : plan->maps) {
+        lixel::PreviousMap p{m.role, m.plane_index, m.cube_face, m.map.width, m.map.height,
+                             m.twist_radians};
+        if (in.ConsumeBool()) p.width += in.ConsumeIntegralInRange<int>(-64, 64);
+        if (in.ConsumeBool()) p.height += in.ConsumeIntegralInRange<int>(-64, 64);
+        if (in.ConsumeBool()) p.twist_radians = lixel::fuzz::PickDouble(in);
+        coherence.previous.push_back(p);
+    }
+    next.coherence = coherence;
+    const auto coherent = lixel::PlanShadowMaps(next);
+    if (coherent) lixel::fuzz::CheckPlan(next, *coherent, in);
     return 0;
 }

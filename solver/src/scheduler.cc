@@ -211,8 +211,9 @@ Result<bool> ValidateCoherence(const FrameCoherence& f) {
     return true;
 }
 
-// The largest 2^(-k / steps), k whole, not above `scale` (FrameCoherence::scale_steps); the
-// tolerance keeps a scale already on a step there rather than one step down.
+// The largest 2^(-k / steps), k whole, not above `scale` (FrameCoherence::scale_steps) but for
+// the 1e-9 tolerance in k, which keeps a scale already on a step there rather than one step
+// down; the rescale loop checks the budget again either way.
 double QuantizedScale(double scale, int steps) {
     if (!(scale > 0.0) || scale >= 1.0) return std::min(scale, 1.0);
     const double k = std::ceil(-static_cast<double>(steps) * std::log2(scale) - 1e-9);
@@ -803,11 +804,11 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
         int guard = GuardFor(budget, max_side);
         const auto fit = [&](const MapSize& size) { return FitFrustum(c.light, points, size); };
         auto fallback = FitWithGuard(fit, budget, max_side, guard);
-        // Frame coherence: the previous fallback's size, when it fits what is left of the budget
-        // and the map fitted to that many lixels is stretched onto it by at least
-        // sqrt(1 - waste_bound) along each axis: its lixels grow by at most 1 / sqrt(1 - waste)
-        // along one axis (1.15 at the default 0.25) and shrink along the other, as the fallback's
-        // rays turn with the view.
+        // Frame coherence: the previous fallback's size, when it fits what is left of the budget,
+        // holds at least 1 - waste_bound of the map that budget fits, and the map fitted to its
+        // own lixels is stretched onto it by at least sqrt(1 - waste_bound) along each axis: its
+        // lixels grow by at most 1 / sqrt(1 - waste) along one axis (1.15 at the default 0.25)
+        // and shrink along the other, as the fallback's rays turn with the view.
         const PreviousMap* previous = PreviousOf(c.request, MapRole::kFallback);
         const std::int64_t previous_area =
             previous != nullptr ? static_cast<std::int64_t>(previous->width) * previous->height
@@ -819,8 +820,14 @@ Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& un
             const std::int64_t w = natural.ok() ? natural->width + 2 * kept_guard : 0;
             const std::int64_t h = natural.ok() ? natural->height + 2 * kept_guard : 0;
             const double least = std::sqrt(1.0 - c.request.coherence->waste_bound);
+            // And the kept size holds at least 1 - waste_bound of the lixels the whole budget
+            // would fit: as the plane maps give lixels back, the fallback grows into them.
+            const double full = static_cast<double>(fallback->width + 2 * guard) *
+                                static_cast<double>(fallback->height + 2 * guard);
             if (natural.ok() && previous->width >= least * static_cast<double>(w) &&
-                previous->height >= least * static_cast<double>(h)) {
+                previous->height >= least * static_cast<double>(h) &&
+                static_cast<double>(previous_area) >=
+                    (1.0 - c.request.coherence->waste_bound) * full) {
                 auto kept = fit(MapSize{previous->width - 2 * kept_guard,
                                         previous->height - 2 * kept_guard, 0});
                 if (kept.ok()) {
@@ -1577,7 +1584,8 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
         if (!kept || !r.coherence || total(*kept) <= available) return kept;
         std::vector<LeftOut> tight_left_out;
         auto tight = SolvePlaneMaps(c, scale, tight_left_out, false);
-        if (!tight || total(*tight) > available) return kept;
+        // Over the budget either way: the smaller maps, so the next scale is found from them.
+        if (!tight || total(*tight) >= total(*kept)) return kept;
         left_out = std::move(tight_left_out);
         return tight;
     };
@@ -1586,7 +1594,16 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     // What the maps at one lixel per pixel leave uncovered; still the answer below when the
     // budget needs no smaller scale (the maps are then the same).
     std::vector<UncoveredPiece> uncovered = Uncovered(c, *maps);
-    const bool fallback_needed = !uncovered.empty();
+    // Frame coherence: kept sizes and headroom widen the maps' lookup rectangles, and the loop
+    // below may fall back on the tight maps, which can leave rays to the fallback that the wide
+    // ones hold; its floor is reserved by what the tight maps leave.
+    bool fallback_needed = !uncovered.empty();
+    if (r.coherence && !fallback_needed) {
+        std::vector<LeftOut> tight_left_out;
+        auto tight = SolvePlaneMaps(c, 1.0, tight_left_out, false);
+        if (!tight) return tight.error();
+        fallback_needed = !Uncovered(c, *tight).empty();
+    }
     const std::int64_t floor =
         fallback_needed ? std::max<std::int64_t>(1, std::min(r.fallback_floor, r.lixel_budget / 2))
                         : 0;
@@ -1626,7 +1643,7 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     plan.left_out = c.plane_left_out;
     plan.left_out.insert(plan.left_out.end(), left_out.begin(), left_out.end());
 
-    if (rescaled) uncovered = Uncovered(c, plan.maps);
+    if (rescaled || r.coherence) uncovered = Uncovered(c, plan.maps);
     if (uncovered.empty()) {
         plan.left_out.push_back({"fallback", "not needed: the plane maps accept every ray "
                                              "through the visible scene (C_tot)"});

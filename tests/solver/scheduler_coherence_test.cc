@@ -334,7 +334,9 @@ TEST(SchedulerCoherence, WalkThroughTheRoomKeepsSizesWithinTheContract) {
 // every frame, measured) and now and then jumps to another edge of the image; coherence keeps
 // it. Seeds 7-9, 8 scale steps, waste 0.15. Measured: without coherence 363 of 531 plane maps
 // changed size, the fallback 133 of 177 times, the scale 175 times in 177 frames, the table's
-// twist 177 times (3 by more than 2 degrees); with it 51, 9, 3 and 1.
+// twist 177 times (3 by more than 2 degrees); with it 51, 24, 3 and 1 (the fallback follows the
+// lixels the plane maps' 51 changes give up or take: with only a waste bound of 0.15 to absorb
+// them it keeps its size in 153 of 177 frames).
 TEST(SchedulerCoherence, WalkWithATableKeepsTheTwist) {
     SequenceFigures plain, coherent;
     FrameCoherence settings;
@@ -347,7 +349,7 @@ TEST(SchedulerCoherence, WalkWithATableKeepsTheTwist) {
     Print("plain", plain);
     Print("coherent", coherent);
     EXPECT_LE(coherent.size_changes * 5, plain.size_changes);  // measured 51 of 363
-    EXPECT_LE(coherent.fallback_changes * 10, plain.fallback_changes);  // measured 9 of 133
+    EXPECT_LE(coherent.fallback_changes * 4, plain.fallback_changes);  // measured 24 of 133
     EXPECT_GT(plain.twist_changes, 150);
     EXPECT_LE(coherent.twist_changes * 10, plain.twist_changes);  // measured 1 in 177
     EXPECT_LE(coherent.scale_changes * 10, plain.scale_changes);
@@ -389,6 +391,35 @@ TEST(SchedulerCoherence, FirstFrameOnlyStepsTheScale) {
     const auto roomy = PlanShadowMaps(r);
     ASSERT_TRUE(roomy.ok()) << roomy.error().Message();
     EXPECT_EQ(roomy->plane_scale, 1.0);
+}
+
+// The fallback keeps its previous size from frame to frame, but not one that holds much less
+// than what the plane maps leave of the budget: it grows back into lixels they give up.
+TEST(SchedulerCoherence, TheFallbackKeepsItsSizeAndGrowsBackIntoFreedLixels) {
+    PlanRequest r = RoomRequest(Vec3(0, 3, 8), Vec3(0, 0.5, -2), false);
+    r.coherence = FrameCoherence{};
+    const auto first = PlanShadowMaps(r);
+    ASSERT_TRUE(first.ok()) << first.error().Message();
+    const PlannedMap& fallback = first->maps.back();
+    ASSERT_EQ(fallback.role, MapRole::kFallback);
+
+    r.coherence->previous = PreviousOf(*first);
+    const auto same = PlanShadowMaps(r);
+    ASSERT_TRUE(same.ok()) << same.error().Message();
+    EXPECT_EQ(same->maps.back().map.width, fallback.map.width);
+    EXPECT_EQ(same->maps.back().map.height, fallback.map.height);
+
+    // A previous fallback of a quarter of the lixels (half of each side): refitted to the budget.
+    for (PreviousMap& p : r.coherence->previous) {
+        if (p.role != MapRole::kFallback) continue;
+        p.width /= 2;
+        p.height /= 2;
+    }
+    const auto grown = PlanShadowMaps(r);
+    ASSERT_TRUE(grown.ok()) << grown.error().Message();
+    EXPECT_GE(static_cast<double>(grown->maps.back().lixels),
+              (1.0 - r.coherence->waste_bound) * static_cast<double>(fallback.lixels));
+    EXPECT_LE(grown->total_lixels, r.lixel_budget);
 }
 
 // Previous sizes a little larger than the maps need are kept while the budget has room for
