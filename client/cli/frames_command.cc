@@ -61,7 +61,10 @@ int FramesCommand(client::Client& client, const Flags& flags) {
         }
         sheet.Add(frame->images);
         std::printf("%s\n", engine::FrameLine(*frame).c_str());
-        if (frame->check && frame->check->masks.differing > max_differing) ++over;
+        if (frame->check && frame->check->masks.differing + frame->check->masks.surface_mismatch >
+                                max_differing) {
+            ++over;
+        }
         frame->images = {};  // the PNG and the sheet have it
         frames.push_back(std::move(frame).value());
     }
@@ -71,7 +74,7 @@ int FramesCommand(client::Client& client, const Flags& flags) {
     if (over > 0) {
         std::fprintf(stderr,
                      "lixel: %d of %d frames have more than %lld pixels whose lit answer differs "
-                     "from View's mask\n",
+                     "from View's mask or where only one of them shows a surface\n",
                      over, options.frames, static_cast<long long>(max_differing));
         return 1;
     }

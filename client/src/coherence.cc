@@ -6,6 +6,9 @@ namespace lixel::client {
 void SetPreviousMaps(const v1::PlanResponse& plan, v1::FrameCoherence* coherence) {
     coherence->clear_previous();
     for (const v1::PlannedMap& m : plan.maps()) {
+        // Cube faces are refitted every frame; and the wire takes at most 64 previous maps.
+        if (m.role() == v1::MAP_ROLE_CUBE_FACE) continue;
+        if (coherence->previous_size() == lixel::kMaxPreviousMaps) break;
         v1::PreviousMap* p = coherence->add_previous();
         p->set_role(m.role());
         p->set_plane_index(m.plane_index());

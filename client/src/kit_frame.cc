@@ -80,10 +80,8 @@ Result<std::vector<kit::ImageView>> ImagesOf(const RenderedMaps& rendered,
         const int w = map.width + (corners ? 1 : 0);
         const int h = map.height + (corners ? 1 : 0);
         const std::vector<float>& texels = rendered.images[static_cast<std::size_t>(k)];
-        if (pass != v1::PASS_DEPTH && pass != v1::PASS_SECOND_DEPTH &&
-            (static_cast<int>(image.width()) != w || static_cast<int>(image.height()) != h ||
-             texels.size() != static_cast<std::size_t>(w) * static_cast<std::size_t>(h) *
-                                  channels)) {
+        if (static_cast<int>(image.width()) != w || static_cast<int>(image.height()) != h ||
+            texels.size() != static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * channels) {
             return Error{"images", "image " + std::to_string(k) + " (map " +
                                        std::to_string(image.map_index()) + "'s " +
                                        ImageName(pass) + ") is " + std::to_string(image.width()) +

@@ -52,9 +52,6 @@ struct Candidate {
 // straight angle or a vertex on an edge's line, within what rounding the vertices carry.
 constexpr double kPolygonSlack = 1e-9;
 
-// FrameCoherence's limits (scheduler.h; lixel.proto FrameCoherence).
-constexpr int kMaxScaleSteps = 64;
-constexpr std::size_t kMaxPreviousMaps = 64;
 
 // A bounded plane of interest must be convex and counter-clockwise seen from its normal's side:
 // the lookup's edge tests (paper §3: "four explicit point line tests") and EstimatePixels keep a
@@ -179,7 +176,7 @@ Result<bool> ValidateCoherence(const FrameCoherence& f) {
     if (!(f.twist_saving >= 0.0 && f.twist_saving < 1.0)) {
         return Error{"coherence.twist_saving", "must be in [0, 1), got " + Format(f.twist_saving)};
     }
-    if (f.previous.size() > kMaxPreviousMaps) {
+    if (f.previous.size() > static_cast<std::size_t>(kMaxPreviousMaps)) {
         return Error{"coherence.previous", "has " + std::to_string(f.previous.size()) +
                                                " maps, at most " +
                                                std::to_string(kMaxPreviousMaps)};

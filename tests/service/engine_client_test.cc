@@ -194,6 +194,10 @@ TEST(KitUploader, KeepsItsObjectsAndReallocatesOnlyWhenTheAtlasSizeChanges) {
     EXPECT_EQ(row_length, 50);
     gl->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
     gl->PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    // An error the caller raised before the upload is the caller's: the upload still succeeds.
+    gl->PixelStorei(0x1234, 1);  // GL_INVALID_ENUM
+    EXPECT_TRUE(uploader->Upload(b).ok());
+    EXPECT_EQ(uploader->uploads(), 4);
 }
 
 TEST(KitUploader, UploadsTheSilhouettePointsAsAnRgAtlas) {

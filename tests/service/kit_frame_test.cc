@@ -325,6 +325,17 @@ TEST(KitFrame, SilhouetteFramePacksCornerDepthWithItsBorderAndPointsWithout) {
     EXPECT_EQ(mis_sized.error().field, "images");
     EXPECT_NE(mis_sized.error().reason.find("6 x 4"), std::string::npos)
         << mis_sized.error().reason;
+    // The corner depths streamed as if they were the maps' depths, one texel too large each way:
+    // a depth frame is refused too, rather than sampling them at the map's size.
+    client::RenderedMaps relabelled = rendered;
+    for (v1::MapImage& image : *relabelled.header.mutable_images()) {
+        if (image.pass() == v1::PASS_CORNER_DEPTH) image.set_pass(v1::PASS_DEPTH);
+    }
+    auto wrong_depth = client::KitFrameOf(relabelled, client::KitDepth::kDepth, Vec3::Zero());
+    ASSERT_FALSE(wrong_depth.ok());
+    EXPECT_EQ(wrong_depth.error().field, "images");
+    EXPECT_NE(wrong_depth.error().reason.find("needs 5 x 3"), std::string::npos)
+        << wrong_depth.error().reason;
 }
 
 // Render streams, for every map planned with the silhouette map, its corner depth ((w + 1) x

@@ -235,6 +235,11 @@ Result<bool> EngineView::UploadMeshes(std::span<const Mesh> meshes, const Vec3& 
         if (base + mesh.positions.size() > std::numeric_limits<std::uint32_t>::max()) {
             return Error{field + ".positions", "the scene exceeds 2^32 vertices"};
         }
+        // glDrawElements counts indices in a GLsizei.
+        if (indices.size() + mesh.indices.size() >
+            static_cast<std::size_t>(std::numeric_limits<GLsizei>::max())) {
+            return Error{field + ".indices", "the scene exceeds 2^31 - 1 indices"};
+        }
         for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
             const Eigen::Vector3f& p = mesh.positions[i];
             if (!p.allFinite()) {
@@ -374,7 +379,11 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
     gl_.ProgramUniform1i(program, uniform("u_virtual_samples"), o.virtual_samples ? 1 : 0);
     const GLint receiver_open = uniform("u_receiver_open");
 
-    // DESIGN §3: z/w in [0, 1], lower-left origin; pixel centres at +0.5 (GL's default).
+    // DESIGN §3: z/w in [0, 1], lower-left origin; pixel centres at +0.5 (GL's default). The
+    // caller's clip convention is put back after the draw.
+    GLint clip_origin = GL_LOWER_LEFT, clip_depth = GL_NEGATIVE_ONE_TO_ONE;
+    gl_.GetIntegerv(GL_CLIP_ORIGIN, &clip_origin);
+    gl_.GetIntegerv(GL_CLIP_DEPTH_MODE, &clip_depth);
     gl_.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     uploader_.Bind(kBlockBinding, kAtlasUnitA, kAtlasUnitB);
     gl_.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
@@ -414,6 +423,7 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
     gl_.UseProgram(0);
     gl_.BindVertexArray(0);
     gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl_.ClipControl(static_cast<GLenum>(clip_origin), static_cast<GLenum>(clip_depth));
 
     EngineImages images;
     images.width = camera.viewport.width;
@@ -421,12 +431,27 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
     const std::size_t pixels = static_cast<std::size_t>(images.width) * images.height;
     images.mask.resize(pixels);
     std::vector<std::uint8_t> rgba(pixels * 4);
+    // Tightly packed rows into client memory for the read-back, the caller's pack state kept.
+    GLint pack_buffer = 0, row_length = 0, skip_rows = 0, skip_pixels = 0, alignment = 4;
+    gl_.GetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pack_buffer);
+    gl_.GetIntegerv(GL_PACK_ROW_LENGTH, &row_length);
+    gl_.GetIntegerv(GL_PACK_SKIP_ROWS, &skip_rows);
+    gl_.GetIntegerv(GL_PACK_SKIP_PIXELS, &skip_pixels);
+    gl_.GetIntegerv(GL_PACK_ALIGNMENT, &alignment);
     gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    gl_.PixelStorei(GL_PACK_ROW_LENGTH, 0);
+    gl_.PixelStorei(GL_PACK_SKIP_ROWS, 0);
+    gl_.PixelStorei(GL_PACK_SKIP_PIXELS, 0);
     gl_.PixelStorei(GL_PACK_ALIGNMENT, 4);
     gl_.GetTextureImage(mask_, 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(pixels * sizeof(float)),
                         images.mask.data());
     gl_.GetTextureImage(colour_, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(rgba.size()),
                         rgba.data());
+    gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(pack_buffer));
+    gl_.PixelStorei(GL_PACK_ROW_LENGTH, row_length);
+    gl_.PixelStorei(GL_PACK_SKIP_ROWS, skip_rows);
+    gl_.PixelStorei(GL_PACK_SKIP_PIXELS, skip_pixels);
+    gl_.PixelStorei(GL_PACK_ALIGNMENT, alignment);
     images.rgb.resize(pixels * 3);
     for (std::size_t i = 0; i < pixels; ++i) {
         for (int c = 0; c < 3; ++c) images.rgb[3 * i + c] = rgba[4 * i + c];

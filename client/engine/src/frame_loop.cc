@@ -145,6 +145,10 @@ Result<std::unique_ptr<FrameLoop>> FrameLoop::Create(client::Client& client,
         new FrameLoop(client, options, std::move(context).value(), std::move(view).value()));
 }
 
+FrameLoop::~FrameLoop() {
+    if (context_) (void)context_->MakeCurrent();
+}
+
 Result<EngineFrame> FrameLoop::Run(int frame_index) {
     if (auto ok = context_->MakeCurrent(); !ok) return ok.error();
     scene::SequenceOptions sequence;
@@ -286,6 +290,7 @@ FramesSummary Summarise(std::span<const EngineFrame> frames) {
         ++s.checked;
         s.worst_differing = std::max(s.worst_differing, f.check->masks.differing);
         s.differing += f.check->masks.differing;
+        s.surface_mismatch += f.check->masks.surface_mismatch;
         s.compared += f.check->masks.compared;
         s.engine.decided += f.check->engine.decided;
         s.engine.wrong += f.check->engine.wrong;
@@ -310,10 +315,12 @@ std::string FrameLine(const EngineFrame& f) {
     if (f.check) {
         const FrameCheck& c = *f.check;
         line += Format(
-            "\n           check: %lld of %lld pixels differ from View's mask; misclassified "
-            "engine %.3f%%, server %.3f%%; server view+readback %.2f ms",
+            "\n           check: %lld of %lld pixels differ from View's mask (%lld show a surface "
+            "in one only); misclassified engine %.3f%%, server %.3f%%; server view+readback %.2f "
+            "ms",
             static_cast<long long>(c.masks.differing), static_cast<long long>(c.masks.compared),
-            c.engine.Percent(), c.server.Percent(), 1e3 * c.server_view_seconds);
+            static_cast<long long>(c.masks.surface_mismatch), c.engine.Percent(),
+            c.server.Percent(), 1e3 * c.server_view_seconds);
     }
     return line;
 }
@@ -332,11 +339,12 @@ std::string SummaryText(const FramesSummary& s) {
         static_cast<long long>(s.atlas_reallocations));
     if (s.checked > 0) {
         text += Format(
-            "\ncheck over %d frames: %lld of %lld pixels differ (worst frame %lld); "
-            "misclassified engine %.3f%%, server %.3f%%; engine draw+readback / server "
-            "view+readback %.2f",
+            "\ncheck over %d frames: %lld of %lld pixels differ (worst frame %lld), %lld show a "
+            "surface in one mask only; misclassified engine %.3f%%, server %.3f%%; engine "
+            "draw+readback / server view+readback %.2f",
             s.checked, static_cast<long long>(s.differing), static_cast<long long>(s.compared),
-            static_cast<long long>(s.worst_differing), s.engine.Percent(), s.server.Percent(),
+            static_cast<long long>(s.worst_differing), static_cast<long long>(s.surface_mismatch),
+            s.engine.Percent(), s.server.Percent(),
             s.median_server_view > 0.0 ? m.draw_readback / s.median_server_view : 0.0);
     }
     return text;

@@ -117,6 +117,8 @@ void KitUploader::Release() noexcept {
 
 Result<bool> KitUploader::Upload(const KitFrame& frame) {
     if (auto ok = ValidateKitFrame(frame, max_texture_size_); !ok) return ok;
+    // Errors the caller raised before this call are its own, not the upload's.
+    (void)gl_.Check("gl");
     gl_.NamedBufferSubData(block_, 0, static_cast<GLsizeiptr>(frame.block.size()),
                            frame.block.data());
     const Viewport size = KitAtlasTextureSize(frame);
@@ -177,8 +179,19 @@ Result<bool> KitUploader::Upload(const KitFrame& frame) {
     gl_.PixelStorei(GL_UNPACK_SKIP_ROWS, skip_rows);
     gl_.PixelStorei(GL_UNPACK_SKIP_PIXELS, skip_pixels);
     gl_.PixelStorei(GL_UNPACK_ALIGNMENT, alignment);
+    if (auto ok = gl_.Check("gl"); !ok) {
+        // A texture whose storage failed (out of memory) must not be taken for one of this size
+        // next frame: both atlases are made again on the next upload.
+        if (atlas_ != 0) gl_.DeleteTextures(1, &atlas_);
+        if (atlas_b_ != 0) gl_.DeleteTextures(1, &atlas_b_);
+        atlas_ = 0;
+        atlas_b_ = 0;
+        atlas_size_ = {};
+        atlas_b_size_ = {};
+        has_atlas_b_ = false;
+        return Error{"gl", "kit upload: " + ok.error().reason};
+    }
     ++uploads_;
-    if (auto ok = gl_.Check("gl"); !ok) return Error{"gl", "kit upload: " + ok.error().reason};
     return true;
 }
 

@@ -31,10 +31,11 @@ Result<bool> PlotSequence(const std::string& folder, const std::vector<SequenceF
                   [](const auto* a, const auto* b) { return a->frame < b->frame; });
         data << "# " << method << (coherent ? " (coherent)" : "") << "\n";
         for (const SequenceFrameRow* f : frames) {
-            // The first frame has no flicker to report: a gap in its line.
+            // The first frame, and one after a skipped frame, have no flicker to report (no
+            // steady pixels): a gap in the line, not a 0.
             data << f->frame << " "
-                 << (f->frame == frames.front()->frame ? std::string("NaN")
-                                                       : text::Number(f->flicker.Percent(), 6))
+                 << (f->flicker.steady == 0 ? std::string("NaN")
+                                            : text::Number(f->flicker.Percent(), 6))
                  << " " << text::Number(f->error.Percent(), 6) << " " << f->total_lixels << " "
                  << f->reallocations << "\n";
         }

@@ -196,8 +196,6 @@ namespace {
 // FrameCoherence (lixel.proto): zeros mean the defaults, each refusal names its field.
 Result<FrameCoherence> DecodeCoherence(const v1::FrameCoherence& message,
                                        const std::string& field) {
-    constexpr int kMaxPreviousMaps = 64;
-    constexpr std::uint32_t kMaxScaleSteps = 64;
     FrameCoherence out;
     out.waste_bound = message.waste_bound() == 0.0 ? 0.25 : message.waste_bound();
     if (!(out.waste_bound > 0.0 && out.waste_bound < 1.0)) {
@@ -205,14 +203,14 @@ Result<FrameCoherence> DecodeCoherence(const v1::FrameCoherence& message,
                                                  std::to_string(message.waste_bound())};
     }
     const std::uint32_t steps = message.scale_steps() == 0 ? 4 : message.scale_steps();
-    if (steps > kMaxScaleSteps) {
+    if (steps > static_cast<std::uint32_t>(kMaxScaleSteps)) {
         return Error{field + ".scale_steps", "must be in [1, 64] (0 means 4), got " +
                                                  std::to_string(message.scale_steps())};
     }
     out.scale_steps = static_cast<int>(steps);
-    out.twist_saving = message.twist_saving() == 0.0 ? 0.1 : message.twist_saving();
+    out.twist_saving = message.has_twist_saving() ? message.twist_saving() : 0.1;
     if (!(out.twist_saving >= 0.0 && out.twist_saving < 1.0)) {
-        return Error{field + ".twist_saving", "must be in [0, 1) (0 means 0.1), got " +
+        return Error{field + ".twist_saving", "must be in [0, 1) (unset means 0.1), got " +
                                                   std::to_string(message.twist_saving())};
     }
     if (message.previous_size() > kMaxPreviousMaps) {

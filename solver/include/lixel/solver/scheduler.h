@@ -63,6 +63,10 @@ struct PreviousMap {
 // scale moves in a few steps instead of continuously, and a twist stays unless another saves
 // many lixels. The scheduler stays a function of its request: the previous frame's maps come
 // with it.
+// FrameCoherence's limits (the wire's too): previous maps, scale steps per octave.
+inline constexpr int kMaxPreviousMaps = 64;
+inline constexpr int kMaxScaleSteps = 64;
+
 struct FrameCoherence {
     std::vector<PreviousMap> previous;  // empty on the first frame
     // A plane map keeps its previous size while its needed rectangle (guard band included) fits

@@ -82,15 +82,18 @@ class EngineView {
     ~EngineView();
 
     // The frame's meshes, positions relative to `origin` (subtracted in double, then float, as
-    // lixel's passes upload theirs). Buffers are kept and regrown only when a scene is larger.
-    // Errors name the mesh ("meshes[1].indices[7]").
+    // lixel's passes upload theirs), into the view's two buffers, whose storage is given anew
+    // each call (the frame's scene may differ from the last). Errors name the mesh
+    // ("meshes[1].indices[7]").
     Result<bool> UploadMeshes(std::span<const Mesh> meshes, const Vec3& origin);
 
     // The frame's maps (KitUploader::Upload); its origin must be the meshes' ("origin").
     Result<bool> UploadKit(const client::KitFrame& frame);
 
     // Draws the uploaded meshes with the uploaded maps and reads the mask and the colour back.
-    // Errors: "camera.viewer", "camera.viewport", "camera.light", "options.pcf_radius",
+    // The caller's clip convention (glClipControl) and pack state are as they were afterwards;
+    // the depth test is left on, blending and face culling off, the kit's uniform buffer at
+    // binding 0 and its atlases on texture units 0 and 1. Errors: "camera.viewer", "camera.viewport", "camera.light", "options.pcf_radius",
     // "options.*_bias", "meshes" (none uploaded), "kit" (none uploaded, or kSilhouette on a frame
     // without silhouette points), "filter", "gl".
     Result<EngineImages> Draw(const EngineCamera& camera, EngineFilter filter,

@@ -108,6 +108,12 @@ class FrameLoop {
     // ("scene", "upload", "render", "kit", "draw", "view") and what failed.
     Result<EngineFrame> Run(int frame);
 
+    // Makes the loop's context current first, so its GL objects go from that context and not
+    // from whatever another loop or the embedding engine left current on this thread.
+    ~FrameLoop();
+    FrameLoop(const FrameLoop&) = delete;
+    FrameLoop& operator=(const FrameLoop&) = delete;
+
     const std::string& renderer() const { return context_->renderer(); }
     const FramesOptions& options() const { return options_; }
 
@@ -137,6 +143,7 @@ struct FramesSummary {
     int checked = 0;
     std::int64_t worst_differing = 0;  // the most differing pixels in one frame
     std::int64_t differing = 0;        // over every frame
+    std::int64_t surface_mismatch = 0;  // pixels where one mask shows a surface, over every frame
     std::int64_t compared = 0;
     TruthScore engine;  // summed over the frames
     TruthScore server;
