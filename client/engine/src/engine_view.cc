@@ -431,27 +431,14 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
     const std::size_t pixels = static_cast<std::size_t>(images.width) * images.height;
     images.mask.resize(pixels);
     std::vector<std::uint8_t> rgba(pixels * 4);
-    // Tightly packed rows into client memory for the read-back, the caller's pack state kept.
-    GLint pack_buffer = 0, row_length = 0, skip_rows = 0, skip_pixels = 0, alignment = 4;
-    gl_.GetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pack_buffer);
-    gl_.GetIntegerv(GL_PACK_ROW_LENGTH, &row_length);
-    gl_.GetIntegerv(GL_PACK_SKIP_ROWS, &skip_rows);
-    gl_.GetIntegerv(GL_PACK_SKIP_PIXELS, &skip_pixels);
-    gl_.GetIntegerv(GL_PACK_ALIGNMENT, &alignment);
-    gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-    gl_.PixelStorei(GL_PACK_ROW_LENGTH, 0);
-    gl_.PixelStorei(GL_PACK_SKIP_ROWS, 0);
-    gl_.PixelStorei(GL_PACK_SKIP_PIXELS, 0);
-    gl_.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl_.GetTextureImage(mask_, 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(pixels * sizeof(float)),
-                        images.mask.data());
-    gl_.GetTextureImage(colour_, 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(rgba.size()),
-                        rgba.data());
-    gl_.BindBuffer(GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(pack_buffer));
-    gl_.PixelStorei(GL_PACK_ROW_LENGTH, row_length);
-    gl_.PixelStorei(GL_PACK_SKIP_ROWS, skip_rows);
-    gl_.PixelStorei(GL_PACK_SKIP_PIXELS, skip_pixels);
-    gl_.PixelStorei(GL_PACK_ALIGNMENT, alignment);
+    {
+        // Tightly packed rows into client memory; the caller's pack state after.
+        const client::PixelStoreScope tight(gl_, client::PixelStoreScope::kPack);
+        gl_.GetTextureImage(mask_, 0, GL_RED, GL_FLOAT,
+                            static_cast<GLsizei>(pixels * sizeof(float)), images.mask.data());
+        gl_.GetTextureImage(colour_, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                            static_cast<GLsizei>(rgba.size()), rgba.data());
+    }
     images.rgb.resize(pixels * 3);
     for (std::size_t i = 0; i < pixels; ++i) {
         for (int c = 0; c < 3; ++c) images.rgb[3 * i + c] = rgba[4 * i + c];

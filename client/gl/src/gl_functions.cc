@@ -31,4 +31,48 @@ Result<bool> GlFunctions::Check(const char* where) const {
     return Error{where, text};
 }
 
+namespace {
+
+// The pixel-store names of one direction, in the order PixelStoreScope keeps them.
+struct PixelStoreNames {
+    GLenum buffer_binding, buffer, row_length, skip_rows, skip_pixels, alignment;
+};
+
+PixelStoreNames NamesOf(PixelStoreScope::Direction direction) {
+    if (direction == PixelStoreScope::kUnpack) {
+        return {GL_PIXEL_UNPACK_BUFFER_BINDING, GL_PIXEL_UNPACK_BUFFER,
+                GL_UNPACK_ROW_LENGTH,           GL_UNPACK_SKIP_ROWS,
+                GL_UNPACK_SKIP_PIXELS,          GL_UNPACK_ALIGNMENT};
+    }
+    return {GL_PIXEL_PACK_BUFFER_BINDING, GL_PIXEL_PACK_BUFFER,
+            GL_PACK_ROW_LENGTH,           GL_PACK_SKIP_ROWS,
+            GL_PACK_SKIP_PIXELS,          GL_PACK_ALIGNMENT};
+}
+
+}  // namespace
+
+PixelStoreScope::PixelStoreScope(const GlFunctions& gl, Direction direction)
+    : gl_(gl), direction_(direction) {
+    const PixelStoreNames n = NamesOf(direction);
+    gl_.GetIntegerv(n.buffer_binding, &buffer_);
+    gl_.GetIntegerv(n.row_length, &row_length_);
+    gl_.GetIntegerv(n.skip_rows, &skip_rows_);
+    gl_.GetIntegerv(n.skip_pixels, &skip_pixels_);
+    gl_.GetIntegerv(n.alignment, &alignment_);
+    gl_.BindBuffer(n.buffer, 0);
+    gl_.PixelStorei(n.row_length, 0);
+    gl_.PixelStorei(n.skip_rows, 0);
+    gl_.PixelStorei(n.skip_pixels, 0);
+    gl_.PixelStorei(n.alignment, 4);
+}
+
+PixelStoreScope::~PixelStoreScope() {
+    const PixelStoreNames n = NamesOf(direction_);
+    gl_.BindBuffer(n.buffer, static_cast<GLuint>(buffer_));
+    gl_.PixelStorei(n.row_length, row_length_);
+    gl_.PixelStorei(n.skip_rows, skip_rows_);
+    gl_.PixelStorei(n.skip_pixels, skip_pixels_);
+    gl_.PixelStorei(n.alignment, alignment_);
+}
+
 }  // namespace lixel::client

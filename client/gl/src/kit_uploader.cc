@@ -136,49 +136,37 @@ Result<bool> KitUploader::Upload(const KitFrame& frame) {
         atlas_size_ = size;
         ++reallocations_;
     }
-    // The caller's unpack state, set to tightly packed rows from client memory for the upload.
-    GLint unpack_buffer = 0, row_length = 0, skip_rows = 0, skip_pixels = 0, alignment = 4;
-    gl_.GetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &unpack_buffer);
-    gl_.GetIntegerv(GL_UNPACK_ROW_LENGTH, &row_length);
-    gl_.GetIntegerv(GL_UNPACK_SKIP_ROWS, &skip_rows);
-    gl_.GetIntegerv(GL_UNPACK_SKIP_PIXELS, &skip_pixels);
-    gl_.GetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
-    gl_.BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-    gl_.PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-    gl_.PixelStorei(GL_UNPACK_SKIP_ROWS, 0);
-    gl_.PixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
-    gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    if (frame.atlas.texels.empty()) {
-        const float nothing = 0.0f;  // no maps: nothing is read, the texture is only complete
-        gl_.TextureSubImage2D(atlas_, 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &nothing);
-    } else {
-        gl_.TextureSubImage2D(atlas_, 0, 0, 0, size.width, size.height, GL_RED, GL_FLOAT,
-                              frame.atlas.texels.data());
-    }
-    has_atlas_b_ = !frame.atlas_b.texels.empty();
-    if (has_atlas_b_) {
-        const PointAtlas& b = frame.atlas_b;
-        if (atlas_b_ == 0 || b.width != atlas_b_size_.width || b.height != atlas_b_size_.height) {
-            if (atlas_b_ != 0) gl_.DeleteTextures(1, &atlas_b_);
-            atlas_b_ = 0;
-            gl_.CreateTextures(GL_TEXTURE_2D, 1, &atlas_b_);
-            gl_.TextureStorage2D(atlas_b_, 1, GL_RG32F, b.width, b.height);
-            // texelFetch only, inside each map (no border): NEAREST, clamped as a second guard.
-            gl_.TextureParameteri(atlas_b_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            gl_.TextureParameteri(atlas_b_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-            gl_.TextureParameteri(atlas_b_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-            gl_.TextureParameteri(atlas_b_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-            atlas_b_size_ = {b.width, b.height};
-            ++atlas_b_reallocations_;
+    {
+        // Tightly packed rows from client memory for the upload; the caller's unpack state after.
+        const PixelStoreScope tight(gl_, PixelStoreScope::kUnpack);
+        if (frame.atlas.texels.empty()) {
+            const float nothing = 0.0f;  // no maps: nothing is read, the texture is only complete
+            gl_.TextureSubImage2D(atlas_, 0, 0, 0, 1, 1, GL_RED, GL_FLOAT, &nothing);
+        } else {
+            gl_.TextureSubImage2D(atlas_, 0, 0, 0, size.width, size.height, GL_RED, GL_FLOAT,
+                                  frame.atlas.texels.data());
         }
-        gl_.TextureSubImage2D(atlas_b_, 0, 0, 0, b.width, b.height, GL_RG, GL_FLOAT,
-                              b.texels.data());
+        has_atlas_b_ = !frame.atlas_b.texels.empty();
+        if (has_atlas_b_) {
+            const PointAtlas& b = frame.atlas_b;
+            if (atlas_b_ == 0 || b.width != atlas_b_size_.width ||
+                b.height != atlas_b_size_.height) {
+                if (atlas_b_ != 0) gl_.DeleteTextures(1, &atlas_b_);
+                atlas_b_ = 0;
+                gl_.CreateTextures(GL_TEXTURE_2D, 1, &atlas_b_);
+                gl_.TextureStorage2D(atlas_b_, 1, GL_RG32F, b.width, b.height);
+                // texelFetch only, inside each map (no border): NEAREST, clamped as a second guard.
+                gl_.TextureParameteri(atlas_b_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+                gl_.TextureParameteri(atlas_b_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+                gl_.TextureParameteri(atlas_b_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+                gl_.TextureParameteri(atlas_b_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+                atlas_b_size_ = {b.width, b.height};
+                ++atlas_b_reallocations_;
+            }
+            gl_.TextureSubImage2D(atlas_b_, 0, 0, 0, b.width, b.height, GL_RG, GL_FLOAT,
+                                  b.texels.data());
+        }
     }
-    gl_.BindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(unpack_buffer));
-    gl_.PixelStorei(GL_UNPACK_ROW_LENGTH, row_length);
-    gl_.PixelStorei(GL_UNPACK_SKIP_ROWS, skip_rows);
-    gl_.PixelStorei(GL_UNPACK_SKIP_PIXELS, skip_pixels);
-    gl_.PixelStorei(GL_UNPACK_ALIGNMENT, alignment);
     if (auto ok = gl_.Check("gl"); !ok) {
         // A texture whose storage failed (out of memory) must not be taken for one of this size
         // next frame: both atlases are made again on the next upload.

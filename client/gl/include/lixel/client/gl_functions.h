@@ -91,4 +91,21 @@ struct GlFunctions {
     Result<bool> Check(const char* where) const;
 };
 
+// Tightly packed rows from or to client memory for as long as it lives (no pixel buffer bound,
+// row length and skips 0, alignment 4), for uploads (kUnpack) or read-backs (kPack); the
+// caller's state is put back when it goes, so an engine's own settings survive lixel's calls.
+class PixelStoreScope {
+  public:
+    enum Direction { kUnpack, kPack };
+    PixelStoreScope(const GlFunctions& gl, Direction direction);
+    ~PixelStoreScope();
+    PixelStoreScope(const PixelStoreScope&) = delete;
+    PixelStoreScope& operator=(const PixelStoreScope&) = delete;
+
+  private:
+    const GlFunctions& gl_;
+    Direction direction_;
+    GLint buffer_ = 0, row_length_ = 0, skip_rows_ = 0, skip_pixels_ = 0, alignment_ = 4;
+};
+
 }  // namespace lixel::client
