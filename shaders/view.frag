@@ -6,12 +6,7 @@
 
 in vec3 v_position;
 
-// Matches ShadowMethod in view_pass.h.
-const int kMethodDepth = 0;
-const int kMethodPcf = 1;
-const int kMethodSecondDepth = 2;
-const int kMethodSilhouette = 3;
-
+// LIXEL_METHOD is ShadowMethod (view_pass.h), whose values are the kit's LIXEL_TEST_*.
 // One program per method (view_pass.cc): constant branches fold away, so a fragment runs its
 // own test's code only (SIMD rasterisers such as llvmpipe run both sides of a uniform branch).
 const int kMethod = LIXEL_METHOD;
@@ -30,12 +25,6 @@ uniform int u_tint_maps;
 layout(location = 0) out float o_mask;
 layout(location = 1) out vec4 o_preview;
 layout(location = 2) out int o_map;
-
-// Farthest sample of each test from the point, lixels: the nearest texel's centre, the 2r x 2r
-// PCF taps' centres (per unit r), a texel's corners.
-const float kReachNearest = 0.70710678;
-const float kReachPerRadius = 1.41421356;
-const float kReachCorners = 1.41421356;
 
 vec3 map_tint(int map) {
     const vec3 palette[4] = vec3[4](vec3(1.0, 0.85, 0.85), vec3(0.85, 1.0, 0.85),
@@ -57,40 +46,12 @@ void main() {
     int map = -1;
     float lit = n_dot_l > 0.0 ? 1.0 : 0.0;
 #else
-    vec3 s;
-    int map = lixel_select_map(p, s);
-    float lit;
-    if (!(n_dot_l > 0.0)) {
-        lit = 0.0;  // faces away from the light: shadowed by the illumination model (§3.1)
-    } else if (map < 0) {
-        lit = 1.0;  // no map holds the point's light ray, so nothing planned casts onto it
-    } else {
-        vec4 plane = lixel_map_plane[map] * vec4(n, -dot(n, p));
-        // Slope-scaled bias: the tangent plane's depth change per lixel times how far the
-        // test's farthest sample lies from the point (reach, lixels), so a planar receiver
-        // never shadows itself; the boundary moves by at most slope_bias * reach lixels.
-        if (kMethod == kMethodDepth) {
-            lit = lixel_hard_shadow(map, s, lixel_slope_bias(plane, kReachNearest, u_depth_bias,
-                                                             u_slope_bias, u_max_bias));
-        } else if (kMethod == kMethodPcf) {
-            float reach = kReachPerRadius * float(u_pcf_radius);
-            lit = lixel_pcf(map, s,
-                            lixel_slope_bias(plane, reach, u_depth_bias, u_slope_bias, u_max_bias),
-                            u_pcf_radius);
-        } else if (kMethod == kMethodSecondDepth) {
-            // An open surface is its own second surface: the bias covers the rounding of its
-            // stored depth at this point, in multiples of the bound (the kit's depth section).
-            float bias = u_receiver_open != 0
-                             ? u_open_second_depth_bias *
-                                   lixel_stored_depth_rounding(lixel_map_lixel[map], p)
-                             : u_second_depth_bias;
-            lit = lixel_second_depth(map, s, plane, bias, u_pcf_radius, u_virtual_samples != 0);
-        } else {
-            lit = lixel_silhouette_test(map, s, lixel_slope_bias(plane, kReachCorners,
-                                                                 u_depth_bias, u_slope_bias,
-                                                                 u_max_bias));
-        }
-    }
+    // The kit's whole answer (lixel_shadow): the same function a client calls.
+    LixelShadowSettings settings = LixelShadowSettings(
+        u_depth_bias, u_slope_bias, u_max_bias, u_second_depth_bias, u_open_second_depth_bias,
+        u_receiver_open != 0, u_pcf_radius, u_virtual_samples != 0);
+    int map;
+    float lit = lixel_shadow(kMethod, p, n, n_dot_l, settings, map);
 #endif
     o_mask = lit;
     o_map = map;

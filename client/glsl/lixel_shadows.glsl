@@ -304,3 +304,69 @@ float lixel_silhouette_test(int map, vec3 s, float bias) {
     }
     return lit[0];
 }
+
+// ---------------------------------------------------------------------------------------------
+// The view pass's whole answer at a point (what lixel's view.frag computes per pixel): the map
+// the lookup rule picks, and the lit fraction of one test with the view pass's slope-scaled bias,
+// so a client that calls this gets the server's mask. The test is a constant in each program
+// (the branches then fold away).
+
+const int LIXEL_TEST_DEPTH = 0;
+const int LIXEL_TEST_PCF = 1;
+const int LIXEL_TEST_SECOND_DEPTH = 2;
+const int LIXEL_TEST_SILHOUETTE = 3;
+
+// Farthest sample of each test from the point, lixels: the nearest texel's centre, the 2r x 2r
+// PCF taps' centres (per unit r), a texel's corners.
+const float LIXEL_REACH_NEAREST = 0.70710678;
+const float LIXEL_REACH_PER_RADIUS = 1.41421356;
+const float LIXEL_REACH_CORNERS = 1.41421356;
+
+// lixel::render::ShadowOptions as the tests read them (the server's defaults: depth_bias 0,
+// slope_bias 1.5, max_bias 1, second_depth_bias 0, open_second_depth_bias 16).
+struct LixelShadowSettings {
+    float depth_bias;              // stored-depth units
+    float slope_bias;              // multiple of the tangent plane's depth change over the reach
+    float max_bias;                // stored-depth units; caps the slope term near grazing
+    float second_depth_bias;       // closed solids (paper 003 §3.3)
+    float open_second_depth_bias;  // open surfaces: multiple of the stored depth's rounding
+    bool receiver_open;            // the drawn surface is open (two-sided)
+    int pcf_radius;                // PCF and second depth: 2r x 2r texels, r in [1, 4]
+    bool virtual_samples;          // second depth: virtual samples where comparisons are mixed
+};
+
+// At relative position p with the facet's unit normal n (turned toward the viewer) and n_dot_l,
+// its cosine to the light: 0 when it faces away from the light (shadowed by the illumination
+// model), 1 when no map holds its light ray (nothing planned casts onto it), else the test's lit
+// fraction. `map` gets the map the lookup rule picked, or -1.
+float lixel_shadow(int test, vec3 p, vec3 n, float n_dot_l, LixelShadowSettings o, out int map) {
+    vec3 s;
+    map = lixel_select_map(p, s);
+    if (!(n_dot_l > 0.0)) return 0.0;
+    if (map < 0) return 1.0;
+    // The facet's tangent plane in the map's light screen (paper 003 §3.4). The slope-scaled
+    // bias: the plane's depth change per lixel times the test's reach, so a planar receiver
+    // never shadows itself; the boundary moves by at most slope_bias * reach lixels.
+    vec4 plane = lixel_map_plane[map] * vec4(n, -dot(n, p));
+    if (test == LIXEL_TEST_DEPTH) {
+        return lixel_hard_shadow(map, s, lixel_slope_bias(plane, LIXEL_REACH_NEAREST, o.depth_bias,
+                                                          o.slope_bias, o.max_bias));
+    }
+    if (test == LIXEL_TEST_PCF) {
+        float reach = LIXEL_REACH_PER_RADIUS * float(o.pcf_radius);
+        return lixel_pcf(map, s,
+                         lixel_slope_bias(plane, reach, o.depth_bias, o.slope_bias, o.max_bias),
+                         o.pcf_radius);
+    }
+    if (test == LIXEL_TEST_SECOND_DEPTH) {
+        // An open surface is its own second surface: the bias covers the rounding of its stored
+        // depth at this point, in multiples of the bound (the depth convention's section).
+        float bias = o.receiver_open
+                         ? o.open_second_depth_bias *
+                               lixel_stored_depth_rounding(lixel_map_lixel[map], p)
+                         : o.second_depth_bias;
+        return lixel_second_depth(map, s, plane, bias, o.pcf_radius, o.virtual_samples);
+    }
+    return lixel_silhouette_test(map, s, lixel_slope_bias(plane, LIXEL_REACH_CORNERS, o.depth_bias,
+                                                          o.slope_bias, o.max_bias));
+}

@@ -24,6 +24,12 @@ void main() {
               lixel_silhouette_test(map, s, bias) +
               lixel_stored_depth_rounding(lixel_map_lixel[map], v_position);
     }
+    LixelShadowSettings settings =
+        LixelShadowSettings(0.0, 1.5, 1.0, 0.0, 16.0, false, 1, true);
+    int picked;
+    for (int test = LIXEL_TEST_DEPTH; test <= LIXEL_TEST_SILHOUETTE; ++test) {
+        lit += lixel_shadow(test, v_position, vec3(0.0, 1.0, 0.0), 0.5, settings, picked);
+    }
     o_colour = vec4(lit);
 }'
 for version in "450 core" "300 es"; do
