@@ -331,8 +331,8 @@ TEST(FrameLoop, RefusesAnUnknownSceneByStep) {
     EXPECT_EQ(FrameLoop::Create(*client, options).error().field, "options.size");
 }
 
-TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySecondDepth) {
-    // Two 3 x 2 maps; only map 0 streamed a second depth (map 1 has no caster).
+// A Render header of two 3 x 2 maps and no images yet.
+client::RenderedMaps TwoSmallMaps() {
     client::RenderedMaps rendered;
     for (int i = 0; i < 2; ++i) {
         v1::PlannedMap* m = rendered.header.mutable_plan()->add_maps();
@@ -340,6 +340,12 @@ TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySecondDepth) {
         m->mutable_map()->set_width(3);
         m->mutable_map()->set_height(2);
     }
+    return rendered;
+}
+
+TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySecondDepth) {
+    // Only map 0 streamed a second depth (map 1 has no caster).
+    client::RenderedMaps rendered = TwoSmallMaps();
     v1::MapImage* image = rendered.header.add_images();
     image->set_map_index(0);
     image->set_pass(v1::PASS_SECOND_DEPTH);
@@ -363,14 +369,8 @@ TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySecondDepth) {
 }
 
 TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySilhouetteMap) {
-    // Two 3 x 2 maps; only map 0 streamed its silhouette map (map 1 has no caster).
-    client::RenderedMaps rendered;
-    for (int i = 0; i < 2; ++i) {
-        v1::PlannedMap* m = rendered.header.mutable_plan()->add_maps();
-        service::EncodeMat4(Mat4::Identity(), m->mutable_map()->mutable_matrix());
-        m->mutable_map()->set_width(3);
-        m->mutable_map()->set_height(2);
-    }
+    // Only map 0 streamed its silhouette map (map 1 has no caster).
+    client::RenderedMaps rendered = TwoSmallMaps();
     v1::MapImage* corners = rendered.header.add_images();
     corners->set_map_index(0);
     corners->set_pass(v1::PASS_CORNER_DEPTH);

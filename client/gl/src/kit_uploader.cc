@@ -115,6 +115,24 @@ void KitUploader::Release() noexcept {
     block_ = 0;
 }
 
+namespace {
+
+// Deletes `texture` (when there is one) and makes it anew: immutable storage of `format` and
+// `size`, one level, NEAREST (the kit fetches whole texels) and clamped to its edge.
+void ReplaceAtlasTexture(const GlFunctions& gl, GLuint& texture, GLenum format,
+                         const Viewport& size) {
+    if (texture != 0) gl.DeleteTextures(1, &texture);
+    texture = 0;
+    gl.CreateTextures(GL_TEXTURE_2D, 1, &texture);
+    gl.TextureStorage2D(texture, 1, format, size.width, size.height);
+    gl.TextureParameteri(texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl.TextureParameteri(texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl.TextureParameteri(texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl.TextureParameteri(texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+}  // namespace
+
 Result<bool> KitUploader::Upload(const KitFrame& frame) {
     if (auto ok = ValidateKitFrame(frame, max_texture_size_); !ok) return ok;
     // Errors the caller raised before this call are its own, not the upload's.
@@ -123,16 +141,9 @@ Result<bool> KitUploader::Upload(const KitFrame& frame) {
                            frame.block.data());
     const Viewport size = KitAtlasTextureSize(frame);
     if (atlas_ == 0 || size.width != atlas_size_.width || size.height != atlas_size_.height) {
-        if (atlas_ != 0) gl_.DeleteTextures(1, &atlas_);
-        atlas_ = 0;
-        gl_.CreateTextures(GL_TEXTURE_2D, 1, &atlas_);
-        gl_.TextureStorage2D(atlas_, 1, GL_R32F, size.width, size.height);
-        // The kit reads texels with texelFetch and textureGather: NEAREST, no mipmaps; its border
-        // of edge texels (kit::kAtlasBorder) keeps taps inside, clamping is a second guard.
-        gl_.TextureParameteri(atlas_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        gl_.TextureParameteri(atlas_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        gl_.TextureParameteri(atlas_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-        gl_.TextureParameteri(atlas_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        // The kit reads atlas "a" with texelFetch and textureGather; its border of edge texels
+        // (kit::kAtlasBorder) keeps taps inside, clamping is a second guard.
+        ReplaceAtlasTexture(gl_, atlas_, GL_R32F, size);
         atlas_size_ = size;
         ++reallocations_;
     }
@@ -151,15 +162,8 @@ Result<bool> KitUploader::Upload(const KitFrame& frame) {
             const PointAtlas& b = frame.atlas_b;
             if (atlas_b_ == 0 || b.width != atlas_b_size_.width ||
                 b.height != atlas_b_size_.height) {
-                if (atlas_b_ != 0) gl_.DeleteTextures(1, &atlas_b_);
-                atlas_b_ = 0;
-                gl_.CreateTextures(GL_TEXTURE_2D, 1, &atlas_b_);
-                gl_.TextureStorage2D(atlas_b_, 1, GL_RG32F, b.width, b.height);
-                // texelFetch only, inside each map (no border): NEAREST, clamped as a second guard.
-                gl_.TextureParameteri(atlas_b_, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-                gl_.TextureParameteri(atlas_b_, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-                gl_.TextureParameteri(atlas_b_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-                gl_.TextureParameteri(atlas_b_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+                // Atlas "b": texelFetch only, inside each map (no border).
+                ReplaceAtlasTexture(gl_, atlas_b_, GL_RG32F, Viewport{b.width, b.height});
                 atlas_b_size_ = {b.width, b.height};
                 ++atlas_b_reallocations_;
             }
