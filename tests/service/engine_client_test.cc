@@ -343,15 +343,21 @@ client::RenderedMaps TwoSmallMaps() {
     return rendered;
 }
 
+// Appends map `map`'s image of `pass`, width x height texels of `channels` floats, all `value`.
+void AddImage(client::RenderedMaps& rendered, int map, v1::PassKind pass, int width, int height,
+              int channels, float value) {
+    v1::MapImage* image = rendered.header.add_images();
+    image->set_map_index(static_cast<std::uint32_t>(map));
+    image->set_pass(pass);
+    image->set_width(static_cast<std::uint32_t>(width));
+    image->set_height(static_cast<std::uint32_t>(height));
+    rendered.images.emplace_back(static_cast<std::size_t>(width * height * channels), value);
+}
+
 TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySecondDepth) {
     // Only map 0 streamed a second depth (map 1 has no caster).
     client::RenderedMaps rendered = TwoSmallMaps();
-    v1::MapImage* image = rendered.header.add_images();
-    image->set_map_index(0);
-    image->set_pass(v1::PASS_SECOND_DEPTH);
-    image->set_width(3);
-    image->set_height(2);
-    rendered.images.emplace_back(6, 0.5f);
+    AddImage(rendered, 0, v1::PASS_SECOND_DEPTH, 3, 2, 1, 0.5f);
     EXPECT_EQ(
         client::KitFrameOf(rendered, client::KitDepth::kSecondDepth, Vec3::Zero()).error().field,
         "images");
@@ -371,18 +377,8 @@ TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySecondDepth) {
 TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySilhouetteMap) {
     // Only map 0 streamed its silhouette map (map 1 has no caster).
     client::RenderedMaps rendered = TwoSmallMaps();
-    v1::MapImage* corners = rendered.header.add_images();
-    corners->set_map_index(0);
-    corners->set_pass(v1::PASS_CORNER_DEPTH);
-    corners->set_width(4);
-    corners->set_height(3);
-    rendered.images.emplace_back(12, 0.5f);
-    v1::MapImage* points = rendered.header.add_images();
-    points->set_map_index(0);
-    points->set_pass(v1::PASS_SILHOUETTE_MAP);
-    points->set_width(3);
-    points->set_height(2);
-    rendered.images.emplace_back(12, 0.25f);
+    AddImage(rendered, 0, v1::PASS_CORNER_DEPTH, 4, 3, 1, 0.5f);
+    AddImage(rendered, 0, v1::PASS_SILHOUETTE_MAP, 3, 2, 2, 0.25f);
     EXPECT_EQ(
         client::KitFrameOf(rendered, client::KitDepth::kSilhouette, Vec3::Zero()).error().field,
         "images");
