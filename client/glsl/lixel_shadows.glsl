@@ -22,7 +22,7 @@
 //   32+64N  mat4  lixel_map_plane[N]         (lixel_map_lixel^-1)^T: world planes into light screen
 //  32+128N  vec4  lixel_map_lookup[N]        (x0, y0, x1, y1): the lookup rectangle, lixels
 //  32+144N  vec4  lixel_map_world_limit[N]   accepted where dot(limit, (p, 1)) >= 0 (0: always)
-//  32+160N  ivec4 lixel_map_size[N]          (width, height, half-plane count, 0)
+//  32+160N  ivec4 lixel_map_size[N]          (width, height, half-plane count, unshadowed)
 //  32+176N  ivec4 lixel_map_origin[N]        (atlas "a" x, y; atlas "b" x, y) of texel (0, 0)
 //  32+192N  vec4  lixel_half_planes[N H]     (a, b, c, 0): a x + b y + c >= 0 in lixels
 //  size 32 + 192 N + 16 N H (2592 bytes for 8 and 8).
@@ -77,8 +77,10 @@ float lixel_stored_depth_rounding(mat4 m, vec3 p) {
 // The lookup rule (lixel/solver/scheduler.h LookupRule; paper 004 §3): maps are tried in plan
 // order; a point belongs to the first map whose q > 0, whose lixel lies in its lookup rectangle
 // [x0, x1) x [y0, y1) (the map less its guard band), whose half-planes all hold and whose world
-// limit (a cascade's view depth) has p on its side. Returns the map, or -1 (no map holds the
-// point's light ray: nothing planned casts onto it); `light_point` gets (x, y, depth).
+// limit (a cascade's view depth, or an unshadowed entry's plane) has p on its side. Returns the
+// map, or -1 (no map holds the point's light ray: nothing planned casts onto it); `light_point`
+// gets (x, y, depth). A map with lixel_map_size[m].w != 0 is unshadowed (lixel_unshadowed): no
+// caster reaches the rays it accepts, the point is lit, and the map has no texels to read.
 int lixel_select_map(vec3 p, out vec3 light_point) {
     for (int m = 0; m < lixel_counts.x; ++m) {
         vec4 h = lixel_map_lixel[m] * vec4(p, 1.0);
@@ -103,6 +105,10 @@ int lixel_select_map(vec3 p, out vec3 light_point) {
     light_point = vec3(0.0);
     return -1;
 }
+
+// Whether map m is an unshadowed entry: a plane's needed polygon outside every caster's
+// footprint (lixel/solver/scheduler.h LookupRule::unshadowed), lit by construction.
+bool lixel_unshadowed(int m) { return lixel_map_size[m].w != 0; }
 
 // ---------------------------------------------------------------------------------------------
 // The maps' texels in the two atlases: map m's texel t lives at its origin + t. In atlas "a"
@@ -337,13 +343,13 @@ struct LixelShadowSettings {
 
 // At relative position p with the facet's unit normal n (turned toward the viewer) and n_dot_l,
 // its cosine to the light: 0 when it faces away from the light (shadowed by the illumination
-// model), 1 when no map holds its light ray (nothing planned casts onto it), else the test's lit
-// fraction. `map` gets the map the lookup rule picked, or -1.
+// model), 1 when no map holds its light ray (nothing planned casts onto it) or the map is
+// unshadowed (no caster reaches it), else the test's lit fraction. `map` gets the map the lookup rule picked, or -1.
 float lixel_shadow(int test, vec3 p, vec3 n, float n_dot_l, LixelShadowSettings o, out int map) {
     vec3 s;
     map = lixel_select_map(p, s);
     if (!(n_dot_l > 0.0)) return 0.0;
-    if (map < 0) return 1.0;
+    if (map < 0 || lixel_unshadowed(map)) return 1.0;
     // The facet's tangent plane in the map's light screen (paper 003 §3.4). The slope-scaled
     // bias: the plane's depth change per lixel times the test's reach, so a planar receiver
     // never shadows itself; the boundary moves by at most slope_bias * reach lixels.

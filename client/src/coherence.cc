@@ -8,6 +8,9 @@ void SetPreviousMaps(const v1::PlanResponse& plan, v1::FrameCoherence* coherence
     for (const v1::PlannedMap& m : plan.maps()) {
         // Cube faces are refitted every frame; and the wire takes at most 64 previous maps.
         if (m.role() == v1::MAP_ROLE_CUBE_FACE) continue;
+        // A plane's footprint rectangles follow its casters; its unshadowed entry (or its one
+        // whole map) carries the plane's size and twist.
+        if (m.footprint()) continue;
         if (coherence->previous_size() == lixel::kMaxPreviousMaps) break;
         v1::PreviousMap* p = coherence->add_previous();
         p->set_role(m.role());

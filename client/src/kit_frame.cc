@@ -44,6 +44,7 @@ Result<bool> DecodePlannedMaps(const v1::RenderHeader& header, std::vector<Light
         rule.guard = static_cast<int>(m.guard());
         const v1::Vec4& w = m.world_limit();
         rule.world_limit = Vec4(w.x(), w.y(), w.z(), w.w());
+        rule.unshadowed = m.unshadowed();
         maps.push_back(map);
         lookups.push_back(std::move(rule));
     }
@@ -64,13 +65,16 @@ const char* ImageName(v1::PassKind pass) {
 
 // Per map, the header's image of `pass` (the first when several), checked against the size the
 // map gives it. Errors: "images".
+// Unshadowed maps have no images: theirs stay empty.
 Result<std::vector<kit::ImageView>> ImagesOf(const RenderedMaps& rendered,
                                              const std::vector<LightMap>& maps,
+                                             const std::vector<LookupRule>& lookups,
                                              v1::PassKind pass) {
     const bool corners = pass == v1::PASS_CORNER_DEPTH;
     const std::size_t channels = pass == v1::PASS_SILHOUETTE_MAP ? 2 : 1;
     std::vector<kit::ImageView> images(maps.size());
     std::vector<bool> found(maps.size(), false);
+    for (std::size_t i = 0; i < maps.size(); ++i) found[i] = lookups[i].unshadowed;
     for (int k = 0; k < rendered.header.images_size(); ++k) {
         const v1::MapImage& image = rendered.header.images(k);
         if (image.pass() != pass || image.map_index() >= maps.size()) continue;
@@ -150,15 +154,32 @@ Result<KitFrame> KitFrameOf(const RenderedMaps& rendered, KitDepth depth, const 
     const v1::PassKind wanted = depth == KitDepth::kDepth         ? v1::PASS_DEPTH
                                 : depth == KitDepth::kSecondDepth ? v1::PASS_SECOND_DEPTH
                                                                   : v1::PASS_CORNER_DEPTH;
-    auto images = ImagesOf(rendered, frame.maps, wanted);
-    if (!images) return images.error();
-    std::vector<kit::ImageView> points;
+    auto all_images = ImagesOf(rendered, frame.maps, frame.lookups, wanted);
+    if (!all_images) return all_images.error();
+    std::vector<kit::ImageView> all_points;
     if (depth == KitDepth::kSilhouette) {
-        auto found = ImagesOf(rendered, frame.maps, v1::PASS_SILHOUETTE_MAP);
+        auto found = ImagesOf(rendered, frame.maps, frame.lookups, v1::PASS_SILHOUETTE_MAP);
         if (!found) return found.error();
-        points = std::move(found).value();
+        all_points = std::move(found).value();
     }
+    // Only maps with texels go into the atlases (unshadowed maps have none).
+    std::vector<std::size_t> textured;
+    std::vector<kit::ImageView> images_in_atlas;
+    std::vector<kit::ImageView> points;
+    for (std::size_t i = 0; i < frame.maps.size(); ++i) {
+        if (frame.lookups[i].unshadowed) continue;
+        textured.push_back(i);
+        images_in_atlas.push_back((*all_images)[i]);
+        if (!all_points.empty()) points.push_back(all_points[i]);
+    }
+    const std::vector<kit::ImageView>* images = &images_in_atlas;
     std::vector<kit::KitMap> kit_maps;
+    if (textured.empty() && !frame.maps.empty()) {
+        // Every map unshadowed: an atlas of one texel the kit never reads.
+        frame.atlas.width = 1;
+        frame.atlas.height = 1;
+        frame.atlas.texels.assign(1, 0.0f);
+    }
     if (!images->empty()) {
         // Atlas "a" keeps its border for the corner depth too, as the view pass's FillAtlases
         // copies every "a" texture (the corner maps (width + 1) x (height + 1)).
@@ -172,10 +193,11 @@ Result<KitFrame> KitFrameOf(const RenderedMaps& rendered, KitDepth depth, const 
         frame.atlas_b = std::move(atlas_b).value();
     }
     for (std::size_t i = 0; i < frame.maps.size(); ++i) {
-        kit::KitMap m = kit::MakeKitMap(frame.maps[i], frame.lookups[i], origin);
-        m.origin_a = frame.atlas.origins[i];
-        if (!points.empty()) m.origin_b = frame.atlas_b.origins[i];
-        kit_maps.push_back(std::move(m));
+        kit_maps.push_back(kit::MakeKitMap(frame.maps[i], frame.lookups[i], origin));
+    }
+    for (std::size_t k = 0; k < textured.size(); ++k) {
+        kit_maps[textured[k]].origin_a = frame.atlas.origins[k];
+        if (!points.empty()) kit_maps[textured[k]].origin_b = frame.atlas_b.origins[k];
     }
     auto block = kit::BuildShadowBlock(kit_maps, Viewport{frame.atlas.width, frame.atlas.height});
     if (!block) return block.error();

@@ -10,6 +10,8 @@
 #include <lixel/solver/ray_cone.h>
 #include <lixel/solver/scheduler.h>
 
+#include "plane_footprints.h"
+
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -115,6 +117,13 @@ Result<Aabb> ValidatedBounds(const PlanRequest& r) {
     if (r.fallback_floor < 0) return Error{"fallback_floor", "must be >= 0"};
     if (r.max_texture_size < 1 || r.max_texture_size > kMaxImageSide) {
         return Error{"max_texture_size", "must be in [1, " + std::to_string(kMaxImageSide) + "]"};
+    }
+    for (const auto& [field, value] : {std::pair{"footprints.max_per_plane", r.footprints.max_per_plane},
+                                       std::pair{"footprints.max_per_plan", r.footprints.max_per_plan}}) {
+        if (value < 1 || value > kMaxFootprintRectangles) {
+            return Error{field, "must be in [1, " + std::to_string(kMaxFootprintRectangles) +
+                                    "], got " + std::to_string(value)};
+        }
     }
     Aabb united{Vec3::Constant(std::numeric_limits<double>::infinity()),
                 Vec3::Constant(-std::numeric_limits<double>::infinity())};
@@ -504,7 +513,10 @@ void AddGuardBand(LightMap& map, int g) {
 // The rays the lookup sends to a map: its lookup rectangle (the map less its guard band) and its
 // half-planes. Coverage is judged by these; depth and casters by the whole rendered map.
 RayCone LookupCone(const LightMap& map, const LookupRule& rule) {
-    return AcceptedCone(map, LookupRectangle(map, rule), rule.half_planes);
+    RayCone cone = AcceptedCone(map, LookupRectangle(map, rule), rule.half_planes);
+    // An unshadowed entry's plane: what lies below it is not accepted.
+    if (rule.world_limit != Vec4::Zero()) cone.planes.push_back(rule.world_limit);
+    return cone;
 }
 
 // Refits a map's depth row to DepthPoints, with `receivers` (what the map is kept for) inside
@@ -513,6 +525,34 @@ void RefitDepth(const Context& c, PlannedMap& m, const std::vector<Vec4>& receiv
     std::vector<Vec4> points = DepthPoints(c, m.map, m.lookup.half_planes);
     auto r_z = FitDepthRow(m.map.matrix.row(3), c.light, points, receivers);
     if (r_z.ok()) m.map.matrix.row(2) = *r_z;
+}
+
+// The objects' boxes (thickened) that can cast onto a candidate's needed polygon: all but those
+// lying on or behind a plane of interest, to the planning thickness, whose front side holds the
+// light and the whole needed polygon, since every light ray to the polygon then stays in front
+// of that plane (a floor slab for the floor, the wall for the floor in front of it, a table's
+// slab for its own top).
+std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate& cand) {
+    const PlanRequest& r = c.request;
+    std::vector<Vec4> shields;
+    for (const PlaneOfInterest& p : r.planes) {
+        const Vec4 unit = p.plane / p.plane.head<3>().norm();
+        if (!(unit.dot(c.light) > 0.0)) continue;
+        bool in_front = true;
+        for (const Vec3& v : cand.polygon) in_front = in_front && unit.dot(Point(v)) >= -c.thickness;
+        if (in_front) shields.push_back(unit);
+    }
+    std::vector<const ConvexPolytope*> casters;
+    for (size_t i = 0; i < r.objects.size(); ++i) {
+        if (c.object_boxes[i].empty()) continue;
+        const std::vector<Vec4> corners = BoxCorners(r.objects[i].bounds);
+        const bool shielded = std::any_of(shields.begin(), shields.end(), [&](const Vec4& s) {
+            return std::all_of(corners.begin(), corners.end(),
+                               [&](const Vec4& x) { return s.dot(x) <= c.thickness; });
+        });
+        if (!shielded) casters.push_back(&c.object_boxes[i]);
+    }
+    return casters;
 }
 
 // Solves every candidate plane's map at one uniform scale, in priority order, leaving out
@@ -526,6 +566,7 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
     const int guard = GuardFor(r.lixel_budget, r.max_texture_size);
     std::vector<PlannedMap> maps;
     std::vector<RayCone> cones;
+    int rects_left = r.footprints.max_per_plan;
     for (const Candidate& cand : c.candidates) {
         // Covered by an earlier plane: nothing of the needed polygon survives their cones.
         if (SubtractAll(cand.polygon, cones).empty()) {
@@ -620,7 +661,18 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
         m.lookup.half_planes = half_planes;
         m.lookup.guard = solved->crop.guard;
         cones.push_back(LookupCone(m.map, m.lookup));
-        maps.push_back(std::move(m));
+        // Only where a shadow can fall (DESIGN §4.2): the objects' footprints, when the request
+        // names objects to find them from.
+        if (!r.footprints.enabled || r.objects.empty() || rects_left < 1) {
+            maps.push_back(std::move(m));
+            continue;
+        }
+        for (PlannedMap& piece :
+             SplitByFootprints(m, cand.plane, c.light, CastersOnto(c, cand), cand.polygon,
+                               c.thickness, std::min(r.footprints.max_per_plane, rects_left))) {
+            if (piece.footprint) --rects_left;
+            maps.push_back(std::move(piece));
+        }
     }
     return maps;
 }
@@ -1463,6 +1515,7 @@ void PlanPasses(const Context& c, Plan& plan) {
     std::vector<std::string> open_casters;
     bool second_depth_used = false;
     for (PlannedMap& m : plan.maps) {
+        if (m.lookup.unshadowed) continue;  // no texels, so no passes
         const auto casters = CastersOf(c, m);
         if (casters.empty()) continue;
         any_caster = true;

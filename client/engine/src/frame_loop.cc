@@ -51,6 +51,7 @@ void FillMissingSecondDepth(client::RenderedMaps& rendered) {
     }
     for (int i = 0; i < maps; ++i) {
         if (found[static_cast<std::size_t>(i)]) continue;
+        if (rendered.header.plan().maps(i).unshadowed()) continue;  // no texels
         const v1::LightMap& map = rendered.header.plan().maps(i).map();
         v1::MapImage* image = rendered.header.add_images();
         image->set_map_index(static_cast<std::uint32_t>(i));
@@ -72,6 +73,7 @@ void FillMissingSilhouetteMap(client::RenderedMaps& rendered) {
         if (image.pass() == v1::PASS_SILHOUETTE_MAP) points[image.map_index()] = true;
     }
     for (int i = 0; i < maps; ++i) {
+        if (rendered.header.plan().maps(i).unshadowed()) continue;  // no texels
         const v1::LightMap& map = rendered.header.plan().maps(i).map();
         const std::uint32_t w = map.width(), h = map.height();
         if (!corners[static_cast<std::size_t>(i)]) {

@@ -46,6 +46,7 @@ KitMap MakeKitMap(const LightMap& map, const LookupRule& lookup, const Vec3& ori
     const Vec4& h = lookup.world_limit;
     out.world_limit = Vec4(h.x(), h.y(), h.z(), h.w() + h.head<3>().dot(origin)).cast<float>();
     for (const Eigen::Vector3d& p : lookup.half_planes) out.half_planes.push_back(p.cast<float>());
+    out.unshadowed = lookup.unshadowed;
     return out;
 }
 
@@ -78,7 +79,7 @@ Result<std::vector<std::byte>> BuildShadowBlock(std::span<const KitMap> maps,
         PutVec4(out, L::kLookup + 16 * i, m.lookup);
         PutVec4(out, L::kWorldLimit + 16 * i, m.world_limit);
         PutIVec4(out, L::kSize + 16 * i, m.width, m.height, static_cast<int>(m.half_planes.size()),
-                 0);
+                 m.unshadowed ? 1 : 0);
         PutIVec4(out, L::kOrigin + 16 * i, m.origin_a.x(), m.origin_a.y(), m.origin_b.x(),
                  m.origin_b.y());
         for (std::size_t k = 0; k < m.half_planes.size(); ++k) {

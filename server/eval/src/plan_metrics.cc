@@ -20,7 +20,11 @@ AliasingResult Aliasing(const GroundTruth& truth, const Mat4& pixel_matrix, cons
 }
 
 LixelUse ComputeLixelUse(const GroundTruth& truth, const Plan& plan) {
-    const std::vector<LightMap> maps = PlanLightMaps(plan);
+    std::vector<LightMap> maps = PlanLightMaps(plan);
+    // An unshadowed map allocates no lixels, and a pixel it takes reads none.
+    for (std::size_t i = 0; i < maps.size(); ++i) {
+        if (plan.maps[i].lookup.unshadowed) maps[i].width = maps[i].height = 0;
+    }
     return ComputeLixelUse(truth, maps, PlanSelector(plan));
 }
 

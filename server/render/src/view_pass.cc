@@ -72,6 +72,7 @@ Result<bool> ValidateRequest(const ViewRequest& r, int max_texture_size, bool ne
         if (!m.lookup.world_limit.allFinite()) {
             return Error{MapField(i, ".lookup.world_limit"), "not finite"};
         }
+        if (m.lookup.unshadowed) continue;  // lit where it accepts: no texels to read
         const DepthMap* needed = nullptr;
         const char* name = "";
         switch (r.method) {
@@ -348,7 +349,11 @@ Result<bool> ViewPass::FillAtlases(const ViewRequest& request, std::vector<kit::
     std::vector<Viewport> a_sizes;
     std::vector<GLuint> b_textures;
     std::vector<Viewport> b_sizes;
-    for (const ViewMap& m : request.maps) {
+    std::vector<std::size_t> textured;  // the maps with texels (unshadowed ones have none)
+    for (std::size_t i = 0; i < request.maps.size(); ++i) {
+        const ViewMap& m = request.maps[i];
+        if (m.lookup.unshadowed) continue;
+        textured.push_back(i);
         const DepthMap& a = TextureA(m, request.method);
         a_textures.push_back(a.texture.id());
         a_sizes.push_back({a.map.width, a.map.height});
@@ -357,17 +362,25 @@ Result<bool> ViewPass::FillAtlases(const ViewRequest& request, std::vector<kit::
             b_sizes.push_back({m.map.width, m.map.height});
         }
     }
+    if (textured.empty()) {
+        // Every map unshadowed: the block still names an atlas, of one texel never read.
+        EnsureTexture(gl, atlas_a_, GL_DEPTH_COMPONENT32F, {1, 1}, atlas_a_size_);
+        atlas_a_size_ = {1, 1};
+        gl.BindTextureUnit(kAtlasUnitA, atlas_a_.id());
+        gl.BindTextureUnit(kAtlasUnitB, 0);
+        return true;
+    }
     auto placed_a = CopyIntoAtlas(gl, max_side, GL_DEPTH_COMPONENT32F, a_textures, a_sizes,
                                   kAtlasBorder, atlas_a_, atlas_a_size_);
     if (!placed_a) return placed_a.error();
-    for (std::size_t i = 0; i < a_sizes.size(); ++i) maps[i].origin_a = (*placed_a)[i];
+    for (std::size_t k = 0; k < a_sizes.size(); ++k) maps[textured[k]].origin_a = (*placed_a)[k];
     gl.BindTextureUnit(kAtlasUnitA, atlas_a_.id());
     if (!b_textures.empty()) {
         // lixel_silhouette_point() tests its texel against the map itself: no border.
         auto placed_b = CopyIntoAtlas(gl, max_side, GL_RG32F, b_textures, b_sizes, 0, atlas_b_,
                                       atlas_b_size_);
         if (!placed_b) return placed_b.error();
-        for (std::size_t i = 0; i < b_sizes.size(); ++i) maps[i].origin_b = (*placed_b)[i];
+        for (std::size_t k = 0; k < b_sizes.size(); ++k) maps[textured[k]].origin_b = (*placed_b)[k];
         gl.BindTextureUnit(kAtlasUnitB, atlas_b_.id());
     } else {
         gl.BindTextureUnit(kAtlasUnitB, 0);  // the kit reads "b" only for the silhouette map

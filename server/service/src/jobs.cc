@@ -513,7 +513,9 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     const Pass pass = method == render::ShadowMethod::kSecondDepth  ? Pass::kSecondDepth
                       : method == render::ShadowMethod::kSilhouette ? Pass::kSilhouetteMap
                                                                     : Pass::kDepth;
-    for (PlannedMap& m : job.maps) m.passes = {pass};
+    for (PlannedMap& m : job.maps) {
+        if (!m.lookup.unshadowed) m.passes = {pass};  // unshadowed maps have no texels
+    }
     times.emplace_back("plan", Since(start));
     Plan for_bytes;
     for_bytes.maps = job.maps;
@@ -521,6 +523,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     // (corner depth, one texel larger each way) and, for the silhouette map, the RG32F points.
     std::uint64_t atlas = 0;
     for (const PlannedMap& m : job.maps) {
+        if (m.lookup.unshadowed) continue;
         const auto w = static_cast<std::uint64_t>(m.map.width);
         const auto h = static_cast<std::uint64_t>(m.map.height);
         atlas += method == render::ShadowMethod::kSilhouette ? (w + 1) * (h + 1) * 4 + w * h * 8
@@ -565,7 +568,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     response->set_maps(static_cast<std::uint32_t>(job.maps.size()));
     std::uint64_t lixels = 0;
     for (const PlannedMap& m : job.maps) {
-        lixels += static_cast<std::uint64_t>(m.map.width) * m.map.height;
+        if (!m.lookup.unshadowed) lixels += static_cast<std::uint64_t>(m.map.width) * m.map.height;
     }
     response->set_total_lixels(lixels);
     used.maps = job.maps;

@@ -336,6 +336,31 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
     out.passes.second_depth = message.passes().second_depth();
     out.passes.silhouette_map = message.passes().silhouette_map();
     out.passes.volumes = message.passes().volumes();
+    if (message.has_footprints()) {
+        const v1::Footprints& f = message.footprints();
+        out.footprints.enabled = !f.disabled();
+        const auto limit = [&](std::uint32_t value, int fallback, const char* name,
+                               int& into) -> Result<bool> {
+            const std::uint32_t v = value == 0 ? static_cast<std::uint32_t>(fallback) : value;
+            if (v > static_cast<std::uint32_t>(kMaxFootprintRectangles)) {
+                return Error{field + ".footprints." + name,
+                             "must be in [1, " + std::to_string(kMaxFootprintRectangles) +
+                                 "], got " + std::to_string(value)};
+            }
+            into = static_cast<int>(v);
+            return true;
+        };
+        if (auto ok = limit(f.max_per_plane(), FootprintOptions{}.max_per_plane, "max_per_plane",
+                            out.footprints.max_per_plane);
+            !ok) {
+            return ok.error();
+        }
+        if (auto ok = limit(f.max_per_plan(), FootprintOptions{}.max_per_plan, "max_per_plan",
+                            out.footprints.max_per_plan);
+            !ok) {
+            return ok.error();
+        }
+    }
     if (message.has_coherence()) {
         auto coherence = DecodeCoherence(message.coherence(), field + ".coherence");
         if (!coherence) return coherence.error();
@@ -479,6 +504,8 @@ void EncodePlan(const Plan& plan, v1::PlanResponse* out) {
         pm->set_kept_for(m.kept_for);
         pm->set_guard(static_cast<std::uint32_t>(m.lookup.guard));
         pm->set_twist_radians(m.twist_radians);
+        pm->set_footprint(m.footprint);
+        pm->set_unshadowed(m.lookup.unshadowed);
         if (!m.lookup.world_limit.isZero()) {
             const Vec4& h = m.lookup.world_limit;
             v1::Vec4* limit = pm->mutable_world_limit();

@@ -36,7 +36,8 @@ inline constexpr float kNoSilhouettePoint = -1.0f;
 struct PointAtlas {
     int width = 0;
     int height = 0;
-    std::vector<Eigen::Vector2i> origins;  // each map's texel (0, 0)
+    // Texel (0, 0) of each map with texels, in plan order (unshadowed maps have none).
+    std::vector<Eigen::Vector2i> origins;
     std::vector<float> texels;  // width * height * 2, row 0 at the bottom; kNoSilhouettePoint
                                 // between maps
 };

@@ -162,6 +162,10 @@ Result<RunOutput> RunMethod(render::Renderer& renderer, const render::GpuScene& 
             rendered.name = pm.name;
             rendered.map = pm.map;
             rendered.lookup = pm.lookup;
+            if (pm.lookup.unshadowed) {  // no texels: nothing to render
+                maps.push_back(std::move(rendered));
+                continue;
+            }
             auto asked = [&](Pass p) {
                 return std::find(pm.passes.begin(), pm.passes.end(), p) != pm.passes.end();
             };

@@ -81,6 +81,22 @@ struct FrameCoherence {
     double twist_saving = 0.1;
 };
 
+// Plane maps only where a shadow can fall (DESIGN §4.2; docs/solver.md, "Footprints"): a plane
+// map holds the rectangles around its casters' footprints (the part of the plane in the shadow
+// of some object's bounds), each an integer crop of the same plane-optimal matrix, and the rest
+// of its needed polygon is lit by construction (LookupRule::unshadowed). Needs the request's
+// objects: without them every plane map holds its whole needed polygon.
+inline constexpr int kMaxFootprintRectangles = 16;
+
+struct FootprintOptions {
+    bool enabled = true;
+    // Rectangles one plane's footprints are merged into, at most; [1, kMaxFootprintRectangles].
+    int max_per_plane = 2;
+    // Rectangles over all planes, at most; a plane that would pass it merges its footprints
+    // further, and one left none keeps its whole map; [1, kMaxFootprintRectangles].
+    int max_per_plan = 4;
+};
+
 struct PlanRequest {
     Mat4 viewer = Mat4::Identity();  // Mv, world -> clip, [0, 1] clip depth
     Viewport viewport;               // viewer pixels
@@ -94,6 +110,7 @@ struct PlanRequest {
     std::int64_t fallback_floor = 128 * 128;
     int max_texture_size = kMaxImageSide;  // GL_MAX_TEXTURE_SIZE, [1, kMaxImageSide]
     PassRequest passes;
+    FootprintOptions footprints;
     // Unset: every frame planned on its own (the tightest maps).
     std::optional<FrameCoherence> coherence;
 };
@@ -114,13 +131,19 @@ inline constexpr double kLookupMargin = 0.5;
 // q = (M X).w > 0, its lixel (x, y) lies in the lookup rectangle (LookupRectangle: the map less
 // its guard band, widened by kLookupMargin), every half-plane a x + b y + c >= 0 holds, and
 // X lies in the world half-space world_limit . X >= 0 (X with w = 1). Maps are tried in plan
-// order; the fallback accepts what is left.
+// order; the fallback accepts what is left. A rule that is `unshadowed` answers "lit" for what
+// it accepts.
 struct LookupRule {
     std::vector<Eigen::Vector3d> half_planes;  // (a, b, c) on lixel coordinates
     int guard = 0;  // lixels of guard band on every side; 0: the lookup takes the whole map
     // A world plane (a, b, c, d): a cascade's view depth limit (cascades.h); zero, which every
     // point satisfies, for every other map.
     Vec4 world_limit = Vec4::Zero();
+    // No caster reaches the rays this rule accepts (a plane's needed polygon outside every
+    // footprint, on or above the plane, which world_limit then is): a point it accepts is lit
+    // with no lookup. Its map has no texels (lixels 0, no passes, nothing rendered or
+    // streamed); the map's width, height and guard give the lookup rectangle as for any map.
+    bool unshadowed = false;
 };
 
 // [x0, x1) x [y0, y1) in lixels, as (x0, y0, x1, y1): [0, width) x [0, height) without a guard
@@ -151,6 +174,10 @@ struct PlannedMap {
     // For the fallback and cube faces: what they are kept for, in words (the objects with parts
     // in view whose light rays no plane map holds). Empty for plane maps.
     std::string kept_for;
+    // A plane map holding one rectangle of its plane's casters' footprints: an integer crop of
+    // the same plane-optimal matrix as the plane's other rectangles and its unshadowed entry,
+    // which follows them in the plan.
+    bool footprint = false;
 };
 
 struct LeftOut {

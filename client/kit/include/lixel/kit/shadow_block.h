@@ -32,7 +32,8 @@ struct ShadowBlockLayout {
     static constexpr std::size_t kPlane = kLixel + 64 * kMaxMaps;
     static constexpr std::size_t kLookup = kPlane + 64 * kMaxMaps;
     static constexpr std::size_t kWorldLimit = kLookup + 16 * kMaxMaps;
-    static constexpr std::size_t kSize = kWorldLimit + 16 * kMaxMaps;  // ivec4 (w, h, planes, 0)
+    // ivec4 (w, h, planes, unshadowed)
+    static constexpr std::size_t kSize = kWorldLimit + 16 * kMaxMaps;
     static constexpr std::size_t kOrigin = kSize + 16 * kMaxMaps;
     static constexpr std::size_t kHalfPlanes = kOrigin + 16 * kMaxMaps;
     static constexpr std::size_t kBytes = kHalfPlanes + 16 * kMaxMaps * kMaxHalfPlanes;
@@ -49,6 +50,8 @@ struct KitMap {
     std::vector<Eigen::Vector3f> half_planes;               // (a, b, c) on lixels
     Eigen::Vector2i origin_a = Eigen::Vector2i::Zero();     // texel (0, 0) in atlas "a"
     Eigen::Vector2i origin_b = Eigen::Vector2i::Zero();     // and in atlas "b"
+    // LookupRule::unshadowed: what the map accepts is lit, and it has no texels in either atlas.
+    bool unshadowed = false;
 };
 
 // The relative stored-depth matrix StoredDepthMatrix(map.matrix) * Translate(origin), in double,

@@ -1,0 +1,59 @@
+// Where a shadow can fall on a plane of interest (DESIGN §4.2, "Only where a shadow can fall"):
+// a caster's footprint is the part of the plane inside its shadow volume, here its bounds'
+// shadow, found in a plane map's own lixel coordinates so that every rectangle around it is an
+// integer crop of the same plane-optimal matrix and stays pixel-aligned.
+#pragma once
+
+#include <lixel/solver/convex_polytope.h>
+#include <lixel/solver/types.h>
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace lixel {
+
+// [x0, x1) x [y0, y1), whole lixels.
+struct LixelRect {
+    int x0 = 0;
+    int y0 = 0;
+    int x1 = 0;
+    int y1 = 0;
+
+    std::int64_t Area(int guard) const {
+        return std::int64_t(x1 - x0 + 2 * guard) * std::int64_t(y1 - y0 + 2 * guard);
+    }
+    LixelRect Union(const LixelRect& o) const {
+        return {std::min(x0, o.x0), std::min(y0, o.y0), std::max(x1, o.x1), std::max(y1, o.y1)};
+    }
+    bool operator==(const LixelRect&) const = default;
+};
+
+// The part of `needed_image` (a convex polygon in the lixels of the plane map `matrix`, every
+// vertex with q > 0) that lies in the shadow of `caster` under `light` on the unit plane
+// `plane` (its lit side P . l > 0): the images of the light rays that meet the caster between
+// the light and the plane. Only the caster's part on the plane's lit side and, for a point
+// light, below the light's level can cast onto it; the map sends every point of a light ray to
+// the same lixel, so that part's image is the convex cone of its vertices' homogeneous images
+// (x q, y q, q), and the footprint is the needed image clipped by that cone's facets.
+// Conservative wherever the cone is not pointed (the light inside or on the caster's box, or
+// the caster straddling the light's level so that its rays fan out both ways): the whole needed
+// image. Empty when no part of the caster lies between the light and the plane, or its shadow
+// misses the needed image. The result may be a segment or a point (a caster seen edge-on).
+std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Vec4& light,
+                                 const ConvexPolytope& caster,
+                                 const std::vector<Vec2>& needed_image);
+
+// The integer rectangle around a footprint: images within 1e-6 lixel past an integer are
+// snapped onto it (as the crop does), and a footprint without area still gets one lixel.
+LixelRect RectAround(const std::vector<Vec2>& image);
+
+// The part of a convex image polygon inside [x0, x1] x [y0, y1] (Sutherland-Hodgman).
+std::vector<Vec2> ClipToRect(const std::vector<Vec2>& image, const LixelRect& rect);
+
+// Merges rectangles (each rendered with `guard` lixels on every side) while one rectangle costs
+// no more lixels than the two it replaces, then, cheapest merge first, until at most
+// `max_count` remain. Deterministic: ties go to the earliest pair. The result covers every
+// input rectangle.
+std::vector<LixelRect> MergeRects(std::vector<LixelRect> rects, int guard, int max_count);
+
+}  // namespace lixel

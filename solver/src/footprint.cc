@@ -1,0 +1,180 @@
+// Casters' footprints on a plane of interest, in a plane map's lixels, and the rectangles that
+// hold them.
+#include <lixel/solver/footprint.h>
+
+#include <lixel/solver/homogeneous.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lixel {
+
+namespace {
+
+// Relative tolerance of the cone's facet tests: far above the rounding of a 3-vector cross
+// product and dot product, far below any angle a caster's box subtends.
+constexpr double kFacetTolerance = 1e-12;
+// Images within this share of a lixel past an integer snap onto it (crop.h's rule).
+constexpr double kSnap = 1e-6;
+// Above this many rectangles, neighbours along x merge first, so the pairwise merge stays cheap.
+constexpr size_t kPairwiseMergeLimit = 32;
+
+// Sutherland-Hodgman on (x, y) against f . (x, y, 1) >= -slack, keeping degenerate results (a
+// segment or a point is still a footprint, of a caster seen edge-on).
+std::vector<Vec2> ClipImage(const std::vector<Vec2>& polygon, const Eigen::Vector3d& f) {
+    std::vector<Vec2> out;
+    const size_t n = polygon.size();
+    out.reserve(n + 1);
+    auto side = [&](const Vec2& p) {
+        const double slack = kFacetTolerance * f.norm() * (std::abs(p.x()) + std::abs(p.y()) + 1.0);
+        return f.x() * p.x() + f.y() * p.y() + f.z() + slack;
+    };
+    for (size_t i = 0; i < n; ++i) {
+        const Vec2& a = polygon[i];
+        const Vec2& b = polygon[(i + 1) % n];
+        const double da = side(a);
+        const double db = side(b);
+        if (da >= 0.0) out.push_back(a);
+        if (n > 1 && (da >= 0.0) != (db >= 0.0)) {
+            const double t = da / (da - db);
+            out.push_back(a + t * (b - a));
+        }
+    }
+    return out;
+}
+
+// The facets f . v >= 0 of the convex cone spanned by `generators`, or nothing when the cone is
+// not pointed (it then holds a whole line, and the footprint is taken to be everything). A
+// facet of a pointed cone is spanned by two of its extreme rays, so trying every pair finds all
+// of them.
+bool ConeFacets(const std::vector<Eigen::Vector3d>& generators,
+                std::vector<Eigen::Vector3d>& facets) {
+    const size_t n = generators.size();
+    for (size_t i = 0; i < n; ++i) {
+        for (size_t j = i + 1; j < n; ++j) {
+            Eigen::Vector3d normal = generators[i].cross(generators[j]);
+            const double length = normal.norm();
+            if (!(length > kFacetTolerance * generators[i].norm() * generators[j].norm())) {
+                continue;
+            }
+            normal /= length;
+            bool all_above = true;
+            bool all_below = true;
+            for (const Eigen::Vector3d& g : generators) {
+                const double s = g.dot(normal);
+                const double slack = kFacetTolerance * g.norm();
+                all_above = all_above && s >= -slack;
+                all_below = all_below && s <= slack;
+            }
+            if (all_above && all_below) return false;  // every generator on one plane: no area
+            if (all_above) facets.push_back(normal);
+            if (all_below) facets.push_back(-normal);
+        }
+    }
+    return !facets.empty();
+}
+
+}  // namespace
+
+std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Vec4& light,
+                                 const ConvexPolytope& caster,
+                                 const std::vector<Vec2>& needed_image) {
+    if (caster.empty() || needed_image.empty()) return {};
+    // A point light as (x, 1): every point X then has the direction X - l from it, and the map
+    // images X and X - l alike (its x, y and q rows vanish on l).
+    const Vec4 l = light.w() != 0.0 ? Vec4(light / light.w()) : light;
+    const double lit = plane.dot(l);
+    if (!(lit > 0.0) || !l.allFinite()) return needed_image;
+    // The caster's part that can cast onto the plane: on its lit side, P . X >= 0, and no
+    // higher than the light, (P . l) X_w - l_w (P . X) >= 0 (every point for a direction).
+    ConvexPolytope part = caster.Clipped(plane);
+    Vec4 level = -l.w() * plane;
+    level.w() += lit;
+    part.Clip(level);
+    if (part.empty()) return {};
+    std::vector<Eigen::Vector3d> generators;
+    for (const Vec3& v : part.vertices()) {
+        const Vec4 h = matrix * Point(v);
+        const Eigen::Vector3d g(h.x(), h.y(), h.w());
+        if (!g.allFinite()) return needed_image;
+        // The light itself (a vertex of the part): it adds no ray, and the rays to the part's
+        // other vertices already span the directions it fans out to.
+        if (g.norm() > 0.0) generators.push_back(g);
+    }
+    std::vector<Eigen::Vector3d> facets;
+    if (!ConeFacets(generators, facets)) {
+        // Not pointed (the light inside the caster's box, or on its level within it), flat, or
+        // a single ray: everything, which is always safe.
+        return needed_image;
+    }
+    std::vector<Vec2> image = needed_image;
+    for (const Eigen::Vector3d& f : facets) {
+        image = ClipImage(image, f);
+        if (image.empty()) break;
+    }
+    return image;
+}
+
+LixelRect RectAround(const std::vector<Vec2>& image) {
+    double x0 = std::numeric_limits<double>::infinity(), y0 = x0;
+    double x1 = -x0, y1 = -x0;
+    for (const Vec2& p : image) {
+        x0 = std::min(x0, p.x());
+        y0 = std::min(y0, p.y());
+        x1 = std::max(x1, p.x());
+        y1 = std::max(y1, p.y());
+    }
+    LixelRect r{static_cast<int>(std::floor(x0 + kSnap)), static_cast<int>(std::floor(y0 + kSnap)),
+                static_cast<int>(std::ceil(x1 - kSnap)), static_cast<int>(std::ceil(y1 - kSnap))};
+    r.x1 = std::max(r.x1, r.x0 + 1);
+    r.y1 = std::max(r.y1, r.y0 + 1);
+    return r;
+}
+
+std::vector<Vec2> ClipToRect(const std::vector<Vec2>& image, const LixelRect& rect) {
+    std::vector<Vec2> out = image;
+    for (const Eigen::Vector3d& f :
+         {Eigen::Vector3d(1, 0, -rect.x0), Eigen::Vector3d(-1, 0, rect.x1),
+          Eigen::Vector3d(0, 1, -rect.y0), Eigen::Vector3d(0, -1, rect.y1)}) {
+        out = ClipImage(out, f);
+    }
+    return out;
+}
+
+std::vector<LixelRect> MergeRects(std::vector<LixelRect> rects, int guard, int max_count) {
+    max_count = std::max(max_count, 1);
+    if (rects.size() > kPairwiseMergeLimit) {
+        std::stable_sort(rects.begin(), rects.end(), [](const LixelRect& a, const LixelRect& b) {
+            return a.x0 + a.x1 < b.x0 + b.x1;
+        });
+        while (rects.size() > kPairwiseMergeLimit) {
+            std::vector<LixelRect> halved;
+            for (size_t i = 0; i < rects.size(); i += 2) {
+                halved.push_back(i + 1 < rects.size() ? rects[i].Union(rects[i + 1]) : rects[i]);
+            }
+            rects = std::move(halved);
+        }
+    }
+    while (rects.size() > 1) {
+        std::int64_t best = std::numeric_limits<std::int64_t>::max();
+        size_t bi = 0, bj = 1;
+        for (size_t i = 0; i < rects.size(); ++i) {
+            for (size_t j = i + 1; j < rects.size(); ++j) {
+                const std::int64_t cost = rects[i].Union(rects[j]).Area(guard) -
+                                          rects[i].Area(guard) - rects[j].Area(guard);
+                if (cost < best) {
+                    best = cost;
+                    bi = i;
+                    bj = j;
+                }
+            }
+        }
+        if (best > 0 && rects.size() <= static_cast<size_t>(max_count)) break;
+        rects[bi] = rects[bi].Union(rects[bj]);
+        rects.erase(rects.begin() + static_cast<std::ptrdiff_t>(bj));
+    }
+    return rects;
+}
+
+}  // namespace lixel

@@ -1,0 +1,84 @@
+// A plane map split into footprint rectangles and an unshadowed entry.
+#include "plane_footprints.h"
+
+#include <lixel/solver/footprint.h>
+#include <lixel/solver/homogeneous.h>
+#include <lixel/solver/polygon.h>
+#include <lixel/solver/ray_cone.h>
+
+#include <algorithm>
+#include <string>
+
+namespace lixel {
+
+namespace {
+
+// `whole` cropped to the rectangle `r` of its lixels (guard band around it): the same matrix
+// renumbered by whole lixels, so its lixel grid is whole's.
+PlannedMap CropTo(const PlannedMap& whole, const LixelRect& r, int index,
+                  const std::vector<Vec3>& needed_polygon) {
+    const int g = whole.lookup.guard;
+    PlannedMap m = whole;
+    m.name = whole.name + " footprint " + std::to_string(index + 1);
+    m.footprint = true;
+    const double dx = r.x0 - g;
+    const double dy = r.y0 - g;
+    m.map.matrix.row(0) -= dx * m.map.matrix.row(3);
+    m.map.matrix.row(1) -= dy * m.map.matrix.row(3);
+    m.map.width = r.x1 - r.x0 + 2 * g;
+    m.map.height = r.y1 - r.y0 + 2 * g;
+    m.lixels = static_cast<std::int64_t>(m.map.width) * m.map.height;
+    for (Eigen::Vector3d& h : m.lookup.half_planes) h.z() += h.x() * dx + h.y() * dy;
+    m.needed_image.clear();
+    for (const Vec2& p : ClipToRect(whole.needed_image, r)) {
+        m.needed_image.push_back(p - Vec2(dx, dy));
+    }
+    std::vector<Vec3> polygon = needed_polygon;
+    const RayCone cone = AcceptedCone(m.map, LookupRectangle(m.map, m.lookup), {});
+    for (const Vec4& plane : cone.planes) polygon = ClipPolygon(polygon, plane);
+    if (!polygon.empty()) m.needed_polygon = std::move(polygon);
+    return m;
+}
+
+}  // namespace
+
+std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& plane,
+                                          const Vec4& light,
+                                          std::span<const ConvexPolytope* const> casters,
+                                          const std::vector<Vec3>& needed_polygon,
+                                          double thickness, int max_rects) {
+    const int g = whole.lookup.guard;
+    const LixelRect interior{g, g, whole.map.width - g, whole.map.height - g};
+    std::vector<LixelRect> rects;
+    for (const ConvexPolytope* caster : casters) {
+        const std::vector<Vec2> image =
+            FootprintImage(whole.map.matrix, plane, light, *caster, whole.needed_image);
+        if (image.empty()) continue;
+        LixelRect r = RectAround(image);
+        r = {std::max(r.x0, interior.x0), std::max(r.y0, interior.y0),
+             std::min(r.x1, interior.x1), std::min(r.y1, interior.y1)};
+        if (r.x1 > r.x0 && r.y1 > r.y0) rects.push_back(r);
+    }
+    rects = MergeRects(std::move(rects), g, max_rects);
+    std::int64_t lixels = 0;
+    for (const LixelRect& r : rects) lixels += r.Area(g);
+    if (lixels >= whole.lixels) return {whole};
+
+    std::vector<PlannedMap> out;
+    for (size_t k = 0; k < rects.size(); ++k) {
+        out.push_back(CropTo(whole, rects[k], static_cast<int>(k), needed_polygon));
+    }
+    PlannedMap lit = whole;
+    lit.name = whole.name + " unshadowed";
+    lit.lookup.unshadowed = true;
+    lit.lixels = 0;
+    lit.passes.clear();
+    // On or above the plane (to the planning thickness): a point below it may be reached by
+    // what lies under the plane, so it goes on to the maps after this one.
+    lit.lookup.world_limit = plane;
+    lit.lookup.world_limit.w() += thickness;
+    out.push_back(std::move(lit));
+    return out;
+}
+
+}  // namespace lixel

@@ -1,0 +1,25 @@
+// A plane map split into the rectangles around its casters' footprints and the unshadowed entry
+// that takes the rest of its needed polygon (DESIGN §4.2; docs/solver.md, "Footprints").
+#pragma once
+
+#include <lixel/solver/convex_polytope.h>
+#include <lixel/solver/scheduler.h>
+
+#include <span>
+#include <vector>
+
+namespace lixel {
+
+// The maps that replace `whole` (a plane map over the needed polygon `needed_polygon` of the
+// unit plane `plane`): one map per merged footprint rectangle of `casters` (thickened boxes
+// that can cast onto the plane), at most `max_rects`, each `whole`'s matrix moved by whole
+// lixels and with `whole`'s guard band, then the unshadowed entry (whole's lookup, limited to
+// points no more than `thickness` below the plane). `whole` alone when the rectangles would
+// cost as many lixels as it does; the unshadowed entry alone when no caster reaches the plane.
+std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& plane,
+                                          const Vec4& light,
+                                          std::span<const ConvexPolytope* const> casters,
+                                          const std::vector<Vec3>& needed_polygon,
+                                          double thickness, int max_rects);
+
+}  // namespace lixel
