@@ -36,7 +36,8 @@ PlannedMap CropTo(const PlannedMap& whole, const LixelRect& r, int index,
     std::vector<Vec3> polygon = needed_polygon;
     const RayCone cone = AcceptedCone(m.map, LookupRectangle(m.map, m.lookup), {});
     for (const Vec4& plane : cone.planes) polygon = ClipPolygon(polygon, plane);
-    if (!polygon.empty()) m.needed_polygon = std::move(polygon);
+    // Empty when the rectangle holds only shadows out of view (of casters in view).
+    m.needed_polygon = std::move(polygon);
     return m;
 }
 
@@ -49,10 +50,16 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
                                           double thickness, int max_rects) {
     const int g = whole.lookup.guard;
     const LixelRect interior{g, g, whole.map.width - g, whole.map.height - g};
+    // Footprints over all the unshadowed entry will accept, its lookup rectangle, not just the
+    // needed image inside it: a caster point whose light ray meets the plane out of view is
+    // accepted there too, and must find its shadow test in a rectangle.
+    const Eigen::Vector4d accepted = LookupRectangle(whole.map, whole.lookup);
+    const std::vector<Vec2> region = {Vec2(accepted[0], accepted[1]), Vec2(accepted[2], accepted[1]),
+                                      Vec2(accepted[2], accepted[3]), Vec2(accepted[0], accepted[3])};
     std::vector<LixelRect> rects;
     for (const ConvexPolytope* caster : casters) {
         const std::vector<Vec2> image =
-            FootprintImage(whole.map.matrix, plane, light, *caster, whole.needed_image);
+            FootprintImage(whole.map.matrix, plane, light, *caster, region);
         if (image.empty()) continue;
         LixelRect r = RectAround(image);
         r = {std::max(r.x0, interior.x0), std::max(r.y0, interior.y0),

@@ -34,7 +34,9 @@ constexpr double kDegree = std::numbers::pi / 180.0;
 // the objects' union (the wall slab reaches z = -5.1), so the wall cuts the floor's needed
 // polygon and the floor/wall line decides between their maps (paper §3). With
 // `table`, a square table top turned 20 degrees comes first: its map is the one twisted to its
-// smallest rectangle (the floor and wall maps are twisted to their meeting line).
+// smallest rectangle (the floor and wall maps are twisted to their meeting line). Each plane
+// map holds its whole needed polygon (footprints off): the contract is about whole maps whose
+// sizes move with the view; footprint rectangles follow the casters instead.
 PlanRequest RoomRequest(const Vec3& eye, const Vec3& target, bool table) {
     const testing::Configuration room = testing::FloorWallConfiguration();
     PlanRequest r;
@@ -59,6 +61,7 @@ PlanRequest RoomRequest(const Vec3& eye, const Vec3& target, bool table) {
         r.objects.push_back(Box("table", Vec3(-2.7, 0.7, -0.7), Vec3(-0.3, 0.8, 1.7)));
     }
     r.lixel_budget = 512 * 512;
+    r.footprints.enabled = false;
     return r;
 }
 

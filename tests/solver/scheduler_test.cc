@@ -61,8 +61,14 @@ void ExpectHeld(const PlannedMap& m, const Vec3& x) {
     EXPECT_LE(p.z() / p.w(), 1.0 + 1e-6) << m.name << " point " << x.transpose();
 }
 
+// The paper's layout (§3-4): each plane map over its whole needed polygon (footprints off).
+PlanRequest WholePlaneMaps(PlanRequest r) {
+    r.footprints.enabled = false;
+    return r;
+}
+
 TEST(Scheduler, FloorWallRoomYieldsFloorWallFallbackInThePapersOrder) {
-    const auto plan = PlanShadowMaps(FloorWallRequest());
+    const auto plan = PlanShadowMaps(WholePlaneMaps(FloorWallRequest()));
     ASSERT_TRUE(plan.ok()) << plan.error().Message();
     EXPECT_EQ(MapNames(*plan), (std::vector<std::string>{"plane floor", "plane wall", "fallback"}));
     const PlannedMap& floor = plan->maps[0];
@@ -108,7 +114,7 @@ TEST(Scheduler, TableOverFloorYieldsTableFloorFallback) {
                  Box("table", Vec3(-1.5, 0.7, -1.5), Vec3(1.5, 0.8, 0.5)),
                  Box("vase", Vec3(-0.2, 0.8, -0.7), Vec3(0.2, 1.4, -0.3)),
                  Box("pole", Vec3(-2.5, 0, 3), Vec3(-2.2, 4, 3.3))};
-    const auto plan = PlanShadowMaps(r);
+    const auto plan = PlanShadowMaps(WholePlaneMaps(r));
     ASSERT_TRUE(plan.ok()) << plan.error().Message();
     EXPECT_EQ(MapNames(*plan), (std::vector<std::string>{"plane table", "plane floor", "fallback"}));
     EXPECT_EQ(plan->maps[0].lookup.half_planes.size(), 4u);  // the table top's four edges
@@ -123,7 +129,7 @@ TEST(Scheduler, LeavesOutPlanesBehindTheCameraFacingAwayOrCoveredWithReasons) {
     r.planes.push_back({"rug", Vec4(0, 1, 0, -0.001),         // on the floor, after it
                         {Vec3(-1, 0.001, 0), Vec3(1, 0.001, 0), Vec3(1, 0.001, -1),
                          Vec3(-1, 0.001, -1)}});
-    const auto plan = PlanShadowMaps(r);
+    const auto plan = PlanShadowMaps(WholePlaneMaps(r));
     ASSERT_TRUE(plan.ok()) << plan.error().Message();
     const LeftOut* behind = FindLeftOut(*plan, "plane behind");
     ASSERT_NE(behind, nullptr);
@@ -150,7 +156,13 @@ TEST(Scheduler, FloorSeenFromAboveWithEveryShadowOnItNeedsNoFallback) {
     r.lixel_budget = 1024 * 1024;
     const auto plan = PlanShadowMaps(r);
     ASSERT_TRUE(plan.ok()) << plan.error().Message();
-    EXPECT_EQ(MapNames(*plan), (std::vector<std::string>{"plane floor"}));
+    // The floor's footprint rectangles and its unshadowed entry, nothing else.
+    ASSERT_FALSE(plan->maps.empty());
+    for (const PlannedMap& m : plan->maps) {
+        EXPECT_EQ(m.role, MapRole::kPlane) << m.name;
+        EXPECT_EQ(m.plane_index, 0) << m.name;
+    }
+    EXPECT_TRUE(plan->maps.back().lookup.unshadowed);
     const LeftOut* fallback = FindLeftOut(*plan, "fallback");
     ASSERT_NE(fallback, nullptr);
     EXPECT_NE(fallback->reason.find("not needed"), std::string::npos);
@@ -176,7 +188,7 @@ TEST(Scheduler, OrthographicViewerAboveTheFloorGetsTheFloorMap) {
     EXPECT_EQ(floor_out, nullptr) << floor_out->reason;
     ASSERT_FALSE(plan->maps.empty());
     const PlannedMap& floor = plan->maps[0];
-    ASSERT_EQ(floor.name, "plane floor");
+    ASSERT_EQ(floor.plane_index, 0);
     EXPECT_EQ(floor.scale, 1.0);
     // The plane's points keep their pixel to the rounding of lixel coordinates up to the map's
     // side S, as for perspective viewers (plane_optimal_stiff_test): 8 eps S.
@@ -186,7 +198,9 @@ TEST(Scheduler, OrthographicViewerAboveTheFloorGetsTheFloorMap) {
     std::mt19937_64 rng(7);
     for (int k = 0; k < 500; ++k) {
         const Vec3 x(Uniform(rng, -5.9, 5.9), 0.0, Uniform(rng, -5.9, 5.9));
-        EXPECT_EQ(LookupMap(*plan, Point(x)), 0) << x.transpose();
+        const int index = LookupMap(*plan, Point(x));
+        ASSERT_GE(index, 0) << x.transpose();
+        EXPECT_EQ(plan->maps[index].plane_index, 0) << x.transpose();
     }
 }
 
@@ -284,6 +298,7 @@ TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
     int orthographic = 0;
     int plane_points = 0;
     int taken = 0;  // plane points an earlier plane map takes
+    int unshadowed = 0;  // plane points lit by construction
     for (int i = 0; i < 150; ++i) {
         PlanRequest r = FloorWallRequest();
         const Vec3 eye(Uniform(rng, -8, 8), Uniform(rng, 0.5, 7), Uniform(rng, -3, 9));
@@ -359,10 +374,24 @@ TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
                 EXPECT_LE(r.planes[p].plane.dot(eye_point), 0.0) << name << ": " << out->reason;
             }
         }
+        // Lit by construction: nothing but the floor and the wall, which no light ray to a point
+        // in front of them crosses, lies between the point and the light (the boxes as they
+        // are, unthickened: an independent slab test).
+        const auto ExpectLit = [&](const Vec3& x, const std::string& map) {
+            const Vec3 toward = r.light.w() == 0.0 ? Vec3(r.light.head<3>())
+                                                  : Vec3(r.light.head<3>() - x);
+            const double reach = r.light.w() == 0.0 ? 1e9 : 1.0;
+            for (const SceneObject& caster : r.objects) {
+                if (caster.name == "floor" || caster.name == "wall") continue;
+                EXPECT_FALSE(std::isfinite(testing::BoxEntry(x, toward, caster.bounds, reach)))
+                    << x.transpose() << " in " << map << " is shadowed by " << caster.name;
+            }
+        };
         // Points inside each plane map's needed polygon, away from its edges by rounding only.
         for (size_t m = 0; m < plan->maps.size(); ++m) {
             const PlannedMap& map = plan->maps[m];
-            if (map.role != MapRole::kPlane) continue;
+            // (A footprint rectangle may hold only shadows out of view: no needed polygon.)
+            if (map.role != MapRole::kPlane || map.needed_polygon.empty()) continue;
             for (int k = 0; k < 100; ++k) {
                 Vec3 x = Vec3::Zero();
                 double total = 0.0;
@@ -374,7 +403,18 @@ TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
                 x /= total;
                 ++plane_points;
                 const int index = LookupMap(*plan, Point(x));
+                if (index >= 0 && plan->maps[index].lookup.unshadowed) {
+                    ExpectLit(x, plan->maps[index].name);
+                    ++unshadowed;
+                }
                 if (index == static_cast<int>(m)) continue;
+                // The plane's own footprint rectangles come first: its unshadowed entry takes
+                // what they leave, and overlapping rectangles share.
+                if (index >= 0 && index < static_cast<int>(m) &&
+                    plan->maps[index].plane_index == map.plane_index &&
+                    plan->maps[index].footprint) {
+                    continue;
+                }
                 ++taken;
                 // Earlier planes win shared rays (DESIGN §4.5). A perspective viewer's near face
                 // lies inside the room, so the floor and the wall hide their back sides and each
@@ -413,6 +453,11 @@ TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
                     ++uncovered;
                     continue;
                 }
+                if (plan->maps[index].lookup.unshadowed) {
+                    // An object point inside its own box is in that box's shadow volume.
+                    ExpectLit(x, plan->maps[index].name);
+                    continue;
+                }
                 ExpectHeld(plan->maps[index], x);
             }
         }
@@ -422,6 +467,7 @@ TEST(Scheduler, BudgetHoldsAndEveryVisiblePointIsCoveredOnRandomRooms) {
     EXPECT_GT(orthographic, 25);
     EXPECT_GT(plane_points, 10000);
     EXPECT_LT(taken, plane_points / 20);
+    EXPECT_GT(unshadowed, 1000);
     RecordProperty("plane_points_taken_by_earlier_maps", std::to_string(taken));
 }
 

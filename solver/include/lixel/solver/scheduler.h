@@ -160,7 +160,8 @@ struct PlannedMap {
     LookupRule lookup;
     // The needed rays as a convex polygon in this map's lixel coordinates.
     std::vector<Vec2> needed_image;
-    // For plane maps: the needed part of the plane in world units. The diagnostics: a plane
+    // For plane maps: the needed part of the plane in world units (a footprint rectangle's part
+    // of it, empty when the rectangle holds only shadows out of view). The diagnostics: a plane
     // map's solve's; for the fallback and cube faces, the figures that hold for any map
     // (map_diagnostics.h: lixels per pixel, depth steps) at samples of the region kept for.
     std::vector<Vec3> needed_polygon;
