@@ -195,10 +195,20 @@ Result<KitFrame> KitFrameOf(const RenderedMaps& rendered, KitDepth depth, const 
     for (std::size_t i = 0; i < frame.maps.size(); ++i) {
         kit_maps.push_back(kit::MakeKitMap(frame.maps[i], frame.lookups[i], origin));
     }
+    // Origins per map again, as the block holds them; (-1, -1) for a map with no texels.
+    std::vector<Eigen::Vector2i> origins_a(frame.maps.size(), Eigen::Vector2i(-1, -1));
+    std::vector<Eigen::Vector2i> origins_b = points.empty() ? std::vector<Eigen::Vector2i>{}
+                                                            : origins_a;
     for (std::size_t k = 0; k < textured.size(); ++k) {
+        origins_a[textured[k]] = frame.atlas.origins[k];
         kit_maps[textured[k]].origin_a = frame.atlas.origins[k];
-        if (!points.empty()) kit_maps[textured[k]].origin_b = frame.atlas_b.origins[k];
+        if (!points.empty()) {
+            origins_b[textured[k]] = frame.atlas_b.origins[k];
+            kit_maps[textured[k]].origin_b = frame.atlas_b.origins[k];
+        }
     }
+    frame.atlas.origins = std::move(origins_a);
+    frame.atlas_b.origins = std::move(origins_b);
     auto block = kit::BuildShadowBlock(kit_maps, Viewport{frame.atlas.width, frame.atlas.height});
     if (!block) return block.error();
     frame.block = std::move(block).value();

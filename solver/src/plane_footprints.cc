@@ -41,13 +41,39 @@ PlannedMap CropTo(const PlannedMap& whole, const LixelRect& r, int index,
     return m;
 }
 
+// The smallest ceil(ratio^k) >= n, k whole.
+int SizeClass(int n, double ratio) {
+    double size = 1.0;
+    while (std::ceil(size) < n) size *= ratio;
+    return static_cast<int>(std::ceil(size));
+}
+
+// `r` grown on one axis to `size` lixels, centred, then moved to lie within [lo, hi) (or cut to
+// it when larger).
+void GrowAxis(int& a, int& b, int size, int lo, int hi) {
+    const int extra = size - (b - a);
+    if (extra <= 0) return;
+    a -= extra / 2;
+    b += extra - extra / 2;
+    if (a < lo) {
+        b += lo - a;
+        a = lo;
+    }
+    if (b > hi) {
+        a -= b - hi;
+        b = hi;
+    }
+    a = std::max(a, lo);
+}
+
 }  // namespace
 
 std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& plane,
                                           const Vec4& light,
                                           std::span<const ConvexPolytope* const> casters,
                                           const std::vector<Vec3>& needed_polygon,
-                                          double thickness, int max_rects) {
+                                          double thickness, int max_rects,
+                                          double size_ratio) {
     const int g = whole.lookup.guard;
     const LixelRect interior{g, g, whole.map.width - g, whole.map.height - g};
     // Footprints over all the unshadowed entry will accept, its lookup rectangle, not just the
@@ -67,6 +93,14 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
         if (r.x1 > r.x0 && r.y1 > r.y0) rects.push_back(r);
     }
     rects = MergeRects(std::move(rects), g, max_rects);
+    if (size_ratio > 1.0) {
+        for (LixelRect& r : rects) {
+            GrowAxis(r.x0, r.x1, SizeClass(r.x1 - r.x0 + 2 * g, size_ratio) - 2 * g, interior.x0,
+                     interior.x1);
+            GrowAxis(r.y0, r.y1, SizeClass(r.y1 - r.y0 + 2 * g, size_ratio) - 2 * g, interior.y0,
+                     interior.y1);
+        }
+    }
     std::int64_t lixels = 0;
     for (const LixelRect& r : rects) lixels += r.Area(g);
     if (lixels >= whole.lixels) return {whole};

@@ -16,10 +16,14 @@ namespace lixel {
 // lixels and with `whole`'s guard band, then the unshadowed entry (whole's lookup, limited to
 // points no more than `thickness` below the plane). `whole` alone when the rectangles would
 // cost as many lixels as it does; the unshadowed entry alone when no caster reaches the plane.
+// Frame coherence (size_ratio > 1): each rectangle, guard band included, grows to the next size
+// of the geometric series size_ratio^k on each axis, centred and kept inside the plane's
+// rectangle, so a shadow that moves a little keeps its map's size (and an engine its atlas).
 std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& plane,
                                           const Vec4& light,
                                           std::span<const ConvexPolytope* const> casters,
                                           const std::vector<Vec3>& needed_polygon,
-                                          double thickness, int max_rects);
+                                          double thickness, int max_rects,
+                                          double size_ratio = 0.0);
 
 }  // namespace lixel

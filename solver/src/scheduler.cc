@@ -669,7 +669,9 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
         }
         for (PlannedMap& piece :
              SplitByFootprints(m, cand.plane, c.light, CastersOnto(c, cand), cand.polygon,
-                               c.thickness, std::min(r.footprints.max_per_plane, rects_left))) {
+                               c.thickness, std::min(r.footprints.max_per_plane, rects_left),
+                               r.coherence ? 1.0 / std::sqrt(1.0 - r.coherence->waste_bound)
+                                           : 0.0)) {
             if (piece.footprint) --rects_left;
             maps.push_back(std::move(piece));
         }

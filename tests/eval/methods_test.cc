@@ -39,12 +39,15 @@ TEST(Methods, EveryFittingPlansWithinBudgetOnEveryScene) {
                 auto plan = PlanMethod(*scene, method, budget);
                 ASSERT_TRUE(plan.ok()) << plan.error().Message();
                 EXPECT_LE(plan->total_lixels, budget);
-                EXPECT_GT(plan->total_lixels, budget / 4);
                 ASSERT_FALSE(plan->maps.empty());
                 std::int64_t sum = 0;
+                bool unshadowed = false;
                 for (const PlannedMap& m : plan->maps) {
-                    sum += std::int64_t(m.map.width) * m.map.height;
+                    unshadowed = unshadowed || m.lookup.unshadowed;
+                    if (!m.lookup.unshadowed) sum += std::int64_t(m.map.width) * m.map.height;
                 }
+                // Plane maps only where a shadow can fall may leave much of the budget unused.
+                if (!unshadowed) EXPECT_GT(plan->total_lixels, budget / 4);
                 EXPECT_EQ(sum, plan->total_lixels);
                 if (method.fitting == Fitting::kCsm) {
                     // The default 4 cascades, less slices that hold no receiver.

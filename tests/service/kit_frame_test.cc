@@ -116,7 +116,7 @@ TEST(KitFrame, TheKitPicksTheSolversMapAndTexelFromWhatRenderStreams) {
 
     std::mt19937_64 rng(15);
     std::uniform_real_distribution<double> u(0.0, 1.0);
-    int compared = 0, near_edges = 0, on_maps = 0;
+    int compared = 0, near_edges = 0, on_maps = 0, on_texels = 0;
     for (int i = 0; i < 20000; ++i) {
         // Points on the floor and the wall (the planes' maps) and in the room (the fallback).
         Vec3 x = bounds.min + (bounds.max - bounds.min).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
@@ -137,6 +137,8 @@ TEST(KitFrame, TheKitPicksTheSolversMapAndTexelFromWhatRenderStreams) {
         ASSERT_EQ(got, want) << "point " << x.transpose();
         if (got < 0) continue;
         ++on_maps;
+        if (frame->lookups[got].unshadowed) continue;  // lit, with no texel to read
+        ++on_texels;
         const LightMap& map = frame->maps[got];
         const Vec4 h = StoredDepthMatrix(map.matrix) * Point(x);
         EXPECT_LE((s.cast<double>().head<2>() - h.head<2>() / h.w()).norm(), 1e-2)
@@ -151,13 +153,20 @@ TEST(KitFrame, TheKitPicksTheSolversMapAndTexelFromWhatRenderStreams) {
                   (*depth[got])[static_cast<std::size_t>(ty) * map.width + tx]);
     }
     std::printf("[ measured ] %d points: the kit's rule and LookupMap agree on all %d (%d on a "
-                "map; %d within 1e-3 lixels of a rule's edge skipped)\n",
-                20000, compared, on_maps, near_edges);
+                "map, %d of them on a map's texels; %d within 1e-3 lixels of a rule's edge "
+                "skipped)\n",
+                20000, compared, on_maps, on_texels, near_edges);
     EXPECT_GT(on_maps, 5000);
+    EXPECT_GT(on_texels, 1000);
     EXPECT_LT(near_edges, 100);
 
     // The border repeats each map's edge texels, kAtlasBorder deep.
     for (std::size_t m = 0; m < frame->maps.size(); ++m) {
+        if (frame->lookups[m].unshadowed) {
+            EXPECT_EQ(depth[m], nullptr) << "an unshadowed map streams nothing";
+            EXPECT_EQ(frame->atlas.origins[m], Eigen::Vector2i(-1, -1));
+            continue;
+        }
         const int w = frame->maps[m].width, h = frame->maps[m].height;
         const Eigen::Vector2i o = frame->atlas.origins[m];
         for (int y = 0; y < h; y += std::max(1, h / 7)) {
@@ -391,8 +400,11 @@ TEST(KitFrame, RenderStreamsEverySilhouetteMapsCornerDepthBeforeItsPoints) {
     EXPECT_GE(silhouette_maps, 2);  // the floor's and the wall's maps hold the shapes' shadows
     auto frame = client::KitFrameOf(*rendered, client::KitDepth::kSilhouette,
                                     scene::FloorWallScene().Bounds().Center());
-    // A map the scheduler gave no silhouette pass (no caster) has nothing for atlas "a".
-    if (silhouette_maps == header.plan().maps_size()) {
+    // A map the scheduler gave no silhouette pass (no caster) has nothing for atlas "a"; an
+    // unshadowed one needs nothing.
+    int textured = 0;
+    for (const v1::PlannedMap& m : header.plan().maps()) textured += m.unshadowed() ? 0 : 1;
+    if (silhouette_maps == textured) {
         EXPECT_TRUE(frame.ok()) << frame.error().Message();
     } else {
         ASSERT_FALSE(frame.ok());

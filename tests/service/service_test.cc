@@ -202,7 +202,12 @@ TEST_F(ServiceTest, PlanWithBoundsOnlyAndWithAnUploadedScene) {
     auto plan = client_->Plan(bare);
     ASSERT_TRUE(plan.ok()) << plan.error().Message();
     ASSERT_GE(plan->maps_size(), 1);
-    EXPECT_EQ(plan->maps(0).name(), "plane floor");
+    EXPECT_EQ(plan->maps(0).role(), v1::MAP_ROLE_PLANE);
+    EXPECT_EQ(plan->maps(0).plane_index(), 0);
+    // The box's footprint on the floor, then the rest of the floor, lit by construction.
+    EXPECT_TRUE(plan->maps(0).footprint());
+    EXPECT_TRUE(plan->maps(1).unshadowed());
+    EXPECT_EQ(plan->maps(1).lixels(), 0u);
     EXPECT_LE(plan->total_lixels(), 512u * 512u);
 
 

@@ -36,7 +36,7 @@ inline constexpr float kNoSilhouettePoint = -1.0f;
 struct PointAtlas {
     int width = 0;
     int height = 0;
-    // Texel (0, 0) of each map with texels, in plan order (unshadowed maps have none).
+    // Each map's texel (0, 0); (-1, -1) for an unshadowed map (it has no texels).
     std::vector<Eigen::Vector2i> origins;
     std::vector<float> texels;  // width * height * 2, row 0 at the bottom; kNoSilhouettePoint
                                 // between maps
@@ -44,7 +44,8 @@ struct PointAtlas {
 
 struct KitFrame {
     std::vector<std::byte> block;  // std140, kit::ShadowBlockLayout::kBytes
-    kit::PackedAtlas atlas;        // the texture lixel_atlas_a samples
+    // The texture lixel_atlas_a samples; origins per map, (-1, -1) for an unshadowed one.
+    kit::PackedAtlas atlas;
     PointAtlas atlas_b;            // what lixel_atlas_b samples; empty unless kSilhouette
     Vec3 origin = Vec3::Zero();    // draw positions relative to it
     // The plan's maps as the block holds them, decoded (lookup order).
