@@ -232,6 +232,22 @@ void BM_Plan(benchmark::State& state) {
 }
 BENCHMARK(BM_Plan)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMicrosecond);
 
+// The same plans with every plane map over its whole needed polygon (footprints off, as before
+// plane maps only where a shadow can fall): what the footprints cost BM_Plan.
+void BM_PlanWholePlaneMaps(benchmark::State& state) {
+    PlanRequest r = RoomWithPlanes(static_cast<int>(state.range(0)));
+    r.footprints.enabled = false;
+    std::int64_t maps = 0;
+    for (auto _ : state) {
+        auto plan = PlanShadowMaps(r);
+        maps = static_cast<std::int64_t>(plan->maps.size());
+        benchmark::DoNotOptimize(plan);
+    }
+    state.counters["maps"] = static_cast<double>(maps);
+    state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_PlanWholePlaneMaps)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMicrosecond);
+
 // What any planner of the same room does at least: one extent hull, and for every plane in view
 // and lit, one plane-optimal solve and a crop to its visible part. No coverage tests between
 // planes, no fallback, no depth refit, no pass or pixel statistics: BM_Plan's baseline.
@@ -285,5 +301,6 @@ int main(int argc, char** argv) {
                                            {"BM_FivePointSvd", "BM_DenseSolve11x11"},
                                            {"BM_SolvePlaneMapWithDiagnostics", "BM_DenseSolve11x11"},
                                            {"BM_Baseline", "BM_BaselineHull"},
-                                           {"BM_Plan", "BM_PlanSolvesOnly"}});
+                                           {"BM_Plan", "BM_PlanSolvesOnly"},
+                                           {"BM_PlanWholePlaneMaps", "BM_PlanSolvesOnly"}});
 }
