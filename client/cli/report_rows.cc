@@ -75,6 +75,7 @@ eval::ReportRow RowOfView(const std::string& scene, const std::string& method,
     row.method = method;
     row.budget = budget;
     row.total_lixels = static_cast<std::int64_t>(evaluated.total_lixels());
+    row.view_pixels = static_cast<std::int64_t>(evaluated.width()) * evaluated.height();
     row.maps = static_cast<int>(evaluated.maps());
     row.error.decided = static_cast<std::int64_t>(e.decided_pixels());
     row.error.wrong = static_cast<std::int64_t>(e.wrong_pixels());

@@ -2,6 +2,9 @@
 // content, the Pareto front, best-per-budget marks, PNG round trips, gnuplot output, and the
 // progress line.
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
 #include <lixel/eval/png_image.h>
 #include <lixel/eval/progress.h>
 #include <lixel/eval/report.h>
@@ -37,6 +40,7 @@ ReportRow Row(std::string scene, std::string method, std::int64_t budget, std::i
     r.method = std::move(method);
     r.budget = budget;
     r.total_lixels = budget - 10;
+    r.view_pixels = 1024 * 1024;
     r.maps = 1;
     r.error.decided = 1000;
     r.error.wrong = wrong;
@@ -96,6 +100,28 @@ TEST(ReportCsv, OneLinePerRowWithStageColumns) {
     for (int i = 0; i < 4; ++i) EXPECT_EQ(commas(rows[i]), commas(header)) << rows[i];
 }
 
+TEST(ReportRow, BudgetsRelativeToTheView) {
+    EXPECT_EQ(PerPixelLabel(65536.0 / 1048576.0), "1/16");
+    EXPECT_EQ(PerPixelLabel(0.25), "1/4");
+    EXPECT_EQ(PerPixelLabel(1.0), "1");
+    EXPECT_EQ(PerPixelLabel(4.0), "4");
+    EXPECT_EQ(PerPixelLabel(147456.0 / 400000.0), "0.37");
+    EXPECT_EQ(PerPixelLabel(std::numeric_limits<double>::quiet_NaN()), "–");
+    ReportRow r = Row("floor_wall", "uniform + depth", 512 * 512, 10, 1.0);
+    EXPECT_EQ(r.LixelsPerPixel(), 0.25);
+    r.view_pixels = 0;
+    EXPECT_TRUE(std::isnan(r.LixelsPerPixel()));
+    const fs::path dir = FreshDir("per_pixel");
+    ASSERT_TRUE(WriteReportCsv((dir / "report.csv").string(), {Row("a", "b", 1024 * 1024, 1, 1.0)})
+                    .ok());
+    std::istringstream lines(Read(dir / "report.csv"));
+    std::string header, row;
+    std::getline(lines, header);
+    std::getline(lines, row);
+    EXPECT_TRUE(header.ends_with(",view_pixels,lixels_per_pixel")) << header;
+    EXPECT_TRUE(row.ends_with(",1048576,1")) << row;
+}
+
 TEST(ReportMarkdown, TablePerSceneBestInBold) {
     const fs::path dir = FreshDir("md");
     ASSERT_TRUE(
@@ -103,9 +129,11 @@ TEST(ReportMarkdown, TablePerSceneBestInBold) {
     const std::string md = Read(dir / "report.md");
     EXPECT_NE(md.find("## floor_wall"), std::string::npos);
     EXPECT_NE(md.find("## pins"), std::string::npos);
-    EXPECT_NE(md.find("| 512² | **plane-optimal + depth** |"), std::string::npos) << md;
-    EXPECT_NE(md.find("| 512² | uniform + depth |"), std::string::npos);
-    EXPECT_NE(md.find("| 1024² | **uniform + depth** |"), std::string::npos);
+    // Budgets both ways: lixels and per pixel of the 1024^2 view.
+    EXPECT_NE(md.find("| 512² (1/4 per pixel) | **plane-optimal + depth** |"), std::string::npos)
+        << md;
+    EXPECT_NE(md.find("| 512² (1/4 per pixel) | uniform + depth |"), std::string::npos);
+    EXPECT_NE(md.find("| 1024² (1 per pixel) | **uniform + depth** |"), std::string::npos);
     EXPECT_NE(md.find("**1.000**"), std::string::npos);  // 10 of 1000 misclassified
     EXPECT_NE(md.find("2.50 / 6.00 / 25.0%"), std::string::npos);
     EXPECT_NE(md.find("error_vs_time.png"), std::string::npos);
@@ -258,8 +286,8 @@ TEST(ReportMarkdown, SmoothObjectsTableOnlyForScenesWithATwin) {
     std::vector<std::string> out;
     for (std::string line; std::getline(lines, line);) out.push_back(line);
     ASSERT_EQ(out.size(), 5u);
-    EXPECT_TRUE(out[4].ends_with(",2000,1.5")) << out[4];
-    EXPECT_TRUE(out[0].ends_with(",,")) << out[0];
+    EXPECT_NE(out[4].find(",2000,1.5,1048576,"), std::string::npos) << out[4];
+    EXPECT_NE(out[0].find(",,,1048576,"), std::string::npos) << out[0];
 }
 
 TEST(ReportPlot, CostRatioAxisWithOneKeyEntryPerFittingAndTest) {

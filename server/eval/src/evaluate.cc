@@ -22,6 +22,7 @@ Result<ReportRow> EvaluateRun(const scene::Scene& scene, const GroundTruth& trut
     row.method = method_name;
     row.budget = budget;
     row.total_lixels = plan.total_lixels;
+    row.view_pixels = static_cast<std::int64_t>(truth.width) * truth.height;
     row.maps = static_cast<int>(plan.maps.size());
     row.error = *error;
     const AliasingResult aliasing = Aliasing(truth, scene.camera.PixelMatrix(), plan);

@@ -81,7 +81,8 @@ Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<Report
                       [](const ReportRow* a, const ReportRow* b) { return a->budget < b->budget; });
             for (const ReportRow* r : mine) {
                 data << CostOf(*r, axis) << " " << std::max(r->error.Percent(), kErrorFloorPercent)
-                     << " " << BudgetLabel(r->budget) << " " << low(*r) << " " << high(*r) << "\n";
+                     << " " << BudgetLabel(r->budget) << "(" << PerPixelLabel(r->LixelsPerPixel())
+                     << ")" << " " << low(*r) << " " << high(*r) << "\n";
             }
             // An empty block would shift gnuplot's index numbering: keep a NaN row.
             if (mine.empty()) data << "NaN NaN - NaN NaN\n";

@@ -33,6 +33,22 @@ std::vector<std::string> StageUnion(const std::vector<ReportRow>& rows) {
 
 }  // namespace
 
+double ReportRow::LixelsPerPixel() const {
+    return view_pixels > 0 ? double(budget) / double(view_pixels)
+                           : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string PerPixelLabel(double r) {
+    if (!(r > 0.0) || !std::isfinite(r)) return "–";
+    const double whole = std::round(r);
+    if (r >= 1.0 && std::abs(r - whole) < 1e-9 * r) return std::to_string(std::llround(whole));
+    const double inverse = std::round(1.0 / r);
+    if (std::abs(1.0 / r - inverse) < 1e-9 / r) return "1/" + std::to_string(std::llround(inverse));
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f", r);
+    return text;
+}
+
 std::string BudgetLabel(std::int64_t budget) {
     const auto side = static_cast<std::int64_t>(std::llround(std::sqrt(double(budget))));
     if (side * side == budget) return std::to_string(side) + "²";
@@ -132,7 +148,7 @@ Result<bool> WriteReportCsv(const std::string& path, const std::vector<ReportRow
                           "map_cost_ratio", "lookup_cost_ratio", "cost_ratio"}) {
         out << "," << c << "," << c << "_min," << c << "_max";
     }
-    out << ",smooth_truth_pixels,smooth_truth_misclassified_pct";
+    out << ",smooth_truth_pixels,smooth_truth_misclassified_pct,view_pixels,lixels_per_pixel";
     out << "\n";
     for (const ReportRow& r : rows) {
         out << CsvField(r.scene) << "," << CsvField(r.method) << "," << r.budget << ","
@@ -166,6 +182,8 @@ Result<bool> WriteReportCsv(const std::string& path, const std::vector<ReportRow
         } else {
             out << ",,";
         }
+        out << "," << r.view_pixels << ","
+            << (r.view_pixels > 0 ? Number(r.LixelsPerPixel(), 6) : std::string());
         out << "\n";
     }
     return WriteText(path, out.str());
@@ -205,7 +223,10 @@ Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<Repo
            "(mean / 95th percentile / share above "
         << Number(kAliasingThreshold)
         << "), on the planes of interest and elsewhere. Use: share of allocated lixels some "
-           "visible pixel reads. **Bold**: fewest misclassified pixels at that budget.\n\n";
+           "visible pixel reads. **Bold**: fewest misclassified pixels at that budget. Budgets "
+           "are given in lixels and per pixel of the view (1/16, 1/4, 1: the defaults at a "
+           "1024² view). Plane-optimal maps hold only where a shadow can fall, so a plan may "
+           "use fewer lixels than its budget.\n\n";
     if (costs) {
         out << "Costs (docs/eval.md), GPU-inclusive (glFinish before each clock stops), after one "
                "untimed warm-up, over "
@@ -264,7 +285,8 @@ Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<Repo
         for (const std::size_t i : order) {
             const ReportRow& r = rows[i];
             const std::string b = best[i] ? "**" : "";
-            out << "| " << BudgetLabel(r.budget) << " | " << b << r.method << b << " | "
+            out << "| " << BudgetLabel(r.budget) << " (" << PerPixelLabel(r.LixelsPerPixel())
+                << " per pixel) | " << b << r.method << b << " | "
                 << r.total_lixels << " | " << r.maps << " | " << b << Fixed(r.error.Percent(), 3)
                 << b << " | " << Fixed(r.error.PlanesPercent(), 3) << " | "
                 << Fixed(r.error.ElsewherePercent(), 3) << " | "

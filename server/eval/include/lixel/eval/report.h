@@ -23,6 +23,7 @@ struct ReportRow {
     std::string method;             // "plane-optimal + depth", "LiSPSM + PCF", ...
     std::int64_t budget = 0;        // lixels allowed in total
     std::int64_t total_lixels = 0;  // lixels the method allocated (<= budget)
+    std::int64_t view_pixels = 0;   // pixels of the viewer image; 0: not known
     int maps = 0;                   // shadow maps rendered
     Misclassification error;
     AliasingStats aliasing_planes;
@@ -37,10 +38,15 @@ struct ReportRow {
     std::optional<SmoothTruthScore> smooth_truth;
 
     double TotalMs() const;
+    // budget / view_pixels, the budget relative to the view (issue 26); NaN when not known.
+    double LixelsPerPixel() const;
 };
 
 // "262144" -> "512²" when it is a square, else "256k" style.
 std::string BudgetLabel(std::int64_t budget);
+
+// A budget relative to the view: "1/16", "1/4", "1", "4", else two decimals ("0.37").
+std::string PerPixelLabel(double lixels_per_pixel);
 
 // What the report says about the run as a whole.
 struct ReportInfo {
