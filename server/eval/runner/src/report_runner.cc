@@ -299,7 +299,9 @@ std::int64_t GridBudget(const std::vector<std::int64_t>& budgets, std::int64_t w
 }  // namespace
 
 Result<ReportSummary> RunReport(const ReportOptions& options) {
-    if (options.scenes.empty()) return Error{"scenes", "no scene to report on"};
+    if (options.scenes.empty() && options.scene_values.empty()) {
+        return Error{"scenes", "no scene to report on"};
+    }
 #ifdef LIXEL_HAVE_VOLUMES
     const bool volumes = options.volumes;
 #else
@@ -323,6 +325,10 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
         if (!scene) return scene.error();
         if (options.viewport) scene->camera.viewport = *options.viewport;
         scenes.push_back(std::move(scene.value()));
+    }
+    for (Scene scene : options.scene_values) {
+        if (options.viewport) scene.camera.viewport = *options.viewport;
+        scenes.push_back(std::move(scene));
     }
     auto context = render::ThreadContext(options.gl);
     if (!context) return context.error();

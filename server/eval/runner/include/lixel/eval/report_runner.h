@@ -8,6 +8,7 @@
 #include <lixel/eval/methods.h>
 #include <lixel/eval/report.h>
 #include <lixel/render/context.h>
+#include <lixel/scene/scene.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/types.h>
 
@@ -21,6 +22,8 @@ namespace lixel::eval {
 struct ReportOptions {
     // Built-in scene names (builtin_scenes.h) or paths of scene files (docs/scenes.md).
     std::vector<std::string> scenes = {"floor_wall"};
+    // Scenes a program built itself, after those named above (each with a name of its own).
+    std::vector<scene::Scene> scene_values;
     std::vector<Method> methods = AllMethods();
     // Also exact robust silhouette volumes (paper 001) where lixel::volumes_gl is built: one run
     // per scene, its row repeated under every budget since it allocates no lixels.
