@@ -114,7 +114,11 @@ inline void CheckPlan(const PlanRequest& request, const Plan& plan, FuzzedDataPr
     std::int64_t total = 0;
     for (const PlannedMap& m : plan.maps) {
         CheckMap(m.map, "planned map");
-        if (m.lixels != static_cast<std::int64_t>(m.map.width) * m.map.height) {
+        if (m.lookup.unshadowed) {
+            // Lit where it accepts: no texels, no passes, on a plane's own side.
+            if (m.lixels != 0 || !m.passes.empty()) Fail("unshadowed map with texels");
+            if (m.lookup.world_limit == Vec4::Zero()) Fail("unshadowed map without its plane");
+        } else if (m.lixels != static_cast<std::int64_t>(m.map.width) * m.map.height) {
             Fail("planned map lixels");
         }
         for (const Eigen::Vector3d& h : m.lookup.half_planes) CheckFinite(h, "lookup half-plane");
@@ -123,6 +127,9 @@ inline void CheckPlan(const PlanRequest& request, const Plan& plan, FuzzedDataPr
         total += m.lixels;
     }
     if (total != plan.total_lixels || total > request.lixel_budget) Fail("plan over budget");
+    int rectangles = 0;
+    for (const PlannedMap& m : plan.maps) rectangles += m.footprint ? 1 : 0;
+    if (rectangles > request.footprints.max_per_plan) Fail("footprint rectangles over the limit");
     CheckFinite(plan.plane_scale, "plan scale");
     for (int i = 0; i < 4 && in.remaining_bytes() > 0; ++i) {
         const Vec4 x = in.ConsumeBool() ? Vec4(PickVec3(in).homogeneous()) : PickVec4(in);

@@ -77,6 +77,13 @@ PlanRequest PickRequest(FuzzedDataProvider& in) {
     r.passes.second_depth = in.ConsumeBool();
     r.passes.silhouette_map = in.ConsumeBool();
     r.passes.volumes = in.ConsumeBool();
+    // Plane maps only where a shadow can fall (on unless turned off), within limits in and out
+    // of range.
+    if (in.ConsumeBool()) {
+        r.footprints.enabled = in.ConsumeBool();
+        r.footprints.max_per_plane = in.ConsumeIntegralInRange<int>(-1, kMaxFootprintRectangles + 1);
+        r.footprints.max_per_plan = in.ConsumeIntegralInRange<int>(-1, kMaxFootprintRectangles + 1);
+    }
     return r;
 }
 
