@@ -327,6 +327,11 @@ const int LIXEL_TEST_SILHOUETTE = 3;
 const float LIXEL_REACH_NEAREST = 0.70710678;
 const float LIXEL_REACH_PER_RADIUS = 1.41421356;
 const float LIXEL_REACH_CORNERS = 1.41421356;
+// The hard test's reach beyond the point's own distance to its texel's centre, lixels (the float
+// error of the point's lixel, 2.4e-5 measured at worst, with room), and its bias for the depths'
+// own rounding, in multiples of lixel_stored_depth_rounding.
+const float LIXEL_REACH_SLACK = 0.01;
+const float LIXEL_ROUNDING_BIAS = 16.0;
 
 // lixel::render::ShadowOptions as the tests read them (the server's defaults: depth_bias 0,
 // slope_bias 1.5, max_bias 1, second_depth_bias 0, open_second_depth_bias 16).
@@ -355,8 +360,15 @@ float lixel_shadow(int test, vec3 p, vec3 n, float n_dot_l, LixelShadowSettings 
     // never shadows itself; the boundary moves by at most slope_bias * reach lixels.
     vec4 plane = lixel_map_plane[map] * vec4(n, -dot(n, p));
     if (test == LIXEL_TEST_DEPTH) {
-        return lixel_hard_shadow(map, s, lixel_slope_bias(plane, LIXEL_REACH_NEAREST, o.depth_bias,
-                                                          o.slope_bias, o.max_bias));
+        // The one sample read lies at the texel's centre: the bias need only reach that far
+        // (receiver-plane depth bias), plus the float error of s (~1e-4 lixel) and of both
+        // depths. A plane map at one lixel per pixel samples each pixel's own light ray, so a
+        // receiver on its plane needs almost none, and a shadow that starts at a caster's base
+        // starts there.
+        float reach = min(length(fract(s.xy) - 0.5) + LIXEL_REACH_SLACK, LIXEL_REACH_NEAREST);
+        float bias = lixel_slope_bias(plane, reach, o.depth_bias, o.slope_bias, o.max_bias) +
+                     LIXEL_ROUNDING_BIAS * lixel_stored_depth_rounding(lixel_map_lixel[map], p);
+        return lixel_hard_shadow(map, s, bias);
     }
     if (test == LIXEL_TEST_PCF) {
         float reach = LIXEL_REACH_PER_RADIUS * float(o.pcf_radius);

@@ -142,14 +142,15 @@ TEST(Rooms, PlaneOptimalBeatsTheBestBaselineWithTheSameFilterOnThePlanes) {
     const std::vector<double>& sixteenth = ratios[pixels / 16];
     ASSERT_EQ(one.size(), static_cast<size_t>(kRooms));
     // Issue 26 asks for exact or 20x in every room at one lixel per pixel. Measured: exact in
-    // 33 of 50 rooms and 31.9x at the median, but 17 rooms keep 1 to 100 wrong planes pixels
-    // that whole plane maps at 4 lixels per pixel keep too, to the pixel (docs/eval.md,
-    // "Random rooms"): a residual the footprints do not cause, and every method shares. Until it
-    // is found, the median holds the bar and no room may fall far behind the best baseline.
+    // 38 of 50 rooms and 32.2x at the median; 12 rooms keep 1 to 100 wrong planes pixels, which
+    // whole plane maps at 4 lixels per pixel keep too (docs/eval.md, "Random rooms"): a residual
+    // the footprints do not cause. Until it is found, the median holds the bar and no room may
+    // fall far behind the best baseline. The hard test's bias reaching only to its texel's
+    // centre (lixel_shadow) makes 5 more rooms exact: 33 with the nearest texel's worst reach.
     EXPECT_GE(Median(one), 20.0);
-    EXPECT_GE(exact[pixels], kRooms / 2);
+    EXPECT_GE(exact[pixels], 36);
     EXPECT_GE(*std::min_element(one.begin(), one.end()), 0.5);
-    // The median at least 2x at 1/4 and 1.5x at 1/16.
+    // The median at least 2x at 1/4 and 1.5x at 1/16 (measured 20.4x and 2.0x).
     EXPECT_GE(Median(quarter), 2.0);
     EXPECT_GE(Median(sixteenth), 1.5);
 }
