@@ -219,8 +219,8 @@ PlanRequest RoomWithPlanes(int count) {
     return r;
 }
 
-void BM_Plan(benchmark::State& state) {
-    const PlanRequest r = RoomWithPlanes(static_cast<int>(state.range(0)));
+// Plans `r` over and over, counting its maps.
+void RunPlans(benchmark::State& state, const PlanRequest& r) {
     std::int64_t maps = 0;
     for (auto _ : state) {
         auto plan = PlanShadowMaps(r);
@@ -230,6 +230,10 @@ void BM_Plan(benchmark::State& state) {
     state.counters["maps"] = static_cast<double>(maps);
     state.SetItemsProcessed(state.iterations());
 }
+
+void BM_Plan(benchmark::State& state) {
+    RunPlans(state, RoomWithPlanes(static_cast<int>(state.range(0))));
+}
 BENCHMARK(BM_Plan)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMicrosecond);
 
 // The same plans with every plane map over its whole needed polygon (footprints off, as before
@@ -237,14 +241,7 @@ BENCHMARK(BM_Plan)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMicrosecon
 void BM_PlanWholePlaneMaps(benchmark::State& state) {
     PlanRequest r = RoomWithPlanes(static_cast<int>(state.range(0)));
     r.footprints.enabled = false;
-    std::int64_t maps = 0;
-    for (auto _ : state) {
-        auto plan = PlanShadowMaps(r);
-        maps = static_cast<std::int64_t>(plan->maps.size());
-        benchmark::DoNotOptimize(plan);
-    }
-    state.counters["maps"] = static_cast<double>(maps);
-    state.SetItemsProcessed(state.iterations());
+    RunPlans(state, r);
 }
 BENCHMARK(BM_PlanWholePlaneMaps)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMicrosecond);
 

@@ -172,7 +172,6 @@ Result<KitFrame> KitFrameOf(const RenderedMaps& rendered, KitDepth depth, const 
         images_in_atlas.push_back((*all_images)[i]);
         if (!all_points.empty()) points.push_back(all_points[i]);
     }
-    const std::vector<kit::ImageView>* images = &images_in_atlas;
     std::vector<kit::KitMap> kit_maps;
     if (textured.empty() && !frame.maps.empty()) {
         // Every map unshadowed: an atlas of one texel the kit never reads.
@@ -180,10 +179,10 @@ Result<KitFrame> KitFrameOf(const RenderedMaps& rendered, KitDepth depth, const 
         frame.atlas.height = 1;
         frame.atlas.texels.assign(1, 0.0f);
     }
-    if (!images->empty()) {
+    if (!images_in_atlas.empty()) {
         // Atlas "a" keeps its border for the corner depth too, as the view pass's FillAtlases
         // copies every "a" texture (the corner maps (width + 1) x (height + 1)).
-        auto atlas = kit::PackImages(*images, kit::kAtlasBorder, max_atlas_side);
+        auto atlas = kit::PackImages(images_in_atlas, kit::kAtlasBorder, max_atlas_side);
         if (!atlas) return atlas.error();
         frame.atlas = std::move(atlas).value();
     }

@@ -194,11 +194,7 @@ PlanRequest Room(std::int64_t budget) {
     r.viewer = c.viewer;
     r.viewport = c.viewport;
     r.light = c.light;
-    r.objects = {Box("floor", Vec3(-10, -0.1, -5), Vec3(10, 0, 10)),
-                 Box("wall", Vec3(-10, 0, -5.1), Vec3(10, 8, -5)),
-                 Box("cube", Vec3(-1, 0, -2), Vec3(0, 1, -1)),
-                 Box("ball", Vec3(1, 0.5, -3), Vec3(2, 1.5, -2)),
-                 Box("pole", Vec3(-2.5, 0, 3), Vec3(-2.2, 4, 3.3))};
+    r.objects = testing::FloorWallRoomObjects();
     r.planes = {{"floor", Vec4(0, 1, 0, 0), {}}, {"wall", Vec4(0, 0, 1, 5), {}}};
     r.lixel_budget = budget;
     return r;

@@ -43,11 +43,7 @@ PlanRequest RoomRequest(const Vec3& eye, const Vec3& target, bool table) {
     r.viewer = Perspective(60.0 * kDegree, 1.0, 0.1, 100.0) * LookAt(eye, target, Vec3::UnitY());
     r.viewport = room.viewport;
     r.light = room.light;
-    r.objects = {Box("floor", Vec3(-10, -0.1, -5), Vec3(10, 0, 10)),
-                 Box("wall", Vec3(-10, 0, -5.1), Vec3(10, 8, -5)),
-                 Box("cube", Vec3(-1, 0, -2), Vec3(0, 1, -1)),
-                 Box("ball", Vec3(1, 0.5, -3), Vec3(2, 1.5, -2)),
-                 Box("pole", Vec3(-2.5, 0, 3), Vec3(-2.2, 4, 3.3))};
+    r.objects = testing::FloorWallRoomObjects();
     r.planes = {{"floor", room.plane, {}}, {"wall", Vec4(0, 0, 1, 5), {}}};
     if (table) {
         PlaneOfInterest top{"table", Vec4(0, 1, 0, -0.8), {}};

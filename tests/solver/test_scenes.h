@@ -46,6 +46,16 @@ inline SceneObject Box(const std::string& name, const Vec3& min, const Vec3& max
     return o;
 }
 
+// The paper's room as the scheduler tests plan it: the floor and wall slabs and three boxes on
+// the floor (a cube, a ball's box, a pole).
+inline std::vector<SceneObject> FloorWallRoomObjects() {
+    return {Box("floor", Vec3(-10, -0.1, -5), Vec3(10, 0, 10)),
+            Box("wall", Vec3(-10, 0, -5.1), Vec3(10, 8, -5)),
+            Box("cube", Vec3(-1, 0, -2), Vec3(0, 1, -1)),
+            Box("ball", Vec3(1, 0.5, -3), Vec3(2, 1.5, -2)),
+            Box("pole", Vec3(-2.5, 0, 3), Vec3(-2.2, 4, 3.3))};
+}
+
 // Where the ray origin + t direction enters `box` (slab test), for t in [0, t_max]: the entry
 // parameter, 0 when the origin is inside, or infinity when the ray misses within t_max. The
 // scheduler's own tracing is not reachable from tests; this is the reference they compare with.
