@@ -193,7 +193,7 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
     // is compared directly so a twist never costs lixels.
     thread_local std::vector<double> twists;
     twists.assign(1, 0.0);
-    if (options.twist == Twist::kMinimizeArea) {
+    if (options.twist == Twist::kMinimizeArea && !options.in_phase) {
         const std::vector<Vec2> hull = ConvexHull2d(image);
         for (size_t i = 0; i < hull.size() && hull.size() >= 2; ++i) {
             const Vec2 e = hull[(i + 1) % hull.size()] - hull[i];
@@ -219,6 +219,10 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
         if (line.x() * centroid.x() + line.y() * centroid.y() + line.z() > 0.0) {
             theta += std::numbers::pi;
         }
+        if (options.in_phase) {
+            const double quarter = std::numbers::pi / 2.0;
+            theta = quarter * std::round(theta / quarter);
+        }
         twists.assign(1, theta);
     }
 
@@ -231,7 +235,7 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
             best_theta = theta;
         }
     }
-    if (options.twist == Twist::kMinimizeArea && options.previous_twist) {
+    if (options.twist == Twist::kMinimizeArea && options.previous_twist && !options.in_phase) {
         // Frame coherence: the previous twist stays unless the best one saves `twist_saving` of
         // the map's lixels (guard band included, as the texture is allocated).
         const double previous = *options.previous_twist;

@@ -15,6 +15,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <new>
 #include <sstream>
 
@@ -457,11 +458,15 @@ void FindCandidates(Context& c) {
                 polygon.clear();
                 break;
             }
-            double moved = 0.0;
+            // The meeting line bounds the lookup wherever the polygon reaches it, also when the
+            // scene's box already ends the polygon there: without it, this plane's rectangle
+            // takes the rays of the other plane's points just past the line, which its lixels
+            // sample at a grazing angle.
+            double reach = -std::numeric_limits<double>::infinity();
             for (const Vec3& v : polygon) {
-                moved = std::max(moved, -(planes[j].head<3>().dot(v) + planes[j].w()));
+                reach = std::max(reach, -(planes[j].head<3>().dot(v) + planes[j].w()));
             }
-            if (moved > c.thickness) cand.cut_by.push_back(j);
+            if (reach > -c.thickness) cand.cut_by.push_back(j);
             polygon = clipped;
         }
         if (polygon.empty()) {
@@ -590,6 +595,7 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
         pr.needed_polygon = cand.polygon;
         pr.bounds = c.bounds;
         pr.crop.scale = scale;
+        pr.crop.in_phase = r.in_phase;
         pr.crop.max_side = r.max_texture_size;
         pr.crop.guard = guard;
         Vec4 line_a, line_b;

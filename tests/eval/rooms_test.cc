@@ -25,6 +25,16 @@ double Uniform(std::mt19937_64& rng, double lo, double hi) {
     return std::uniform_real_distribution<double>(lo, hi)(rng);
 }
 
+// x, then y, then z: the draws are sequenced here, since the order in which a constructor's
+// arguments are evaluated is unspecified (GCC and clang build different rooms from
+// Vec3(Uniform(..), Uniform(..), Uniform(..))).
+Vec3 Uniform(std::mt19937_64& rng, const Vec3& lo, const Vec3& hi) {
+    const double x = Uniform(rng, lo.x(), hi.x());
+    const double y = Uniform(rng, lo.y(), hi.y());
+    const double z = Uniform(rng, lo.z(), hi.z());
+    return Vec3(x, y, z);
+}
+
 // A room as a new user would build one: a floor and a wall (planes of interest, in that order),
 // 3 to 6 boxes and spheres on and above the floor, a viewer somewhere in the room looking at the
 // floor/wall corner region, and a point light above it (three rooms in four) or a directional
@@ -36,11 +46,12 @@ scene::Scene RandomRoom(std::mt19937_64& rng, int index, int view) {
     s.meshes.push_back(scene::MakeQuad("wall", Vec3(-8, 0, -5), Vec3(16, 0, 0), Vec3(0, 6, 0), 4));
     const int casters = 3 + static_cast<int>(Uniform(rng, 0, 3.999));
     for (int k = 0; k < casters; ++k) {
-        const Vec3 at(Uniform(rng, -5, 5), 0.0, Uniform(rng, -4, 4));
+        const double at_x = Uniform(rng, -5, 5);
+        const Vec3 at(at_x, 0.0, Uniform(rng, -4, 4));
         const bool resting = Uniform(rng, 0, 1) < 0.6;
         const double lift = resting ? 0.0 : Uniform(rng, 0.3, 2.0);
         if (k % 2 == 0) {
-            const Vec3 half(Uniform(rng, 0.2, 0.8), Uniform(rng, 0.2, 0.8), Uniform(rng, 0.2, 0.8));
+            const Vec3 half = Uniform(rng, Vec3(0.2, 0.2, 0.2), Vec3(0.8, 0.8, 0.8));
             const Vec3 base = at + Vec3(0, lift + half.y(), 0);
             s.meshes.push_back(scene::MakeBox("box " + std::to_string(k), {base - half, base + half}));
         } else {
@@ -50,17 +61,17 @@ scene::Scene RandomRoom(std::mt19937_64& rng, int index, int view) {
         }
     }
     s.planes = {{"floor", Vec4(0, 1, 0, 0), {}}, {"wall", Vec4(0, 0, 1, 5), {}}};
-    s.camera.eye = Vec3(Uniform(rng, -5, 5), Uniform(rng, 1.5, 5), Uniform(rng, 4, 7.5));
-    s.camera.target = Vec3(Uniform(rng, -2, 2), Uniform(rng, 0, 1.5), Uniform(rng, -4, 0));
+    s.camera.eye = Uniform(rng, Vec3(-5, 1.5, 4), Vec3(5, 5, 7.5));
+    s.camera.target = Uniform(rng, Vec3(-2, 0, -4), Vec3(2, 1.5, 0));
     s.camera.fovy_degrees = Uniform(rng, 45, 75);
     s.camera.near = 0.1;
     s.camera.far = 60.0;
     s.camera.viewport = {view, view};
     if (index % 4 == 3) {
-        s.light = Direction(Vec3(Uniform(rng, -1, 1), Uniform(rng, 0.4, 1), Uniform(rng, 0, 1)));
+        s.light = Direction(Uniform(rng, Vec3(-1, 0.4, 0), Vec3(1, 1, 1)));
     } else {
         // Above the room (the wall is 6 high), so every baseline can hold it in one frustum.
-        s.light = Point(Vec3(Uniform(rng, -6, 6), Uniform(rng, 6.5, 10), Uniform(rng, -3, 7)));
+        s.light = Point(Uniform(rng, Vec3(-6, 6.5, -3), Vec3(6, 10, 7)));
     }
     return s;
 }
@@ -125,6 +136,12 @@ TEST(Rooms, PlaneOptimalBeatsTheBestBaselineWithTheSameFilterOnThePlanes) {
         ratios[key.second].push_back(ratio);
         exact[key.second] += p.plane == 0.0;
         worse[key.second] += ratio < 1.0;
+        // Issue 26's bar at one lixel per pixel, room by room: exact, or 20x the best baseline.
+        if (key.second == pixels) {
+            EXPECT_TRUE(p.plane == 0.0 || ratio >= 20.0)
+                << key.first << ": plane-optimal " << p.plane << " %, best baseline " << p.best
+                << " % (" << p.best_name << "), " << ratio << "x";
+        }
         std::printf("[ rooms    ] %-8s %7.4f lixels/px: plane-optimal %.4f %%, best baseline %.4f "
                     "%% (%s), %.1fx\n",
                     key.first.c_str(), double(key.second) / double(pixels), p.plane, p.best,
@@ -141,16 +158,14 @@ TEST(Rooms, PlaneOptimalBeatsTheBestBaselineWithTheSameFilterOnThePlanes) {
     const std::vector<double>& quarter = ratios[pixels / 4];
     const std::vector<double>& sixteenth = ratios[pixels / 16];
     ASSERT_EQ(one.size(), static_cast<size_t>(kRooms));
-    // Issue 26 asks for exact or 20x in every room at one lixel per pixel. Measured: exact in
-    // 38 of 50 rooms and 32.2x at the median; 12 rooms keep 1 to 100 wrong planes pixels, which
-    // whole plane maps at 4 lixels per pixel keep too (docs/eval.md, "Random rooms"): a residual
-    // the footprints do not cause. Until it is found, the median holds the bar and no room may
-    // fall far behind the best baseline. The hard test's bias reaching only to its texel's
-    // centre (lixel_shadow) makes 5 more rooms exact: 33 with the nearest texel's worst reach.
+    // Measured: exact in 46 of 50 rooms, the other 4 with one wrong planes pixel each (30x to
+    // 85x: a pixel whose light ray meets its lixel's centre on a quad's edge, where raster and
+    // ray cast part), median 52.0x. Plane maps in phase with the pixels (twists in right angles)
+    // and the floor's lookup cut at the wall also where the scene's box ends the floor there
+    // (SchedulerPhase.*) took it there from 38 exact.
+    EXPECT_GE(exact[pixels], 44);
     EXPECT_GE(Median(one), 20.0);
-    EXPECT_GE(exact[pixels], 36);
-    EXPECT_GE(*std::min_element(one.begin(), one.end()), 0.5);
-    // The median at least 2x at 1/4 and 1.5x at 1/16 (measured 20.4x and 2.0x).
+    // The median at least 2x at 1/4 and 1.5x at 1/16 (measured 32.2x and 2.0x).
     EXPECT_GE(Median(quarter), 2.0);
     EXPECT_GE(Median(sixteenth), 1.5);
 }

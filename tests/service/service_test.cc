@@ -217,6 +217,35 @@ TEST_F(ServiceTest, PlanWithBoundsOnlyAndWithAnUploadedScene) {
     EXPECT_FALSE(scene_plan->left_out().empty());
 }
 
+// Plane maps twist by right angles unless the request asks for the paper's free twists
+// (docs/solver.md, "Twist"): floor_wall's floor then turns its floor/wall line horizontal.
+TEST_F(ServiceTest, PlaneMapsTwistByRightAnglesUnlessFreeTwistIsAsked) {
+    const double quarter = std::numbers::pi / 2.0;
+    auto off_quarter = [&](const v1::PlanResponse& plan) {
+        int off = 0;
+        for (const v1::PlannedMap& m : plan.maps()) {
+            if (m.role() != v1::MAP_ROLE_PLANE) continue;
+            const double q = m.twist_radians() / quarter;
+            off += std::abs(q - std::round(q)) > 1e-9;
+        }
+        return off;
+    };
+    // The small scene seen from the side: its floor/wall line runs at a slant in the view.
+    v1::PlanRequest request = ScenePlan();
+    request.mutable_camera()->set_width(256);
+    request.mutable_camera()->set_height(256);
+    service::EncodeMat4(Perspective(std::numbers::pi / 3.0, 1.0, 0.1, 60.0) *
+                            LookAt(Vec3(6, 3, 5), Vec3(0, 0.5, -3), Vec3::UnitY()),
+                        request.mutable_camera()->mutable_viewer());
+    auto in_phase = client_->Plan(request);
+    ASSERT_TRUE(in_phase.ok()) << in_phase.error().Message();
+    EXPECT_EQ(off_quarter(*in_phase), 0);
+    request.set_free_twist(true);
+    auto free = client_->Plan(request);
+    ASSERT_TRUE(free.ok()) << free.error().Message();
+    EXPECT_GT(off_quarter(*free), 0);
+}
+
 TEST_F(ServiceTest, PlanSaysWhatTheFallbackIsKeptForOrWhyItIsLeftOut) {
     // floor_wall: the floor and wall maps hold every visible ray, so no fallback.
     auto plain = client_->Plan(ScenePlan());

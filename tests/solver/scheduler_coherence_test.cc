@@ -57,7 +57,9 @@ PlanRequest RoomRequest(const Vec3& eye, const Vec3& target, bool table) {
         r.objects.push_back(Box("table", Vec3(-2.7, 0.7, -0.7), Vec3(-0.3, 0.8, 1.7)));
     }
     r.lixel_budget = 512 * 512;
+    // The paper's layout: whole plane maps, twisted as §3 twists them (coherence keeps twists).
     r.footprints.enabled = false;
+    r.in_phase = false;
     return r;
 }
 

@@ -336,6 +336,7 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
     out.passes.second_depth = message.passes().second_depth();
     out.passes.silhouette_map = message.passes().silhouette_map();
     out.passes.volumes = message.passes().volumes();
+    out.in_phase = !message.free_twist();
     if (message.has_footprints()) {
         const v1::Footprints& f = message.footprints();
         out.footprints.enabled = !f.disabled();

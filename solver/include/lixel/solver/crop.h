@@ -24,6 +24,12 @@ struct CropOptions {
     // For kLineHorizontal: two homogeneous world points on the line (the floor/wall line).
     Vec4 line_a = Vec4::Zero();
     Vec4 line_b = Vec4::Zero();
+    // Twists by right angles only: kMinimizeArea keeps the solved image's axes and
+    // kLineHorizontal takes the right angle nearest the line's. The solved image puts viewer
+    // pixel centres on lixel centres, and only a right-angle twist (with the integer
+    // renumbering) keeps them there; any other angle samples each pixel at an offset that
+    // drifts by sin(twist) lixel per pixel, as an unfitted map would (issue 26).
+    bool in_phase = false;
     // Uniform scale applied before rounding, (0, 1]; 1 keeps one lixel per pixel on P.
     double scale = 1.0;
     // When > 0, the scale is lowered further until width * height <= lixel_budget.

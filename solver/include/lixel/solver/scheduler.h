@@ -111,6 +111,12 @@ struct PlanRequest {
     int max_texture_size = kMaxImageSide;  // GL_MAX_TEXTURE_SIZE, [1, kMaxImageSide]
     PassRequest passes;
     FootprintOptions footprints;
+    // Plane maps keep their lixel grids in phase with the viewer's pixels: twisted by right
+    // angles only (crop.h CropOptions::in_phase), so that at scale 1 every pixel on the plane
+    // reads the lixel of its own light ray. false: the paper's twists (§3: the floor/wall line
+    // horizontal, else the rotation with the fewest lixels), a few lixels fewer, at the cost
+    // of a drifting sampling offset (docs/solver.md, "Twist").
+    bool in_phase = true;
     // Unset: every frame planned on its own (the tightest maps).
     std::optional<FrameCoherence> coherence;
 };
