@@ -123,6 +123,10 @@ inline void CheckPlan(const PlanRequest& request, const Plan& plan, FuzzedDataPr
         }
         for (const Eigen::Vector3d& h : m.lookup.half_planes) CheckFinite(h, "lookup half-plane");
         CheckFinite(m.scale, "planned map scale");
+        if (m.role == MapRole::kPlane && (m.scale_reason.empty() || !(m.scale > 0.0) ||
+                                          m.scale > 1.0)) {
+            Fail("plane map scale outside (0, 1] or without its reason");
+        }
         CheckFinite(m.expected_pixels, "planned map expected pixels");
         total += m.lixels;
     }

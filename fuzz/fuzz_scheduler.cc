@@ -84,6 +84,9 @@ PlanRequest PickRequest(FuzzedDataProvider& in) {
         r.footprints.max_per_plane = in.ConsumeIntegralInRange<int>(-1, kMaxFootprintRectangles + 1);
         r.footprints.max_per_plan = in.ConsumeIntegralInRange<int>(-1, kMaxFootprintRectangles + 1);
     }
+    // Free or in-phase twists, and every budget policy with one value past the last.
+    r.in_phase = !in.ConsumeBool();
+    r.scale_policy = static_cast<ScalePolicy>(in.ConsumeIntegralInRange<int>(0, 3));
     return r;
 }
 

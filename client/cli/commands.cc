@@ -175,6 +175,9 @@ int PlanCommand(client::Client& client, const Flags& flags) {
         for (int p : m.passes()) std::printf(" %s", PassName(static_cast<v1::PassKind>(p)));
         std::printf(", %d half-plane test(s)\n", m.lookup_size());
         if (!m.kept_for().empty()) std::printf("    %s\n", m.kept_for().c_str());
+        if (!m.scale_reason().empty()) {
+            std::printf("    scale %.4f: %s\n", m.scale(), m.scale_reason().c_str());
+        }
         if (m.has_diagnostics()) PrintDiagnostics(m.diagnostics());
     }
     for (const v1::LeftOut& l : plan->left_out()) {

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <limits>
 #include <new>
+#include <optional>
 #include <sstream>
 
 namespace lixel {
@@ -125,6 +126,11 @@ Result<Aabb> ValidatedBounds(const PlanRequest& r) {
             return Error{field, "must be in [1, " + std::to_string(kMaxFootprintRectangles) +
                                     "], got " + std::to_string(value)};
         }
+    }
+    if (r.scale_policy != ScalePolicy::kPriority && r.scale_policy != ScalePolicy::kUniform &&
+        r.scale_policy != ScalePolicy::kInPhase) {
+        return Error{"scale_policy", "is not one of priority, uniform, in_phase (got " +
+                                         std::to_string(static_cast<int>(r.scale_policy)) + ")"};
     }
     Aabb united{Vec3::Constant(std::numeric_limits<double>::infinity()),
                 Vec3::Constant(-std::numeric_limits<double>::infinity())};
@@ -564,15 +570,20 @@ std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate
 // those whose needed rays earlier maps already accept.
 // With frame coherence, each map's crop starts from the previous frame's map of its plane (its
 // twist always, its size when `keep_sizes`).
-Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
+// `scales` holds one scale per candidate, in the candidates' order.
+// `guard_cap` narrows every map's guard band below GuardFor's.
+Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, const std::vector<double>& scales,
                                                std::vector<LeftOut>& left_out,
-                                               bool keep_sizes = true) {
+                                               bool keep_sizes = true,
+                                               int guard_cap = kGuardLixels) {
     const PlanRequest& r = c.request;
-    const int guard = GuardFor(r.lixel_budget, r.max_texture_size);
+    const int guard = std::min(GuardFor(r.lixel_budget, r.max_texture_size), guard_cap);
     std::vector<PlannedMap> maps;
     std::vector<RayCone> cones;
     int rects_left = r.footprints.max_per_plan;
-    for (const Candidate& cand : c.candidates) {
+    for (size_t ci = 0; ci < c.candidates.size(); ++ci) {
+        const Candidate& cand = c.candidates[ci];
+        const double scale = scales[ci];
         // Covered by an earlier plane: nothing of the needed polygon survives their cones.
         if (SubtractAll(cand.polygon, cones).empty()) {
             std::string names;
@@ -683,6 +694,97 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
         }
     }
     return maps;
+}
+
+Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
+                                               std::vector<LeftOut>& left_out,
+                                               bool keep_sizes = true,
+                                               int guard_cap = kGuardLixels) {
+    return SolvePlaneMaps(c, std::vector<double>(c.candidates.size(), scale), left_out,
+                          keep_sizes, guard_cap);
+}
+
+std::int64_t TotalLixels(const std::vector<PlannedMap>& maps) {
+    std::int64_t t = 0;
+    for (const PlannedMap& m : maps) t += m.lixels;
+    return t;
+}
+
+// Plane maps for a budget that cannot hold them all at one lixel per pixel, by a policy other
+// than one uniform scale (docs/solver.md, "Budget policy").
+struct ScaledPlaneMaps {
+    std::vector<PlannedMap> maps;
+    std::vector<LeftOut> left_out;
+    double scale = 1.0;  // the plane maps' below 1
+    std::string reason;  // why they got it
+};
+
+// kInPhase: the largest 1/k, k whole, not above the uniform `scale`. kPriority: the leading
+// candidates (in priority order) at one lixel per pixel, as their maps `at_one`, and the rest at
+// one scale, lowered until the maps fit `available`, with the number held that gives the least
+// expected error. Empty when the policy has nothing to offer over the uniform scale.
+Result<std::optional<ScaledPlaneMaps>> ApplyScalePolicy(const Context& c,
+                                                        const std::vector<PlannedMap>& at_one,
+                                                        double scale, std::int64_t available) {
+    const size_t n = c.candidates.size();
+    ScaledPlaneMaps out;
+    if (n == 0) return std::optional<ScaledPlaneMaps>();
+    if (c.request.scale_policy == ScalePolicy::kInPhase) {
+        const double k = std::ceil(1.0 / scale - 1e-9);
+        auto phased = SolvePlaneMaps(c, 1.0 / k, out.left_out);
+        if (!phased) return phased.error();
+        if (TotalLixels(*phased) > available) return std::optional<ScaledPlaneMaps>();
+        out.maps = std::move(*phased);
+        out.scale = 1.0 / k;
+        out.reason = "lowered to 1/" + std::to_string(static_cast<long long>(k)) +
+                     " lixel per pixel on each axis (scale_policy in_phase: each lixel covers "
+                     "whole pixels) to fit the budget";
+        return std::optional<ScaledPlaneMaps>(std::move(out));
+    }
+    // A plane's expected error: about its shadows' outline in pixels (its rectangles' perimeter
+    // at scale 1) over its scale, and none at scale 1, where its test is exact.
+    std::vector<std::int64_t> held_lixels(n + 1, 0);  // candidates [0, k) at scale 1
+    std::vector<double> outline(n + 1, 0.0);          // candidates [k, n) at scale 1
+    for (size_t k = 0; k < n; ++k) {
+        held_lixels[k + 1] = held_lixels[k];
+        for (const PlannedMap& m : at_one) {
+            if (m.plane_index != static_cast<int>(c.candidates[k].index)) continue;
+            held_lixels[k + 1] += m.lixels;
+            if (m.lixels > 0) outline[k] += 2.0 * (m.map.width + m.map.height);
+        }
+    }
+    for (size_t k = n; k-- > 0;) outline[k] += outline[k + 1];
+    double best = outline[0] / scale;  // one uniform scale for all
+    std::optional<ScaledPlaneMaps> chosen;
+    for (size_t held = 1; held < n && held_lixels[held] < available; ++held) {
+        const std::int64_t fixed = held_lixels[held];
+        std::vector<double> scales(n, 1.0);
+        double rest = 1.0;
+        out.left_out.clear();
+        auto tried = SolvePlaneMaps(c, scales, out.left_out);
+        if (!tried) return tried.error();
+        // As the uniform loop, over the lixels the lowered planes take.
+        for (int attempt = 0; attempt < 40 && TotalLixels(*tried) > available; ++attempt) {
+            const double lowered = static_cast<double>(TotalLixels(*tried) - fixed);
+            const double shrink =
+                lowered > 0.0 ? std::sqrt(static_cast<double>(available - fixed) / lowered) : 0.0;
+            rest *= std::min(shrink, 0.999) * (attempt < 4 ? 1.0 : 0.98);
+            if (!(rest > 0.0)) break;
+            std::fill(scales.begin() + static_cast<std::ptrdiff_t>(held), scales.end(), rest);
+            out.left_out.clear();
+            tried = SolvePlaneMaps(c, scales, out.left_out);
+            if (!tried) return tried.error();
+        }
+        if (TotalLixels(*tried) > available || !(outline[held] / rest < best)) continue;
+        best = outline[held] / rest;
+        out.maps = std::move(*tried);
+        out.scale = rest;
+        out.reason = "lowered to fit the budget after the " + std::to_string(held) +
+                     " plane(s) before it in priority order kept one lixel per pixel "
+                     "(scale_policy priority)";
+        chosen = out;
+    }
+    return chosen;
 }
 
 // Whether the maps accept every light ray through the needed polygon of plane of interest
@@ -1629,26 +1731,22 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     // Budget (paper §4: 350^2 + 350^2 + 128^2 against 512^2): one lixel per pixel when it fits,
     // else one uniform scale for every plane map; the fallback keeps at least its floor.
     std::vector<LeftOut> left_out;
-    auto total = [](const std::vector<PlannedMap>& ms) {
-        std::int64_t t = 0;
-        for (const PlannedMap& m : ms) t += m.lixels;
-        return t;
-    };
     // Frame coherence: maps that kept their previous sizes but together go over `available`
     // give way to the tight maps at the same scale before the scale is lowered.
     auto solve = [&](double scale, std::int64_t available) -> Result<std::vector<PlannedMap>> {
         left_out.clear();
         auto kept = SolvePlaneMaps(c, scale, left_out);
-        if (!kept || !r.coherence || total(*kept) <= available) return kept;
+        if (!kept || !r.coherence || TotalLixels(*kept) <= available) return kept;
         std::vector<LeftOut> tight_left_out;
         auto tight = SolvePlaneMaps(c, scale, tight_left_out, false);
         // Over the budget either way: the smaller maps, so the next scale is found from them.
-        if (!tight || total(*tight) >= total(*kept)) return kept;
+        if (!tight || TotalLixels(*tight) >= TotalLixels(*kept)) return kept;
         left_out = std::move(tight_left_out);
         return tight;
     };
     auto maps = SolvePlaneMaps(c, 1.0, left_out);
     if (!maps) return maps.error();
+    const std::vector<PlannedMap> at_one = *maps;  // for the budget policy
     // What the maps at one lixel per pixel leave uncovered; still the answer below when the
     // budget needs no smaller scale (the maps are then the same).
     std::vector<UncoveredPiece> uncovered = Uncovered(c, *maps);
@@ -1668,19 +1766,33 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     const std::int64_t available = r.lixel_budget - floor;
     double scale = 1.0;
     bool rescaled = false;
-    if (r.coherence && total(*maps) > available) {
+    if (r.coherence && TotalLixels(*maps) > available) {
         std::vector<LeftOut> tight_left_out;
         auto tight = SolvePlaneMaps(c, scale, tight_left_out, false);
-        if (tight && total(*tight) <= available) {
+        if (tight && TotalLixels(*tight) <= available) {
             rescaled = true;  // other maps than the ones `uncovered` was found for
             maps = std::move(tight);
             left_out = std::move(tight_left_out);
         }
     }
-    for (int attempt = 0; attempt < 40 && total(*maps) > available; ++attempt) {
+    // The guard band never lowers the scale (issue 26): plane maps that fit at one lixel per
+    // pixel with a narrower band keep scale 1; a filter's taps past the band read its edge.
+    int narrowed_guard = -1;
+    for (int g = kGuardLixels - 1; !r.coherence && g >= 0 && TotalLixels(*maps) > available;
+         --g) {
+        std::vector<LeftOut> narrow_left_out;
+        auto narrow = SolvePlaneMaps(c, 1.0, narrow_left_out, true, g);
+        if (!narrow) return narrow.error();
+        if (TotalLixels(*narrow) > available) continue;
+        rescaled = true;  // other maps than the ones `uncovered` was found for
+        narrowed_guard = g;
+        maps = std::move(narrow);
+        left_out = std::move(narrow_left_out);
+    }
+    for (int attempt = 0; attempt < 40 && TotalLixels(*maps) > available; ++attempt) {
         rescaled = true;
         const double shrink = std::sqrt(static_cast<double>(std::max<std::int64_t>(available, 0)) /
-                                        static_cast<double>(total(*maps)));
+                                        static_cast<double>(TotalLixels(*maps)));
         scale *= std::min(shrink, 0.999) * (attempt < 4 ? 1.0 : 0.98);
         // Frame coherence: down to a step of 2^(-1/steps), so the scale, and with it every map's
         // size, stays put while the view moves a little. Down, so the budget still holds.
@@ -1689,9 +1801,39 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
         maps = solve(scale, available);
         if (!maps) return maps.error();
     }
-    if (total(*maps) > available) {
+    if (TotalLixels(*maps) > available) {
         return Error{"lixel_budget", "too small: " + std::to_string(r.lixel_budget) +
                                          " lixels cannot hold the plane maps and the fallback"};
+    }
+    std::string lowered_reason = "lowered with every plane map to one scale (scale_policy "
+                                 "uniform) to fit the budget";
+    if (rescaled && scale < 1.0 && !r.coherence && r.scale_policy != ScalePolicy::kUniform) {
+        auto chosen = ApplyScalePolicy(c, at_one, scale, available);
+        if (!chosen) return chosen.error();
+        if (*chosen) {
+            ScaledPlaneMaps& picked = chosen.value().value();
+            maps = std::move(picked.maps);
+            left_out = std::move(picked.left_out);
+            scale = picked.scale;
+            lowered_reason = std::move(picked.reason);
+        }
+    }
+    if (r.coherence && rescaled) {
+        lowered_reason = "lowered with every plane map to one scale, stepped to 2^(-k/" +
+                         std::to_string(r.coherence->scale_steps) +
+                         ") for frame coherence, to fit the budget";
+    }
+    const std::string narrowed =
+        "one lixel per pixel: the budget holds every plane map with its guard band narrowed to " +
+        std::to_string(narrowed_guard) + " lixel(s)";
+    for (PlannedMap& m : maps.value()) {
+        m.scale_reason = m.scale < 1.0     ? (rescaled ? lowered_reason
+                                                       : "lowered so the map's sides fit "
+                                                         "max_texture_size")
+                         : narrowed_guard >= 0 ? narrowed
+                         : rescaled ? "one lixel per pixel: held in priority order; the later "
+                                      "planes share the rest of the budget"
+                                    : "one lixel per pixel: the budget holds every plane map";
     }
 
     Plan plan;
@@ -1706,12 +1848,12 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
         plan.left_out.push_back({"fallback", "not needed: the plane maps accept every ray "
                                              "through the visible scene (C_tot)"});
     } else {
-        const std::int64_t rest = r.lixel_budget - total(plan.maps);
+        const std::int64_t rest = r.lixel_budget - TotalLixels(plan.maps);
         if (rest < 1) return Error{"lixel_budget", "too small: nothing left for the fallback"};
         auto added = AddFallback(c, uncovered, rest, plan);
         if (!added) return added.error();
     }
-    plan.total_lixels = total(plan.maps);
+    plan.total_lixels = TotalLixels(plan.maps);
     PlanPasses(c, plan);
     EstimatePixels(c, plan);
     // Finite inputs can still overflow double on the way (fuzz/fuzz_scheduler: a point light at

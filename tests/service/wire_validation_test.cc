@@ -121,6 +121,16 @@ TEST_F(WireValidation, UnknownEnumValuesAreRefused) {
         ExpectRefused(stub_->View(&context, view, &response), field);
     }
 
+    view.set_method(v1::Method{});
+    view.set_filter(v1::Filter{});
+    view.mutable_plan()->set_scale_policy(static_cast<v1::ScalePolicy>(3));
+    {
+        grpc::ClientContext context;
+        WithDeadline(context, 30.0);
+        v1::ViewResponse response;
+        ExpectRefused(stub_->View(&context, view, &response), "plan.scale_policy");
+    }
+
     v1::SceneHeader header;
     header.set_format(static_cast<v1::SceneFormat>(5));
     auto refused = client->UploadContent(header, "v 0 0 0\n");

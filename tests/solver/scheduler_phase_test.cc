@@ -1,7 +1,8 @@
 // Plane maps in phase with the viewer's pixels (issue 26): at scale 1 a plane map's lixel grid
 // is the viewer's pixel grid on the plane, so every pixel centre on the plane images to a lixel
-// centre; and a plane map's lookup stops at the line where a plane hiding its back side cuts it,
-// so that plane's own map serves the points just past the line.
+// centre; a plane map's lookup stops at the line where a plane hiding its back side cuts it, so
+// that plane's own map serves the points just past the line; and a budget too small for every
+// plane map at scale 1 keeps as many planes at scale 1 as it can (ScalePolicy).
 #include <gtest/gtest.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
@@ -139,6 +140,127 @@ TEST(SchedulerPhase, NoFloorMapTakesTheWallsPointsAboveTheMeetingLine) {
         }
     }
     EXPECT_GT(checked, 2000);
+}
+
+// Priority: the planes at scale 1 come first in priority order, the rest share one scale below
+// it, and the budget holds; uniform: one scale for all; in phase: one scale 1/k. Every plane
+// map says why it got its scale. Per room (lit from low in front, so the wall has shadows too),
+// budgets that hold the floor's maps at scale 1 and 5 %, 25 % or 50 % of the wall's, and a random
+// one of 1/64 to 1/2 lixel per pixel.
+void ExpectPoliciesHold(PlanRequest r, int room, bool& floor_held_alone) {
+    const auto priority = PlanShadowMaps(r);
+    ASSERT_TRUE(priority.ok()) << priority.error().Message();
+    r.scale_policy = ScalePolicy::kUniform;
+    const auto uniform = PlanShadowMaps(r);
+    ASSERT_TRUE(uniform.ok()) << uniform.error().Message();
+    r.scale_policy = ScalePolicy::kInPhase;
+    const auto phased = PlanShadowMaps(r);
+    ASSERT_TRUE(phased.ok()) << phased.error().Message();
+
+    int last_held = -1, first_lowered = 1 << 30;
+    for (const PlannedMap& m : priority->maps) {
+        if (m.role != MapRole::kPlane) continue;
+        EXPECT_FALSE(m.scale_reason.empty()) << "room " << room << " " << m.name;
+        if (m.scale == 1.0) {
+            last_held = std::max(last_held, m.plane_index);
+        } else {
+            first_lowered = std::min(first_lowered, m.plane_index);
+            EXPECT_EQ(m.scale, priority->plane_scale) << "room " << room << " " << m.name;
+        }
+    }
+    EXPECT_LT(last_held, first_lowered) << "room " << room << ": held planes lead";
+    double uniform_scale = -1.0;
+    for (const PlannedMap& m : uniform->maps) {
+        if (m.role != MapRole::kPlane) continue;
+        if (uniform_scale < 0.0) uniform_scale = m.scale;
+        EXPECT_EQ(m.scale, uniform_scale) << "room " << room << " " << m.name;
+    }
+    for (const PlannedMap& m : phased->maps) {
+        if (m.role != MapRole::kPlane) continue;
+        const double k = 1.0 / m.scale;
+        EXPECT_NEAR(k, std::round(k), 1e-9) << "room " << room << " " << m.name;
+    }
+    for (const Plan* p : {&*priority, &*uniform, &*phased}) {
+        EXPECT_LE(p->total_lixels, r.lixel_budget) << "room " << room;
+    }
+    floor_held_alone |= last_held == 0 && first_lowered == 1 && uniform_scale < 1.0;
+}
+
+TEST(SchedulerPhase, TheBudgetPolicyKeepsTheLeadingPlanesAtScaleOne) {
+    std::mt19937_64 rng(2606);
+    int held_rooms = 0;  // rooms where priority keeps the floor at 1 and uniform keeps none
+    for (int i = 0; i < 60; ++i) {
+        PlanRequest r = RandomRoom(rng, i);
+        // A low light in front of the room: the boxes shadow the wall too.
+        const double side = Uniform(rng, -0.5, 0.5);
+        r.light = Vec4(side, Uniform(rng, 0.25, 0.6), 1.0, 0.0);
+        const auto roomy = PlanShadowMaps(r);
+        ASSERT_TRUE(roomy.ok()) << roomy.error().Message();
+        std::int64_t floor = 0, wall = 0;
+        bool fallback = false;
+        for (const PlannedMap& m : roomy->maps) {
+            floor += m.plane_index == 0 ? m.lixels : 0;
+            wall += m.plane_index == 1 ? m.lixels : 0;
+            fallback |= m.role != MapRole::kPlane;
+        }
+        bool held = false;
+        for (const double share : {0.05, 0.25, 0.5}) {
+            // The fallback's floor is min(fallback_floor, budget / 2) (scheduler.h).
+            const auto want = floor + static_cast<std::int64_t>(share * static_cast<double>(wall));
+            r.lixel_budget = want + (fallback ? std::min(r.fallback_floor, want) : 0);
+            ExpectPoliciesHold(r, i, held);
+        }
+        r.lixel_budget = static_cast<std::int64_t>(256 * 256 * std::pow(2.0, Uniform(rng, -6, -1)));
+        ExpectPoliciesHold(r, i, held);
+        held_rooms += held;
+    }
+    std::printf("[ policy   ] the floor alone kept at scale 1 under priority, no plane under "
+                "uniform, in %d of 60 rooms\n", held_rooms);
+    EXPECT_GE(held_rooms, 10);
+}
+
+// The guard band gives way before the scale: a budget a lixel short of the plane maps with
+// their bands keeps every plane map at scale 1 with a narrower band.
+TEST(SchedulerPhase, AGuardBandNeverLowersTheScale) {
+    std::mt19937_64 rng(2608);
+    int narrowed = 0;
+    for (int i = 0; i < 60; ++i) {
+        PlanRequest r = RandomRoom(rng, i);
+        const auto roomy = PlanShadowMaps(r);
+        ASSERT_TRUE(roomy.ok()) << roomy.error().Message();
+        std::int64_t planes = 0;
+        bool fallback = false;
+        for (const PlannedMap& m : roomy->maps) {
+            planes += m.role == MapRole::kPlane ? m.lixels : 0;
+            fallback |= m.role != MapRole::kPlane;
+        }
+        if (planes == 0) continue;
+        // The fallback's floor is min(fallback_floor, budget / 2) (scheduler.h).
+        r.lixel_budget = planes - 1 + (fallback ? std::min(r.fallback_floor, planes - 1) : 0);
+        const auto tight = PlanShadowMaps(r);
+        ASSERT_TRUE(tight.ok()) << tight.error().Message();
+        EXPECT_LE(tight->total_lixels, r.lixel_budget) << "room " << i;
+        for (const PlannedMap& m : tight->maps) {
+            if (m.role != MapRole::kPlane) continue;
+            EXPECT_EQ(m.scale, 1.0) << "room " << i << " " << m.name;
+            EXPECT_LT(m.lookup.guard, kGuardLixels) << "room " << i << " " << m.name;
+            // Below 32^2 lixels the budget's own guard is under kGuardLixels already.
+            if (r.lixel_budget < 32 * 32) continue;
+            EXPECT_NE(m.scale_reason.find("guard band narrowed"), std::string::npos)
+                << "room " << i << " " << m.name << ": " << m.scale_reason;
+        }
+        ++narrowed;
+    }
+    EXPECT_GE(narrowed, 40);
+}
+
+TEST(SchedulerPhase, AnUnknownScalePolicyIsRefusedByName) {
+    std::mt19937_64 rng(2607);
+    PlanRequest r = RandomRoom(rng, 1);
+    r.scale_policy = static_cast<ScalePolicy>(7);
+    const auto plan = PlanShadowMaps(r);
+    ASSERT_FALSE(plan.ok());
+    EXPECT_EQ(plan.error().field, "scale_policy");
 }
 
 }  // namespace

@@ -36,7 +36,13 @@ const char* ShadowTestName(ShadowTest test) noexcept {
 }
 
 std::string Method::Name() const {
-    return std::string(FittingName(fitting)) + " + " + ShadowTestName(test);
+    std::string policy;
+    if (fitting == Fitting::kPlaneOptimal && scale_policy == ScalePolicy::kUniform) {
+        policy = " (uniform scale)";
+    } else if (fitting == Fitting::kPlaneOptimal && scale_policy == ScalePolicy::kInPhase) {
+        policy = " (in-phase scale)";
+    }
+    return std::string(FittingName(fitting)) + policy + " + " + ShadowTestName(test);
 }
 
 PassRequest Method::Passes() const {
@@ -71,6 +77,7 @@ std::vector<std::int64_t> DefaultBudgets() { return {256 * 256, 512 * 512, 1024 
 Result<Plan> PlanMethod(const scene::Scene& scene, const Method& method, std::int64_t budget) {
     PlanRequest request = scene.MakePlanRequest(budget);
     request.passes = method.Passes();
+    request.scale_policy = method.scale_policy;
     if (method.fitting == Fitting::kPlaneOptimal) {
         auto plan = PlanShadowMaps(request);
         if (!plan) return Error{method.Name() + ": " + plan.error().field, plan.error().reason};

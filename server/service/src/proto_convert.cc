@@ -337,6 +337,21 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
     out.passes.silhouette_map = message.passes().silhouette_map();
     out.passes.volumes = message.passes().volumes();
     out.in_phase = !message.free_twist();
+    switch (message.scale_policy()) {
+        case v1::SCALE_POLICY_PRIORITY:
+            out.scale_policy = ScalePolicy::kPriority;
+            break;
+        case v1::SCALE_POLICY_UNIFORM:
+            out.scale_policy = ScalePolicy::kUniform;
+            break;
+        case v1::SCALE_POLICY_IN_PHASE:
+            out.scale_policy = ScalePolicy::kInPhase;
+            break;
+        default:
+            return Error{field + ".scale_policy",
+                         "is not a ScalePolicy (got " + std::to_string(message.scale_policy()) +
+                             ")"};
+    }
     if (message.has_footprints()) {
         const v1::Footprints& f = message.footprints();
         out.footprints.enabled = !f.disabled();
@@ -500,6 +515,7 @@ void EncodePlan(const Plan& plan, v1::PlanResponse* out) {
             hp->set_c(h.z());
         }
         pm->set_scale(m.scale);
+        pm->set_scale_reason(m.scale_reason);
         pm->set_lixels(static_cast<std::uint64_t>(m.lixels));
         pm->set_expected_pixels(m.expected_pixels);
         pm->set_kept_for(m.kept_for);

@@ -97,6 +97,17 @@ struct FootprintOptions {
     int max_per_plan = 4;
 };
 
+// Plane maps when the budget cannot hold them all at one lixel per pixel.
+enum class ScalePolicy {
+    // The most planes in priority order keep one lixel per pixel (exact there) while the rest
+    // fits at one scale below it (the default).
+    kPriority,
+    // One continuous scale for every plane map.
+    kUniform,
+    // One scale 1/k, k whole, for every plane map: each lixel covers k x k whole pixels.
+    kInPhase,
+};
+
 struct PlanRequest {
     Mat4 viewer = Mat4::Identity();  // Mv, world -> clip, [0, 1] clip depth
     Viewport viewport;               // viewer pixels
@@ -117,6 +128,10 @@ struct PlanRequest {
     // horizontal, else the rotation with the fewest lixels), a few lixels fewer, at the cost
     // of a drifting sampling offset (docs/solver.md, "Twist").
     bool in_phase = true;
+    // How plane maps share a budget that cannot hold them all at one lixel per pixel; without
+    // coherence (which keeps one stepped scale for all). Chosen by measured misclassification
+    // on the planes over random rooms (docs/solver.md, "Budget policy").
+    ScalePolicy scale_policy = ScalePolicy::kPriority;
     // Unset: every frame planned on its own (the tightest maps).
     std::optional<FrameCoherence> coherence;
 };
@@ -173,6 +188,7 @@ struct PlannedMap {
     std::vector<Vec3> needed_polygon;
     SolveDiagnostics diagnostics;
     double scale = 1.0;            // lixels per viewer pixel on the plane (plane maps), else 0
+    std::string scale_reason;      // plane maps: why they got `scale`, in words
     // Plane maps: the crop's rotation against the plane-optimal image, counter-clockwise; 0 for
     // others.
     double twist_radians = 0.0;
@@ -197,7 +213,7 @@ struct Plan {
     std::vector<LeftOut> left_out;
     std::vector<std::string> warnings;  // e.g. second depth on open casters needs a bias
     ExtentHull hull;
-    double plane_scale = 1.0;  // the one uniform scale applied to every plane map
+    double plane_scale = 1.0;  // the plane maps' scale below 1 (ScalePolicy), else 1
     std::int64_t total_lixels = 0;  // never above PlanRequest::lixel_budget
     // Silhouette shadow volumes were asked for and some caster lies in the view's rays; they are
     // a pass over the view, not a map.

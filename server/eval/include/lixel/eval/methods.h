@@ -24,8 +24,11 @@ const char* ShadowTestName(ShadowTest test) noexcept;  // "depth", "PCF", ...
 struct Method {
     Fitting fitting = Fitting::kPlaneOptimal;
     ShadowTest test = ShadowTest::kDepth;
+    // Plane-optimal only: how its plane maps share a budget that cannot hold them at one lixel
+    // per pixel (scheduler.h); a policy other than the default is named.
+    ScalePolicy scale_policy = ScalePolicy::kPriority;
 
-    std::string Name() const;  // "plane-optimal + depth"
+    std::string Name() const;  // "plane-optimal + depth", "plane-optimal (uniform scale) + depth"
     // The passes the test needs beyond depth.
     PassRequest Passes() const;
 };
