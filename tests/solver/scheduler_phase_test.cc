@@ -142,6 +142,14 @@ TEST(SchedulerPhase, NoFloorMapTakesTheWallsPointsAboveTheMeetingLine) {
     EXPECT_GT(checked, 2000);
 }
 
+// A budget that leaves `planes` lixels to the plane maps of a plan like `roomy`: the fallback's
+// floor is min(fallback_floor, budget / 2) when there is a fallback (scheduler.h).
+std::int64_t BudgetLeaving(const PlanRequest& r, const Plan& roomy, std::int64_t planes) {
+    bool fallback = false;
+    for (const PlannedMap& m : roomy.maps) fallback |= m.role != MapRole::kPlane;
+    return planes + (fallback ? std::min(r.fallback_floor, planes) : 0);
+}
+
 // Priority: the planes at scale 1 come first in priority order, the rest share one scale below
 // it, and the budget holds; uniform: one scale for all; in phase: one scale 1/k. Every plane
 // map says why it got its scale. Per room (lit from low in front, so the wall has shadows too),
@@ -197,17 +205,14 @@ TEST(SchedulerPhase, TheBudgetPolicyKeepsTheLeadingPlanesAtScaleOne) {
         const auto roomy = PlanShadowMaps(r);
         ASSERT_TRUE(roomy.ok()) << roomy.error().Message();
         std::int64_t floor = 0, wall = 0;
-        bool fallback = false;
         for (const PlannedMap& m : roomy->maps) {
             floor += m.plane_index == 0 ? m.lixels : 0;
             wall += m.plane_index == 1 ? m.lixels : 0;
-            fallback |= m.role != MapRole::kPlane;
         }
         bool held = false;
         for (const double share : {0.05, 0.25, 0.5}) {
-            // The fallback's floor is min(fallback_floor, budget / 2) (scheduler.h).
-            const auto want = floor + static_cast<std::int64_t>(share * static_cast<double>(wall));
-            r.lixel_budget = want + (fallback ? std::min(r.fallback_floor, want) : 0);
+            r.lixel_budget = BudgetLeaving(
+                r, *roomy, floor + static_cast<std::int64_t>(share * static_cast<double>(wall)));
             ExpectPoliciesHold(r, i, held);
         }
         r.lixel_budget = static_cast<std::int64_t>(256 * 256 * std::pow(2.0, Uniform(rng, -6, -1)));
@@ -229,14 +234,9 @@ TEST(SchedulerPhase, AGuardBandNeverLowersTheScale) {
         const auto roomy = PlanShadowMaps(r);
         ASSERT_TRUE(roomy.ok()) << roomy.error().Message();
         std::int64_t planes = 0;
-        bool fallback = false;
-        for (const PlannedMap& m : roomy->maps) {
-            planes += m.role == MapRole::kPlane ? m.lixels : 0;
-            fallback |= m.role != MapRole::kPlane;
-        }
+        for (const PlannedMap& m : roomy->maps) planes += m.role == MapRole::kPlane ? m.lixels : 0;
         if (planes == 0) continue;
-        // The fallback's floor is min(fallback_floor, budget / 2) (scheduler.h).
-        r.lixel_budget = planes - 1 + (fallback ? std::min(r.fallback_floor, planes - 1) : 0);
+        r.lixel_budget = BudgetLeaving(r, *roomy, planes - 1);
         const auto tight = PlanShadowMaps(r);
         ASSERT_TRUE(tight.ok()) << tight.error().Message();
         EXPECT_LE(tight->total_lixels, r.lixel_budget) << "room " << i;
