@@ -1746,7 +1746,6 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     };
     auto maps = SolvePlaneMaps(c, 1.0, left_out);
     if (!maps) return maps.error();
-    const std::vector<PlannedMap> at_one = *maps;  // for the budget policy
     // What the maps at one lixel per pixel leave uncovered; still the answer below when the
     // budget needs no smaller scale (the maps are then the same).
     std::vector<UncoveredPiece> uncovered = Uncovered(c, *maps);
@@ -1764,6 +1763,9 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
         fallback_needed ? std::max<std::int64_t>(1, std::min(r.fallback_floor, r.lixel_budget / 2))
                         : 0;
     const std::int64_t available = r.lixel_budget - floor;
+    // The maps at one lixel per pixel, for the budget policy when they do not fit.
+    std::vector<PlannedMap> at_one;
+    if (TotalLixels(*maps) > available) at_one = *maps;
     double scale = 1.0;
     bool rescaled = false;
     if (r.coherence && TotalLixels(*maps) > available) {
