@@ -730,16 +730,21 @@ Result<std::optional<ScaledPlaneMaps>> ApplyScalePolicy(const Context& c,
     ScaledPlaneMaps out;
     if (n == 0) return std::optional<ScaledPlaneMaps>();
     if (c.request.scale_policy == ScalePolicy::kInPhase) {
-        const double k = std::ceil(1.0 / scale - 1e-9);
-        auto phased = SolvePlaneMaps(c, 1.0 / k, out.left_out);
-        if (!phased) return phased.error();
-        if (TotalLixels(*phased) > available) return std::optional<ScaledPlaneMaps>();
-        out.maps = std::move(*phased);
-        out.scale = 1.0 / k;
-        out.reason = "lowered to 1/" + std::to_string(static_cast<long long>(k)) +
-                     " lixel per pixel on each axis (scale_policy in_phase: each lixel covers "
-                     "whole pixels) to fit the budget";
-        return std::optional<ScaledPlaneMaps>(std::move(out));
+        // Rounding the rectangles outward can add a lixel a side at 1/k: then the next k.
+        const double first = std::ceil(1.0 / scale - 1e-9);
+        for (double k = first; k < first + 8.0; k += 1.0) {
+            out.left_out.clear();
+            auto phased = SolvePlaneMaps(c, 1.0 / k, out.left_out);
+            if (!phased) return phased.error();
+            if (TotalLixels(*phased) > available) continue;
+            out.maps = std::move(*phased);
+            out.scale = 1.0 / k;
+            out.reason = "lowered to 1/" + std::to_string(static_cast<long long>(k)) +
+                         " lixel per pixel on each axis (scale_policy in_phase: each lixel "
+                         "covers whole pixels) to fit the budget";
+            return std::optional<ScaledPlaneMaps>(std::move(out));
+        }
+        return std::optional<ScaledPlaneMaps>();
     }
     // A plane's expected error: about its shadows' outline in pixels (its rectangles' perimeter
     // at scale 1) over its scale, and none at scale 1, where its test is exact.
@@ -779,9 +784,8 @@ Result<std::optional<ScaledPlaneMaps>> ApplyScalePolicy(const Context& c,
         best = outline[held] / rest;
         out.maps = std::move(*tried);
         out.scale = rest;
-        out.reason = "lowered to fit the budget after the " + std::to_string(held) +
-                     " plane(s) before it in priority order kept one lixel per pixel "
-                     "(scale_policy priority)";
+        out.reason = "lowered to fit the budget after the planes before it in priority order "
+                     "kept one lixel per pixel (scale_policy priority)";
         chosen = out;
     }
     return chosen;
@@ -1807,9 +1811,19 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
         return Error{"lixel_budget", "too small: " + std::to_string(r.lixel_budget) +
                                          " lixels cannot hold the plane maps and the fallback"};
     }
-    std::string lowered_reason = "lowered with every plane map to one scale (scale_policy "
-                                 "uniform) to fit the budget";
-    if (rescaled && scale < 1.0 && !r.coherence && r.scale_policy != ScalePolicy::kUniform) {
+    const bool lowered = rescaled && scale < 1.0;  // the budget lowered the plane scale
+    std::string lowered_reason =
+        r.scale_policy == ScalePolicy::kPriority
+            ? "lowered with every plane map to one scale to fit the budget (scale_policy "
+              "priority: holding the leading planes at one lixel per pixel is expected to cost "
+              "more)"
+        : r.scale_policy == ScalePolicy::kInPhase
+            ? "lowered with every plane map to one scale to fit the budget (scale_policy "
+              "in_phase: no scale 1/k fits)"
+            : "lowered with every plane map to one scale (scale_policy uniform) to fit the "
+              "budget";
+    bool held = false;  // the priority policy kept leading planes at scale 1
+    if (lowered && !r.coherence && r.scale_policy != ScalePolicy::kUniform) {
         auto chosen = ApplyScalePolicy(c, at_one, scale, available);
         if (!chosen) return chosen.error();
         if (*chosen) {
@@ -1818,9 +1832,10 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
             left_out = std::move(picked.left_out);
             scale = picked.scale;
             lowered_reason = std::move(picked.reason);
+            held = r.scale_policy == ScalePolicy::kPriority;
         }
     }
-    if (r.coherence && rescaled) {
+    if (r.coherence && lowered) {
         lowered_reason = "lowered with every plane map to one scale, stepped to 2^(-k/" +
                          std::to_string(r.coherence->scale_steps) +
                          ") for frame coherence, to fit the budget";
@@ -1829,13 +1844,14 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
         "one lixel per pixel: the budget holds every plane map with its guard band narrowed to " +
         std::to_string(narrowed_guard) + " lixel(s)";
     for (PlannedMap& m : maps.value()) {
-        m.scale_reason = m.scale < 1.0     ? (rescaled ? lowered_reason
-                                                       : "lowered so the map's sides fit "
-                                                         "max_texture_size")
-                         : narrowed_guard >= 0 ? narrowed
-                         : rescaled ? "one lixel per pixel: held in priority order; the later "
-                                      "planes share the rest of the budget"
-                                    : "one lixel per pixel: the budget holds every plane map";
+        m.scale_reason = m.scale < 1.0 ? (lowered ? lowered_reason
+                                                  : "lowered so the map's sides fit "
+                                                    "max_texture_size")
+                         : held        ? "one lixel per pixel: held in priority order; the "
+                                         "later planes share the rest of the budget"
+                         : narrowed_guard >= 0
+                             ? narrowed
+                             : "one lixel per pixel: the budget holds every plane map";
     }
 
     Plan plan;

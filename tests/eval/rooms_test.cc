@@ -206,14 +206,20 @@ TEST_F(Rooms, TheDefaultBudgetPolicyMisclassifiesTheFewestPlanesPixels) {
         Method{Fitting::kPlaneOptimal, ShadowTest::kDepth, ScalePolicy::kInPhase}.Name()};
     const double pixel_pct = 100.0 / double(kPixels);
     for (const std::int64_t budget : {kPixels / 16, kPixels / 4}) {
-        std::map<std::string, std::array<double, 3>> by_room;  // per policy, % on the planes
+        // Per policy, % on the planes; -1 until its row is read.
+        std::map<std::string, std::array<double, 3>> by_room;
         for (const ReportRow& r : summary_->rows) {
             if (r.budget != budget) continue;
+            auto [at, added] = by_room.try_emplace(r.scene);
+            if (added) at->second.fill(-1.0);
             for (int k = 0; k < 3; ++k) {
-                if (r.method == names[k]) by_room[r.scene][k] = r.error.PlanesPercent();
+                if (r.method == names[k]) at->second[k] = r.error.PlanesPercent();
             }
         }
         ASSERT_EQ(by_room.size(), static_cast<size_t>(kRooms));
+        for (const auto& [room, pct] : by_room) {
+            for (int k = 0; k < 3; ++k) ASSERT_GE(pct[k], 0.0) << room << " has no " << names[k];
+        }
         std::array<double, 3> sum{};
         std::array<int, 3> better{}, worse{};  // rooms where the policy beats / trails the default
         for (const auto& [room, pct] : by_room) {

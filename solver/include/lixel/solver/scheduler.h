@@ -99,8 +99,9 @@ struct FootprintOptions {
 
 // Plane maps when the budget cannot hold them all at one lixel per pixel.
 enum class ScalePolicy {
-    // The most planes in priority order keep one lixel per pixel (exact there) while the rest
-    // fits at one scale below it (the default).
+    // The leading planes in priority order keep one lixel per pixel (exact there) and the rest
+    // share one scale below it, when that is expected to cost less error than one scale for
+    // all (their shadows' outline over their scale); else one scale for all (the default).
     kPriority,
     // One continuous scale for every plane map.
     kUniform,
