@@ -456,6 +456,7 @@ void FindCandidates(Context& c) {
         cand.bounded = !r.planes[i].polygon.empty();
         std::vector<Vec3> polygon = polygons[i];
         std::string behind;
+        std::vector<bool> cand_crosses(r.planes.size(), false);
         for (size_t j = 0; j < r.planes.size(); ++j) {
             if (j == i || !occludes[j]) continue;
             const std::vector<Vec3> clipped = ClipPolygon(polygon, planes[j]);
@@ -472,7 +473,16 @@ void FindCandidates(Context& c) {
             for (const Vec3& v : polygon) {
                 reach = std::max(reach, -(planes[j].head<3>().dot(v) + planes[j].w()));
             }
-            if (reach > -c.thickness) cand.cut_by.push_back(j);
+            // A plane the polygon crosses goes before one it only reaches: the first sets the
+            // floor map's twist along its meeting line.
+            if (reach > c.thickness) {
+                auto crossed = std::find_if(cand.cut_by.begin(), cand.cut_by.end(),
+                                            [&](size_t k) { return !cand_crosses[k]; });
+                cand.cut_by.insert(crossed, j);
+                cand_crosses[j] = true;
+            } else if (reach > -c.thickness) {
+                cand.cut_by.push_back(j);
+            }
             polygon = clipped;
         }
         if (polygon.empty()) {

@@ -263,6 +263,38 @@ TEST(SchedulerPhase, AGuardBandNeverLowersTheScale) {
     EXPECT_GE(narrowed, 40);
 }
 
+// A floor that crosses the back wall's plane (the wall's box is behind it) and only reaches a
+// side wall's (the scene's box ends there) twists along the back wall's line, which cuts it,
+// whatever the planes' order: the paper's twist (§3) with free twists on.
+TEST(SchedulerPhase, TheFloorTwistsAlongTheWallItCrosses) {
+    PlanRequest r;
+    r.viewer = Perspective(60.0 * kDegree, 1.0, 0.1, 60.0) *
+               LookAt(Vec3(2, 3, 6), Vec3(-4, 0.5, -3), Vec3::UnitY());
+    r.viewport = {256, 256};
+    r.light = Point(Vec3(2, 9, 4));
+    r.objects = {testing::Box("floor", Vec3(-8, -0.1, -5.1), Vec3(8, 0, 8)),
+                 testing::Box("wall", Vec3(-8, 0, -5.1), Vec3(8, 6, -5)),
+                 testing::Box("side", Vec3(-8, 0, -5.1), Vec3(-8, 6, 8)),
+                 testing::Box("cube", Vec3(-3, 0, -3), Vec3(-2, 1, -2))};
+    r.planes = {{"floor", Vec4(0, 1, 0, 0), {}},
+                {"side", Vec4(1, 0, 0, 8), {}},
+                {"wall", Vec4(0, 0, 1, 5), {}}};
+    r.lixel_budget = 4 * 256 * 256;
+    r.in_phase = false;
+    r.footprints.enabled = false;
+    const auto plan = PlanShadowMaps(r);
+    ASSERT_TRUE(plan.ok()) << plan.error().Message();
+    const PlannedMap* floor = nullptr;
+    for (const PlannedMap& m : plan->maps) {
+        if (m.role == MapRole::kPlane && m.plane_index == 0) floor = &m;
+    }
+    ASSERT_NE(floor, nullptr);
+    // Two points of the floor/back-wall line image to one lixel row.
+    const Vec4 a = floor->map.matrix * Point(Vec3(-6, 0, -5));
+    const Vec4 b = floor->map.matrix * Point(Vec3(4, 0, -5));
+    EXPECT_NEAR(a.y() / a.w(), b.y() / b.w(), 1e-6 * std::abs(a.x() / a.w() - b.x() / b.w()));
+}
+
 TEST(SchedulerPhase, AnUnknownScalePolicyIsRefusedByName) {
     std::mt19937_64 rng(2607);
     PlanRequest r = RandomRoom(rng, 1);
