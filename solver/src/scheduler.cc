@@ -456,7 +456,7 @@ void FindCandidates(Context& c) {
         cand.bounded = !r.planes[i].polygon.empty();
         std::vector<Vec3> polygon = polygons[i];
         std::string behind;
-        std::vector<bool> cand_crosses(r.planes.size(), false);
+        std::vector<size_t> reached;  // planes the polygon only reaches: after those it crosses
         for (size_t j = 0; j < r.planes.size(); ++j) {
             if (j == i || !occludes[j]) continue;
             const std::vector<Vec3> clipped = ClipPolygon(polygon, planes[j]);
@@ -476,15 +476,13 @@ void FindCandidates(Context& c) {
             // A plane the polygon crosses goes before one it only reaches: the first sets the
             // floor map's twist along its meeting line.
             if (reach > c.thickness) {
-                auto crossed = std::find_if(cand.cut_by.begin(), cand.cut_by.end(),
-                                            [&](size_t k) { return !cand_crosses[k]; });
-                cand.cut_by.insert(crossed, j);
-                cand_crosses[j] = true;
-            } else if (reach > -c.thickness) {
                 cand.cut_by.push_back(j);
+            } else if (reach > -c.thickness) {
+                reached.push_back(j);
             }
             polygon = clipped;
         }
+        cand.cut_by.insert(cand.cut_by.end(), reached.begin(), reached.end());
         if (polygon.empty()) {
             c.plane_left_out.push_back(
                 {cand.name, "needed set empty: all of it in view lies behind " + behind});
@@ -720,6 +718,20 @@ std::int64_t TotalLixels(const std::vector<PlannedMap>& maps) {
     return t;
 }
 
+// One step of the budget loop: `scale` times the square root of the lixels the lowered maps may
+// take over what they take now (`total` less the `fixed` lixels of maps held at scale 1), a
+// little under it, and 2 % more from the fifth attempt so that rounding the rectangles outward
+// cannot stall the loop.
+double LoweredScale(double scale, std::int64_t total, std::int64_t fixed, std::int64_t available,
+                    int attempt) {
+    const double lowered = static_cast<double>(total - fixed);
+    const double shrink =
+        lowered > 0.0
+            ? std::sqrt(static_cast<double>(std::max<std::int64_t>(available - fixed, 0)) / lowered)
+            : 0.0;
+    return scale * (std::min(shrink, 0.999) * (attempt < 4 ? 1.0 : 0.98));
+}
+
 // Plane maps for a budget that cannot hold them all at one lixel per pixel, by a policy other
 // than one uniform scale (docs/solver.md, "Budget policy").
 struct ScaledPlaneMaps {
@@ -780,10 +792,7 @@ Result<std::optional<ScaledPlaneMaps>> ApplyScalePolicy(const Context& c,
         if (!tried) return tried.error();
         // As the uniform loop, over the lixels the lowered planes take.
         for (int attempt = 0; attempt < 40 && TotalLixels(*tried) > available; ++attempt) {
-            const double lowered = static_cast<double>(TotalLixels(*tried) - fixed);
-            const double shrink =
-                lowered > 0.0 ? std::sqrt(static_cast<double>(available - fixed) / lowered) : 0.0;
-            rest *= std::min(shrink, 0.999) * (attempt < 4 ? 1.0 : 0.98);
+            rest = LoweredScale(rest, TotalLixels(*tried), fixed, available, attempt);
             if (!(rest > 0.0)) break;
             std::fill(scales.begin() + static_cast<std::ptrdiff_t>(held), scales.end(), rest);
             out.left_out.clear();
@@ -1807,9 +1816,7 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     }
     for (int attempt = 0; attempt < 40 && TotalLixels(*maps) > available; ++attempt) {
         rescaled = true;
-        const double shrink = std::sqrt(static_cast<double>(std::max<std::int64_t>(available, 0)) /
-                                        static_cast<double>(TotalLixels(*maps)));
-        scale *= std::min(shrink, 0.999) * (attempt < 4 ? 1.0 : 0.98);
+        scale = LoweredScale(scale, TotalLixels(*maps), 0, available, attempt);
         // Frame coherence: down to a step of 2^(-1/steps), so the scale, and with it every map's
         // size, stays put while the view moves a little. Down, so the budget still holds.
         if (r.coherence) scale = QuantizedScale(scale, r.coherence->scale_steps);
