@@ -204,19 +204,28 @@ float lixel_pcf(int map, vec3 s, float bias, int r) {
 // filtered like PCF, only when they are mixed. The comparison is >= on stored depth, the paper's
 // <= (§3.3: two-sided planar surfaces then compare equal to themselves); `bias` defaults to 0.
 // Without `virtual_samples` mixed comparisons are filtered as they are (§3.2's baseline).
+//
+// Where comparisons are mixed, a tap is lit when its virtual sample or the point itself is:
+// the virtual sample stands in for the surface along the tap's ray, which exists only where the
+// surface does. Past a caster's silhouette from the light (a sphere near its terminator, a post
+// thinner than a lixel) the tangent plane runs on through empty space, and a steep one soon
+// passes behind the floor there, whose depth the tap holds: its virtual sample reads shadow
+// although the point's own depth clears the tap. A tap the point's depth clears holds no second
+// surface nearer the light than the point along a ray within a lixel of its own, so calling it
+// lit moves a true shadow's edge by less than a lixel, as the filter already does.
 float lixel_second_depth(int map, vec3 s, vec4 plane, float bias, int r, bool virtual_samples) {
     vec2 g = s.xy - 0.5;
     ivec2 base = ivec2(floor(g)) - (r - 1);
     vec2 f = g - floor(g);
     // The tangent plane's depth at every tap centre lies within `reach` of the point's own (the
-    // centres are within r lixels per axis): a tap whose stored depth is beyond that band is
-    // decided as its virtual sample would be. Plain comparisons alone would reject an open
-    // receiver whose taps are its own surface tilted toward the light, and accept one whose
-    // taps are tilted away. Without virtual samples, the paper's plain comparisons (reach 0).
+    // centres are within r lixels per axis): a tap whose stored depth is nearer than that band
+    // is shadowed at its virtual sample too. Plain comparisons alone would reject an open
+    // receiver whose taps are its own surface tilted toward the light. Without virtual samples,
+    // the paper's plain comparisons (reach 0).
     vec2 slope = -plane.xy / plane.z;
     float reach = virtual_samples ? float(r) * (abs(slope.x) + abs(slope.y)) : 0.0;
     if (!(reach < 1e30)) reach = 1e30;  // c ~ 0 (or NaN): nothing is decided early
-    float sure_lit = 0.0;
+    float plain_lit = 0.0;
     float sure_shadowed = 0.0;
     float filtered = 0.0;
     for (int bj = 0; bj < r; ++bj) {
@@ -224,13 +233,13 @@ float lixel_second_depth(int map, vec3 s, vec4 plane, float bias, int r, bool vi
             vec4 z = lixel_gather_a(map, base + 2 * ivec2(bi, bj));
             vec4 lit = vec4(greaterThanEqual(vec4(s.z + bias), z));
             filtered += dot(lixel_block_weights(bi, bj, r, f), lit);
-            sure_lit += dot(vec4(greaterThanEqual(vec4(s.z + bias - reach), z)), vec4(1.0));
+            plain_lit += dot(lit, vec4(1.0));
             sure_shadowed += dot(vec4(lessThan(vec4(s.z + bias + reach), z)), vec4(1.0));
         }
     }
     float norm = 1.0 / float((2 * r - 1) * (2 * r - 1));
     if (sure_shadowed == float(4 * r * r)) return 0.0;
-    if (sure_lit == float(4 * r * r)) return 1.0;
+    if (plain_lit == float(4 * r * r)) return 1.0;
     // A tangent plane that contains the light rays (c ~ 0) has no depth to resample (Fig. 9):
     // keep the ordinary comparisons.
     if (!virtual_samples ||
@@ -254,7 +263,8 @@ float lixel_second_depth(int map, vec3 s, vec4 plane, float bias, int r, bool vi
             vec4 z_virtual = s.z + slope.x * (cx - s.x) + slope.y * (cy - s.y);
             // A texel nothing covers (stored depth 0) holds no occluder, however far past the
             // depth row's far end the tangent plane extrapolates.
-            vec4 lit = max(vec4(greaterThanEqual(z_virtual + bias, z_second)),
+            vec4 lit = max(max(vec4(greaterThanEqual(z_virtual + bias, z_second)),
+                               vec4(greaterThanEqual(vec4(s.z + bias), z_second))),
                            vec4(lessThanEqual(z_second, vec4(0.0))));
             virtual_lit += dot(lixel_block_weights(bi, bj, r, f), lit);
         }

@@ -7,11 +7,13 @@
 #include <lixel/scene/mesh_builders.h>
 #include <lixel/solver/homogeneous.h>
 
+#include "quick_report.h"
+#include "seeded_draws.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <map>
 #include <random>
 #include <string>
@@ -20,21 +22,8 @@
 namespace lixel::eval {
 namespace {
 
-namespace fs = std::filesystem;
-
-double Uniform(std::mt19937_64& rng, double lo, double hi) {
-    return std::uniform_real_distribution<double>(lo, hi)(rng);
-}
-
-// x, then y, then z: the draws are sequenced here, since the order in which a constructor's
-// arguments are evaluated is unspecified (GCC and clang build different rooms from
-// Vec3(Uniform(..), Uniform(..), Uniform(..))).
-Vec3 Uniform(std::mt19937_64& rng, const Vec3& lo, const Vec3& hi) {
-    const double x = Uniform(rng, lo.x(), hi.x());
-    const double y = Uniform(rng, lo.y(), hi.y());
-    const double z = Uniform(rng, lo.z(), hi.z());
-    return Vec3(x, y, z);
-}
+using testing::Median;
+using testing::Uniform;
 
 // A room as a new user would build one: a floor and a wall (planes of interest, in that order),
 // 3 to 6 boxes and spheres on and above the floor, a viewer somewhere in the room looking at the
@@ -77,12 +66,6 @@ scene::Scene RandomRoom(std::mt19937_64& rng, int index, int view) {
     return s;
 }
 
-double Median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 constexpr int kRooms = 50;
 constexpr int kView = 256;
 constexpr std::int64_t kPixels = std::int64_t(kView) * kView;
@@ -90,9 +73,10 @@ constexpr std::int64_t kPixels = std::int64_t(kView) * kView;
 // The rooms through the report runner once, for every test below: plane-optimal under each
 // budget policy (the default first) and every baseline, depth test, at 1/16, 1/4 and 1 lixel
 // per pixel.
-class Rooms : public ::testing::Test {
-protected:
-    static void SetUpTestSuite() {
+class Rooms : public testing::SharedReport<Rooms> {
+  public:
+    static constexpr const char* kFolder = "lixel_rooms";
+    static ReportOptions Options() {
         std::mt19937_64 rng(12351);
         ReportOptions options;
         options.scenes.clear();
@@ -105,27 +89,11 @@ protected:
         for (const Fitting f : {Fitting::kUniform, Fitting::kPsm, Fitting::kLispsm, Fitting::kCsm}) {
             options.methods.push_back(Method{f, ShadowTest::kDepth});
         }
-        options.volumes = false;
         options.budgets = {kPixels / 16, kPixels / 4, kPixels};
-        options.repeats = 1;
-        options.plot = false;
-        options.progress = false;
         options.grid_budget = kPixels;
-        const fs::path out = fs::path(::testing::TempDir()) / "lixel_rooms";
-        fs::remove_all(out);
-        options.output = out.string();
-        auto summary = RunReport(options);
-        ASSERT_TRUE(summary.ok()) << summary.error().Message();
-        summary_ = new ReportSummary(std::move(*summary));
+        return options;
     }
-    static void TearDownTestSuite() {
-        delete summary_;
-        summary_ = nullptr;
-    }
-    static ReportSummary* summary_;
 };
-
-ReportSummary* Rooms::summary_ = nullptr;
 
 TEST_F(Rooms, PlaneOptimalBeatsTheBestBaselineWithTheSameFilterOnThePlanes) {
     ASSERT_NE(summary_, nullptr);

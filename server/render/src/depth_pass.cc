@@ -93,6 +93,13 @@ Result<bool> DepthPass::Render(const GpuScene& scene, const LightMap& map, FaceS
         FaceSelection mesh_faces = faces;
         if (faces == FaceSelection::kSecondDepth) {
             mesh_faces = range.closed ? FaceSelection::kAwayFacing : FaceSelection::kBoth;
+            // Reversed-Z: away from the light is toward 0, a negative offset.
+            if (range.closed) {
+                gl.Disable(GL_POLYGON_OFFSET_FILL);
+            } else {
+                gl.Enable(GL_POLYGON_OFFSET_FILL);
+                gl.PolygonOffset(-kOpenSecondDepthOffset, 0.0f);
+            }
         }
         if (mesh_faces == FaceSelection::kBoth) {
             gl.Disable(GL_CULL_FACE);
@@ -104,6 +111,7 @@ Result<bool> DepthPass::Render(const GpuScene& scene, const LightMap& map, FaceS
                         reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
     }
     gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_POLYGON_OFFSET_FILL);
     gl.Disable(GL_DEPTH_CLAMP);
     gl.BindVertexArray(0);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);

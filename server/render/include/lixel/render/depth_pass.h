@@ -16,9 +16,21 @@ enum class FaceSelection {
     kLightFacing,  // triangles facing the light
     kAwayFacing,   // triangles facing away from the light
     // Paper 003 §3.4: closed meshes keep their away-facing triangles (light-facing ones are
-    // culled), open meshes are two-sided and drawn whole, the side away from the light in pass 1.
+    // culled), open meshes are two-sided and drawn whole, the side away from the light in pass 1,
+    // pushed away from the light by kOpenSecondDepthOffset times their depth change per lixel.
     kSecondDepth,
 };
+
+// An open surface has no second surface behind it (paper 003 §3.3: non-solids need a bias). A
+// solid resting on it, or standing within a lixel of it, is read by the second-depth test
+// through taps up to one lixel per axis from its point (radius 1), whose rays can meet the open
+// surface in front of the solid's foot, nearer the light than the point by up to the surface's
+// depth change over those two lixels: a false contact shadow, where the depth test's slope bias
+// hides the same thing. Offset by twice its steepest depth change per lixel (glPolygonOffset's
+// factor, paper-free and slope-scaled), the open surface lies behind every point beside it that
+// a radius-1 tap can reach. The price: an open occluder's shadow on a receiver within that
+// depth of it is lost, as with any slope-scaled bias.
+inline constexpr float kOpenSecondDepthOffset = 2.0f;
 
 const char* FaceSelectionName(FaceSelection faces) noexcept;
 

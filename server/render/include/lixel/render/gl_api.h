@@ -26,6 +26,7 @@ namespace lixel::render {
     X(DepthMask, DEPTHMASK)                                     \
     X(ColorMask, COLORMASK)                                     \
     X(CullFace, CULLFACE)                                       \
+    X(PolygonOffset, POLYGONOFFSET)                             \
     X(FrontFace, FRONTFACE)                                     \
     X(ClipControl, CLIPCONTROL)                                 \
     X(Finish, FINISH)                                           \

@@ -60,9 +60,12 @@ struct ShadowOptions {
     // A closed solid's second surface is its back, so it compares bias-free (stored-depth units).
     // An open, two-sided surface is its own second surface and compares equal to itself in exact
     // arithmetic; rasterised and resampled depth differ by rounding, so its bias is a multiple of
-    // the rounding bound of its stored depth at the point (lixel_stored_depth_rounding, client/glsl/lixel_shadows.glsl), which scales with
-    // the depth row where a constant would not: 4 is the least that leaves no acne on the open
-    // floor and plate of view_second_depth_test, the default 16 leaves room.
+    // the rounding bound of its stored depth at the point (lixel_stored_depth_rounding,
+    // client/glsl/lixel_shadows.glsl), which scales with the depth row where a constant would
+    // not. The second-depth pass already pushes open surfaces back by kOpenSecondDepthOffset
+    // times their depth change per lixel, which leaves no acne on view_second_depth_test's open
+    // floor and plate with 0 (before it, 4 was the least that did); the default 16 is a margin
+    // for a surface whose depth change per lixel is nearly nil.
     float second_depth_bias = 0.0f;
     float open_second_depth_bias = 16.0f;
     // Second depth: virtual samples on the tangent plane where comparisons are mixed (§3.2, Fig.
