@@ -211,8 +211,11 @@ float lixel_pcf(int map, vec3 s, float bias, int r) {
 // thinner than a lixel) the tangent plane runs on through empty space, and a steep one soon
 // passes behind the floor there, whose depth the tap holds: its virtual sample reads shadow
 // although the point's own depth clears the tap. A tap the point's depth clears holds no second
-// surface nearer the light than the point along a ray within a lixel of its own, so calling it
-// lit moves a true shadow's edge by less than a lixel, as the filter already does.
+// surface nearer the light than the point along a ray up to r lixels from its own. Calling it lit
+// is wrong only where the shadowing second surface lies nearer the point than the tangent
+// plane's depth change over that distance (an occluder within |slope| r of a steep receiver),
+// where the depth test's slope bias, 1.5 times the change over its reach, lets light through
+// too.
 float lixel_second_depth(int map, vec3 s, vec4 plane, float bias, int r, bool virtual_samples) {
     vec2 g = s.xy - 0.5;
     ivec2 base = ivec2(floor(g)) - (r - 1);

@@ -135,6 +135,8 @@ TEST_F(SecondDepthOnCasters, MisclassifyNoMoreCasterPixelsThanDepth) {
             }
         }
     }
+    // Every scene (40 random and thin_plates) at both budgets under every fitting.
+    ASSERT_EQ(runs.size(), size_t(kScenes + 1) * 2 * std::size(kFittings));
     std::map<std::string, std::int64_t[2]> totals;
     int more = 0;
     for (const auto& [key, c] : runs) {
@@ -157,6 +159,37 @@ TEST_F(SecondDepthOnCasters, MisclassifyNoMoreCasterPixelsThanDepth) {
     }
     std::printf("[ casters  ] runs where second depth is worse: %d of %zu\n", more, runs.size());
     for (const auto& [fitting, t] : totals) EXPECT_LE(t[1], t[0]) << fitting;
+}
+
+// A tap the point's own depth clears is lit (lixel_second_depth), which can only add false light:
+// on the planes of interest (the open floor, receiving every caster's shadow) and in false-lit
+// pixels over the whole view, summed over every scene and budget, second depth stays within
+// depth's.
+TEST_F(SecondDepthOnCasters, LetsNoMoreLightThroughThanDepth) {
+    ASSERT_NE(summary_, nullptr);
+    std::map<std::string, std::int64_t[2]> planes_wrong, false_lit;
+    int rows = 0;
+    for (const ReportRow& r : summary_->rows) {
+        for (const Fitting f : kFittings) {
+            for (int t = 0; t < 2; ++t) {
+                const Method m{f, t ? ShadowTest::kSecondDepth : ShadowTest::kDepth};
+                if (r.method != m.Name()) continue;
+                ++rows;
+                planes_wrong[FittingName(f)][t] += r.error.planes_wrong;
+                false_lit[FittingName(f)][t] += r.error.false_lit;
+            }
+        }
+    }
+    ASSERT_EQ(rows, (kScenes + 1) * 2 * 2 * int(std::size(kFittings)));
+    for (const auto& [fitting, w] : planes_wrong) {
+        const auto& l = false_lit[fitting];
+        std::printf("[ casters  ] %-14s depth / second depth: %lld / %lld wrong on the planes, %lld / "
+                    "%lld false lit in all\n",
+                    fitting.c_str(), (long long)w[0], (long long)w[1], (long long)l[0],
+                    (long long)l[1]);
+        EXPECT_LE(w[1], w[0]) << fitting;
+        EXPECT_LE(l[1], l[0]) << fitting;
+    }
 }
 
 }  // namespace

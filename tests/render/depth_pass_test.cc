@@ -172,6 +172,26 @@ TEST(DepthPass, SecondDepthDrawsOpenSurfacesWholeBehindTheirOffset) {
     }
     EXPECT_GT(covered, 64 * 64 / 4);
     EXPECT_GT(checked, covered / 2);
+    // The offset is the second-depth pass's alone: the ordinary map drawn after it is unchanged.
+    auto again = testing::TheRenderer().depth().Render(*scene, map, FaceSelection::kBoth);
+    ASSERT_TRUE(again.ok());
+    EXPECT_EQ(ReadDepth(testing::Context(), *again)->pixels, a.pixels);
+}
+
+TEST(DepthPass, SecondDepthOffsetsNoClosedSurface) {
+    // Closed solids compare bias-free (paper 003 §3.1): their second depth is their away-facing
+    // triangles' depth, to the bit.
+    const TestScene s = testing::BoxOnSlab(64);
+    const LightMap map = testing::UniformMap(s, 64 * 64);
+    auto scene = UploadScene(testing::Context(), s.meshes, s.origin);
+    ASSERT_TRUE(scene.ok());
+    auto away = testing::TheRenderer().depth().Render(*scene, map, FaceSelection::kAwayFacing);
+    auto second = testing::TheRenderer().depth().Render(*scene, map, FaceSelection::kSecondDepth);
+    ASSERT_TRUE(away.ok() && second.ok());
+    const FloatImage a = *ReadDepth(testing::Context(), *away);
+    EXPECT_EQ(ReadDepth(testing::Context(), *second)->pixels, a.pixels);
+    EXPECT_GT(std::count_if(a.pixels.begin(), a.pixels.end(), [](float d) { return d > 0.0f; }),
+              64 * 64 / 4);
 }
 
 TEST(DepthPass, RefusesMapsItCannotDraw) {

@@ -90,15 +90,17 @@ TEST(SecondDepth, TwoSidedPlanarSurfacesNeedNoBiasBehindTheirOffset) {
     // compares equal to itself in exact arithmetic, and in float the rasterised and resampled
     // depths differ by rounding. The second-depth pass pushes an open surface back by twice its
     // depth change per lixel (kOpenSecondDepthOffset), more than that rounding wherever the
-    // change is not nil, and where it is (a surface square to a directional light) both depths
-    // are the same constant. Without the offset the same floor and square showed acne on 58 % of
+    // change is not nil. Without the offset the same floor and square showed acne on 58 % of
     // their lit pixels with no bias, 8 % at 1x the rounding bound, none from 4x; now none with
-    // none, under the room's point light, a directional light straight above and a tilted one.
+    // none under the room's point light and a tilted directional one. Square to a directional
+    // light straight above, the offset is nil and the default open-surface bias is what is held
+    // to no acne (llvmpipe's raster and the shader agree on that constant depth exactly, so it
+    // measures none there either; another driver's need not).
     TestScene s = testing::OpenSquareOverFloor(128);
     ShadowOptions unbiased;
     unbiased.open_second_depth_bias = 0.0f;
-    for (const Vec4& light : {s.light, Direction(Vec3(0.0, 1.0, 0.0)),
-                              Direction(Vec3(0.3, 1.0, 0.2))}) {
+    const Vec4 straight_above = Direction(Vec3(0.0, 1.0, 0.0));
+    for (const Vec4& light : {s.light, straight_above, Direction(Vec3(0.3, 1.0, 0.2))}) {
         s.light = light;
         const std::vector<PlannedMap> maps = {
             testing::Planned(testing::UniformMap(s, 128 * 128), {Pass::kSecondDepth})};
@@ -112,7 +114,9 @@ TEST(SecondDepth, TwoSidedPlanarSurfacesNeedNoBiasBehindTheirOffset) {
                     light.x(), light.y(), light.z(), light.w(), a0.Fraction(), a1.Fraction(),
                     static_cast<double>(ShadowOptions{}.open_second_depth_bias));
         EXPECT_GT(a0.lit, 128 * 128 / 4);
-        EXPECT_EQ(a0.shadowed, 0) << "the pass's offset must leave no acne without a bias";
+        if (light != straight_above) {
+            EXPECT_EQ(a0.shadowed, 0) << "the pass's offset must leave no acne without a bias";
+        }
         EXPECT_EQ(a1.shadowed, 0) << "the defaults must shade open surfaces without acne";
         EXPECT_EQ(testing::CompareMasks(by_default.mask, truth, 1.5).mismatched_outside_band, 0);
     }
@@ -207,9 +211,8 @@ TEST(SecondDepth, VirtualSamplesKeepAThinPlateUnderGrazingLightLit) {
     // later, so first and second surface meet and rounding decides the virtual comparison
     // (§4.1): 0.019 of the top stayed shadowed until a tap the point's own depth clears counted
     // as lit whatever its virtual sample says (lixel_second_depth).
-    EXPECT_LT(a1.Fraction(), a0.Fraction() / 10.0);
-    EXPECT_EQ(a1.shadowed, 0);
-    EXPECT_EQ(a2.shadowed, 0) << "a rounding-sized bias removes the rest";
+    EXPECT_EQ(a1.shadowed, 0) << "virtual samples must keep the whole top lit";
+    EXPECT_EQ(a2.shadowed, 0) << "and so must a rounding-sized bias";
 }
 
 }  // namespace
