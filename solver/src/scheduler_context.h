@@ -1,0 +1,143 @@
+// What the scheduler's steps share (scheduler.cc reads as their sequence): the planning
+// context, the planes' candidate needed regions, and each step's entry points, one file each:
+// scheduler_validation.cc (the request), scheduler_coherence.cc (the previous frame's maps),
+// scheduler_regions.cc (needed and visible regions), scheduler_plane_maps.cc (solve and crop),
+// scheduler_budget.cc (budget and scale), scheduler_fallback.cc (fallback and cube faces),
+// scheduler_pixels.cc (the pixel estimate) and scheduler_passes.cc (the passes).
+#pragma once
+
+#include <lixel/solver/camera.h>
+#include <lixel/solver/depth_row.h>
+#include <lixel/solver/homogeneous.h>
+#include <lixel/solver/light_frustum.h>
+#include <lixel/solver/map_diagnostics.h>
+#include <lixel/solver/polygon.h>
+#include <lixel/solver/ray_cone.h>
+#include <lixel/solver/scheduler.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lixel::scheduling {
+
+// A plane of interest kept for a map: its needed part and the planes that bound it.
+struct Candidate {
+    size_t index = 0;
+    std::string name;
+    Vec4 plane;                 // unit normal
+    std::vector<Vec3> polygon;  // needed part of the plane
+    bool bounded = false;
+    std::vector<size_t> cut_by;  // infinite planes whose lines bound the needed part
+};
+
+// The part of one object's box (thickened) in view and in front of every plane that hides its
+// back side: what some map must hold.
+struct ViewRegion {
+    ConvexPolytope region;
+    int object = -1;  // into PlanRequest::objects; -1 for the scene bounds when there are none
+    // An infinite plane of interest the object lies on or behind (its box on the plane's back
+    // side, the plane hiding that side, the box inside the scene bounds), else -1: then every
+    // visible point of the object lies on that plane, in its needed polygon, and the region is
+    // held wherever that polygon is.
+    int on_plane = -1;
+};
+
+// Everything the planning passes share.
+struct Context {
+    const PlanRequest& request;
+    Aabb bounds;
+    ExtentHull hull;
+    Vec4 light;
+    std::vector<Vec4> frustum;
+    double thickness = 0.0;
+    std::vector<Candidate> candidates;
+    // Every object's box, thickened (request order), and its part inside the extent hull (the
+    // hull itself when there are no objects): the same for every map and every budget attempt.
+    std::vector<ConvexPolytope> object_boxes;
+    std::vector<ConvexPolytope> held_regions;
+    std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i].vertices()
+    std::vector<ViewRegion> view_regions;          // visible part of every object
+    std::vector<LeftOut> plane_left_out;           // from the candidate stage
+};
+
+// --- scheduler_validation.cc
+
+std::string Format(double value);  // 3 significant digits
+std::string PlaneName(const PlanRequest& r, size_t i);  // "plane floor", or "plane 2"
+// Every field of the request checked (errors name it), and the scene bounds: scene_bounds when
+// given, else the union of the objects' boxes.
+Result<Aabb> ValidatedBounds(const PlanRequest& r);
+Result<bool> ValidateCoherence(const FrameCoherence& f);
+
+// --- scheduler_coherence.cc
+
+double QuantizedScale(double scale, int steps);
+double CoherentHeadroom(const FrameCoherence& f);
+const PreviousMap* PreviousOf(const PlanRequest& r, MapRole role, int plane_index = -1,
+                              int cube_face = -1);
+
+// --- scheduler_regions.cc
+
+Aabb Thickened(const Aabb& box, double thickness);
+ConvexPolytope ClippedByAll(ConvexPolytope polytope, const std::vector<Vec4>& planes);
+const ConvexPolytope& ClipInto(ConvexPolytope& out, const ConvexPolytope& polytope,
+                               const std::vector<Vec4>& planes);
+bool MeetingLine(const Vec4& a, const Vec4& b, Vec4& p0, Vec4& p1);
+Eigen::Vector3d ImageLine(const Mat4& m, const Vec4& a, const Vec4& b, const Vec3& inside);
+std::vector<Vec2> ImageHull(const Mat4& m, const std::vector<Vec4>& points);
+std::vector<Vec4> Points(const std::vector<Vec3>& vertices);
+// The context of a validated request: candidates, object boxes, held and visible regions.
+Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& hull);
+
+// --- scheduler_plane_maps.cc
+
+int GuardFor(std::int64_t budget, int max_side);
+void AddGuardBand(LightMap& map, int g);
+RayCone LookupCone(const LightMap& map, const LookupRule& rule);
+void RefitDepth(const Context& c, PlannedMap& m, const std::vector<Vec4>& receivers = {});
+Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, const std::vector<double>& scales,
+                                               std::vector<LeftOut>& left_out,
+                                               bool keep_sizes = true,
+                                               int guard_cap = kGuardLixels);
+Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
+                                               std::vector<LeftOut>& left_out,
+                                               bool keep_sizes = true,
+                                               int guard_cap = kGuardLixels);
+
+// --- scheduler_budget.cc
+
+std::int64_t TotalLixels(const std::vector<PlannedMap>& maps);
+
+// A visible region's part that no map accepts, with the object it belongs to.
+// A visible region's part that no map accepts, with the object it belongs to.
+struct UncoveredPiece {
+    ConvexPolytope piece;
+    int object = -1;
+};
+
+// The plane maps within the budget, and what the fallback has left to cover.
+struct BudgetedPlaneMaps {
+    std::vector<PlannedMap> maps;
+    std::vector<LeftOut> left_out;
+    double scale = 1.0;                   // Plan::plane_scale
+    std::vector<UncoveredPiece> uncovered;  // what the maps leave to the fallback
+};
+Result<BudgetedPlaneMaps> FitPlaneMapsToBudget(const Context& c);
+
+// --- scheduler_fallback.cc
+
+std::vector<UncoveredPiece> Uncovered(const Context& c, const std::vector<PlannedMap>& maps);
+Result<bool> AddFallback(const Context& c, const std::vector<UncoveredPiece>& uncovered,
+                         std::int64_t budget, Plan& plan);
+
+// --- scheduler_pixels.cc
+
+void EstimatePixels(const Context& c, Plan& plan);
+
+// --- scheduler_passes.cc
+
+void PlanPasses(const Context& c, Plan& plan);
+
+}  // namespace lixel::scheduling

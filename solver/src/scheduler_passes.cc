@@ -1,0 +1,76 @@
+// The passes each map needs beyond depth, and the warning when second depth meets open casters.
+#include "scheduler_context.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace lixel::scheduling {
+
+// Objects that can cast into a map: their boxes meet the map's accepted cone, and for a plane
+// map they rise above the plane on its lit side.
+std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m) {
+    std::vector<const SceneObject*> casters;
+    const RayCone cone = AcceptedCone(m.map, m.lookup.half_planes);
+    for (size_t i = 0; i < c.request.objects.size(); ++i) {
+        const SceneObject& o = c.request.objects[i];
+        const Aabb box = Thickened(o.bounds, c.thickness);
+        if (m.role == MapRole::kPlane) {
+            const Vec4& p = c.request.planes[m.plane_index].plane;
+            const double n = p.head<3>().norm();
+            double highest = -std::numeric_limits<double>::infinity();
+            for (const Vec4& corner : BoxCorners(box)) highest = std::max(highest, p.dot(corner) / n);
+            if (!(highest > c.thickness)) continue;
+        }
+        thread_local ConvexPolytope scratch;
+        if (!ClipInto(scratch, c.object_boxes[i], cone.planes).empty()) {
+            casters.push_back(&o);
+        }
+    }
+    return casters;
+}
+
+// The second-depth and silhouette passes on the maps some caster reaches, the volumes pass when
+// any does, and what was left out and why (DESIGN §4.5).
+void PlanPasses(const Context& c, Plan& plan) {
+    const PassRequest& asked = c.request.passes;
+    bool any_caster = false;
+    std::vector<std::string> open_casters;
+    bool second_depth_used = false;
+    for (PlannedMap& m : plan.maps) {
+        if (m.lookup.unshadowed) continue;  // no texels, so no passes
+        const auto casters = CastersOf(c, m);
+        if (casters.empty()) continue;
+        any_caster = true;
+        if (asked.second_depth) {
+            m.passes.push_back(Pass::kSecondDepth);
+            second_depth_used = true;
+            for (const SceneObject* o : casters) {
+                const bool closed = o->mesh != nullptr ? o->mesh->closed : o->closed;
+                if (!closed && std::find(open_casters.begin(), open_casters.end(), o->name) ==
+                                   open_casters.end()) {
+                    open_casters.push_back(o->name);
+                }
+            }
+        }
+        if (asked.silhouette_map) m.passes.push_back(Pass::kSilhouetteMap);
+    }
+    auto explain = [&](const char* item, bool requested) {
+        if (!requested) {
+            plan.left_out.push_back({item, "not requested"});
+        } else if (!any_caster) {
+            plan.left_out.push_back({item, "no caster inside the needed rays"});
+        }
+    };
+    explain("pass second_depth", asked.second_depth);
+    explain("pass silhouette_map", asked.silhouette_map);
+    explain("pass volumes", asked.volumes);
+    plan.volumes = asked.volumes && any_caster;
+    if (second_depth_used && !open_casters.empty()) {
+        std::string names;
+        for (const std::string& n : open_casters) names += (names.empty() ? "" : ", ") + n;
+        plan.warnings.push_back("second depth on casters that are not closed solids (" + names +
+                                "): they need a depth bias (paper 003 §3.3)");
+    }
+}
+
+}  // namespace lixel::scheduling

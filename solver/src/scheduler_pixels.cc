@@ -1,0 +1,553 @@
+// How many viewer pixels read each map (PlannedMap::expected_pixels): a grid of view rays traced
+// through the lookup rule, whole tiles proved to go to one map from their corners.
+#include "scheduler_context.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lixel::scheduling {
+
+// Viewer pixels sampled per side to estimate how many pixels read each map.
+constexpr int kPixelSamplesPerSide = 48;
+// Samples per side of the tiles whose corners EstimatePixels traces first.
+constexpr int kPixelTileSamples = 4;
+
+// Relative margin of SegmentMisses: far above the few ulps by which the slab test below can
+// differ from exact arithmetic, so the cull never drops a box that test would hit.
+constexpr double kCullMargin = 1e-9;
+
+// The points origin + t direction, t in [0, reach] (reach may be infinite), as per-axis bounds,
+// and the rounding margin a box test against them needs.
+struct RaySegment {
+    Vec3 lo, hi;
+    double magnitude = 0.0;  // largest |coordinate| of origin, reach * direction and the end
+    bool valid = false;      // false when some value is not finite: nothing is culled
+};
+
+RaySegment SegmentOf(const Vec3& origin, const Vec3& direction, double reach) {
+    RaySegment s;
+    const bool finite_reach = std::isfinite(reach);
+    const Vec3 step = finite_reach ? Vec3(reach * direction) : Vec3::Zero();
+    const Vec3 end = origin + step;
+    s.magnitude = origin.cwiseAbs().maxCoeff();
+    if (finite_reach) s.magnitude += step.cwiseAbs().maxCoeff() + end.cwiseAbs().maxCoeff();
+    s.valid = std::isfinite(s.magnitude) && direction.allFinite();
+    for (int a = 0; a < 3; ++a) {
+        s.lo(a) = origin(a);
+        s.hi(a) = origin(a);
+        if (finite_reach) {
+            s.lo(a) = std::min(s.lo(a), end(a));
+            s.hi(a) = std::max(s.hi(a), end(a));
+        } else if (direction(a) > 0.0) {
+            s.hi(a) = std::numeric_limits<double>::infinity();
+        } else if (direction(a) < 0.0) {
+            s.lo(a) = -std::numeric_limits<double>::infinity();
+        }
+    }
+    return s;
+}
+
+// Whether the segment stays more than a rounding margin outside `box` on some axis. Then the
+// slab test in EstimatePixels, whose entry and exit parameters are within 2 ulps of exact, finds
+// no entry in (0, reach) either: a division-free test that spares it for most rays and boxes.
+// `box_magnitude` is the box's largest |coordinate|.
+bool SegmentMisses(const RaySegment& s, const Aabb& box, double box_magnitude) {
+    if (!s.valid) return false;
+    const double margin = kCullMargin * (s.magnitude + box_magnitude);
+    if (!std::isfinite(margin)) return false;
+    for (int a = 0; a < 3; ++a) {
+        if (s.hi(a) < box.min(a) - margin || s.lo(a) > box.max(a) + margin) return true;
+    }
+    return false;
+}
+
+// One viewer ray of EstimatePixels' grid: where it ends and which map reads that point.
+struct RaySample {
+    Vec3 origin = Vec3::Zero();
+    Vec3 hit = Vec3::Zero();
+    double ndc_x = 0.0, ndc_y = 0.0;
+    double near_w = 0.0, far_w = 0.0;  // w of the ray's points on the near and far planes
+    int surface = -1;  // candidate whose plane the ray ends on (not a box), else -1
+    int map = -1;      // index into plan.maps reading the end point, -1 when none or not counted
+};
+
+// Rounding allowance of a x + d at x, for the tile proofs: kCullMargin of the terms' sizes, far
+// above the few ulps by which a ray's computed values (and hence its end point) stray.
+double Slack(const Vec3& a, double d, const Vec3& x) {
+    return kCullMargin * (a.cwiseAbs().dot(x.cwiseAbs()) + std::abs(d));
+}
+
+// An NDC rectangle holding the viewer image of a set of world points, valid when every point
+// lies strictly in front of the viewer (clip w > 0): a ray of the viewer meets their convex hull
+// only where its NDC lies in the rectangle, whatever its parameter (every point of the ray
+// projects to the ray's own NDC).
+struct ScreenRect {
+    bool valid = false;
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+template <class Points>
+ScreenRect ScreenRectOf(const Mat4& viewer, const Points& points) {
+    ScreenRect rect{true, std::numeric_limits<double>::infinity(),
+                    std::numeric_limits<double>::infinity(),
+                    -std::numeric_limits<double>::infinity(),
+                    -std::numeric_limits<double>::infinity()};
+    for (const Vec3& p : points) {
+        const Vec4 clip = viewer * Point(p);
+        if (!(clip.w() > kCullMargin * clip.cwiseAbs().maxCoeff()) || !clip.allFinite()) {
+            return ScreenRect{};
+        }
+        const double x = clip.x() / clip.w();
+        const double y = clip.y() / clip.w();
+        rect.x0 = std::min(rect.x0, x);
+        rect.x1 = std::max(rect.x1, x);
+        rect.y0 = std::min(rect.y0, y);
+        rect.y1 = std::max(rect.y1, y);
+    }
+    return rect;
+}
+
+// NDC distance a tile must keep from a screen rectangle: far above the NDC error of a computed
+// ray when the viewer is conditioned as PrepareTileProofs requires.
+constexpr double kScreenMargin = 1e-6;
+// Largest ||Mv|| ||Mv^-1|| (infinity norms) for which the tile proofs run.
+constexpr double kMaxViewerCondition = 1e6;
+
+bool Disjoint(const ScreenRect& rect, double x0, double y0, double x1, double y1) {
+    return rect.valid && (x1 < rect.x0 - kScreenMargin || x0 > rect.x1 + kScreenMargin ||
+                          y1 < rect.y0 - kScreenMargin || y0 > rect.y1 + kScreenMargin);
+}
+
+// The tile proofs' per-estimate data: screen rectangles of every box and bounded polygon.
+struct TileProofs {
+    bool enabled = false;
+    std::vector<ScreenRect> boxes;
+    std::vector<ScreenRect> polygons;  // per candidate; invalid for an infinite plane
+    std::vector<Eigen::Matrix<double, 8, 3>> box_corners;
+    std::vector<Vec4> map_sizes;  // per map, |row 0| + |row 1| + |row 3| of its matrix
+};
+
+// What every ray of one estimate shares.
+struct PixelEstimate {
+    const Context& c;
+    const Plan& plan;
+    Mat4 inverse;
+    Mat4 pixel;
+    std::vector<std::vector<Vec3>> edges;  // each bounded candidate's polygon edges
+    std::vector<double> box_magnitudes;
+    TileProofs proofs;
+};
+
+RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
+    const Context& c = e.c;
+    const PlanRequest& r = c.request;
+    const int n = kPixelSamplesPerSide;
+    RaySample s;
+    s.ndc_x = 2.0 * (sx + 0.5) / n - 1.0;
+    s.ndc_y = 2.0 * (sy + 0.5) / n - 1.0;
+    const Vec4 near = e.inverse * Vec4(s.ndc_x, s.ndc_y, 0.0, 1.0);
+    const Vec4 far = e.inverse * Vec4(s.ndc_x, s.ndc_y, 1.0, 1.0);
+    s.near_w = near.w();
+    s.far_w = far.w();
+    if (!(near.w() != 0.0)) return s;
+    const Vec3 origin = near.head<3>() / near.w();
+    s.origin = origin;
+    const Vec3 direction =
+        far.w() != 0.0 ? Vec3(far.head<3>() / far.w() - origin) : Vec3(far.head<3>());
+    double best = std::numeric_limits<double>::infinity();
+    int surface = -1;
+    // The ray's points past its origin lie beyond the near plane (far w > 0), where a polygon or
+    // box is seen inside its screen rectangle: off the rectangle, the ray cannot meet it.
+    const bool screen_culls = e.proofs.enabled && near.w() > 0.0 && far.w() > 0.0;
+    // The rectangles exist only when the proofs are enabled: test that before indexing them.
+    auto off_screen = [&](const std::vector<ScreenRect>& rects, std::size_t i) {
+        return screen_culls && Disjoint(rects[i], s.ndc_x, s.ndc_y, s.ndc_x, s.ndc_y);
+    };
+    for (size_t i = 0; i < c.candidates.size(); ++i) {
+        const Candidate& cand = c.candidates[i];
+        if (off_screen(e.proofs.polygons, i)) continue;
+        const double denom = cand.plane.head<3>().dot(direction);
+        if (denom == 0.0) continue;
+        const double num = cand.plane.head<3>().dot(origin) + cand.plane.w();
+        // t = -num / denom is positive only when the signs differ (a quotient's sign is exact):
+        // a plane behind the ray needs no division.
+        if (!((num < 0.0 && denom > 0.0) || (num > 0.0 && denom < 0.0))) continue;
+        // Past an earlier hit by more than rounding: |num| > best |denom| (1 + 1e-9), with a
+        // normal product, puts the rounded quotient above best.
+        const double bound = best * std::abs(denom) * (1.0 + kCullMargin);
+        if (bound >= 1e-300 && std::abs(num) > bound) continue;
+        const double t = -num / denom;
+        if (!(t > 0.0 && t < best)) continue;
+        const Vec3 hit = origin + t * direction;
+        const auto& poly = r.planes[cand.index].polygon;
+        bool inside = (hit.array() >= c.bounds.min.array() - c.thickness).all() &&
+                      (hit.array() <= c.bounds.max.array() + c.thickness).all();
+        for (size_t k = 0; inside && k < poly.size(); ++k) {
+            inside = cand.plane.head<3>().dot(e.edges[i][k].cross(hit - poly[k])) >= 0.0;
+        }
+        if (inside) {
+            best = t;
+            surface = static_cast<int>(i);
+        }
+    }
+    // Boxes the ray cannot enter before `best` (the nearest plane hit, or infinity): a later,
+    // nearer box hit only shortens the segment, so the cull stays safe.
+    const RaySegment segment = SegmentOf(origin, direction, best);
+    for (size_t i = 0; i < r.objects.size(); ++i) {
+        const SceneObject& o = r.objects[i];
+        if (off_screen(e.proofs.boxes, i)) continue;
+        if (SegmentMisses(segment, o.bounds, e.box_magnitudes[i])) continue;
+        double t0 = 0.0, t1 = best;
+        for (int a = 0; a < 3 && t0 <= t1; ++a) {
+            if (direction(a) == 0.0) {
+                if (origin(a) < o.bounds.min(a) || origin(a) > o.bounds.max(a)) t0 = 2 * t1;
+                continue;
+            }
+            double ta = (o.bounds.min(a) - origin(a)) / direction(a);
+            double tb = (o.bounds.max(a) - origin(a)) / direction(a);
+            if (ta > tb) std::swap(ta, tb);
+            t0 = std::max(t0, ta);
+            t1 = std::min(t1, tb);
+        }
+        if (t0 <= t1 && t0 > 0.0 && t0 < best) {
+            best = t0;
+            surface = -1;
+        }
+    }
+    if (!std::isfinite(best)) return s;
+    const Vec3 hit = origin + best * direction;
+    s.hit = hit;
+    s.surface = surface;
+    if (!(e.pixel.row(3).dot(Point(hit)) > 0.0)) return s;
+    s.map = LookupMap(e.plan, Point(hit));
+    return s;
+}
+
+TileProofs PrepareTileProofs(const PixelEstimate& e) {
+    TileProofs t;
+    const PlanRequest& r = e.c.request;
+    const double condition = r.viewer.cwiseAbs().rowwise().sum().maxCoeff() *
+                             e.inverse.cwiseAbs().rowwise().sum().maxCoeff();
+    t.enabled = condition < kMaxViewerCondition && e.inverse.allFinite();
+    if (!t.enabled) return t;
+    for (const PlannedMap& m : e.plan.maps) {
+        const Mat4& M = m.map.matrix;
+        t.map_sizes.push_back(
+            (M.row(0).cwiseAbs() + M.row(1).cwiseAbs() + M.row(3).cwiseAbs()).transpose());
+    }
+    // A ray's points past its origin lie beyond the near plane (clip z > 0), so only that part
+    // of a box or polygon can meet it; there clip w > 0 for the viewers TileUniform accepts.
+    const Vec4 beyond_near = r.viewer.row(2).transpose();
+    for (const SceneObject& o : r.objects) {
+        Eigen::Matrix<double, 8, 3> m;
+        for (int k = 0; k < 8; ++k) {
+            m.row(k) << ((k & 1) ? o.bounds.max.x() : o.bounds.min.x()),
+                ((k & 2) ? o.bounds.max.y() : o.bounds.min.y()),
+                ((k & 4) ? o.bounds.max.z() : o.bounds.min.z());
+        }
+        t.box_corners.push_back(m);
+        ConvexPolytope part = ConvexPolytope::FromBox(o.bounds);
+        part.Clip(beyond_near);
+        // A flat or emptied box keeps no rectangle: it is then tested as a whole below.
+        t.boxes.push_back(part.empty() ? ScreenRect{} : ScreenRectOf(r.viewer, part.vertices()));
+    }
+    for (const Candidate& cand : e.c.candidates) {
+        const auto& poly = r.planes[cand.index].polygon;
+        const std::vector<Vec3> part = poly.empty() ? poly : ClipPolygon(poly, beyond_near);
+        t.polygons.push_back(part.size() < 3 ? ScreenRect{} : ScreenRectOf(r.viewer, part));
+    }
+    return t;
+}
+
+// TileUniform's first proof: the corner rays' origins lie strictly on one side of candidate
+// `i`'s plane (`side` gets which) and their end points inside its needed surface and in front of
+// the viewer's w, each with margin.
+bool TileEndsOnItsPlane(const PixelEstimate& e, const RaySample* corner[4], int i, double& side) {
+    const Context& c = e.c;
+    const PlanRequest& r = c.request;
+    const Candidate& cand = c.candidates[i];
+    const Vec3 normal = cand.plane.head<3>();
+    // Origins strictly on one side of the plane.
+    side = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        const double v = normal.dot(corner[k]->origin) + cand.plane.w();
+        if (!(std::abs(v) > Slack(normal, cand.plane.w(), corner[k]->origin))) return false;
+        const double sign = v > 0.0 ? 1.0 : -1.0;
+        if (side != 0.0 && sign != side) return false;
+        side = sign;
+    }
+    // End points inside the needed surface (thickened bounds, polygon) and in front of the
+    // viewer's w, each with margin.
+    const auto& poly = r.planes[cand.index].polygon;
+    for (int k = 0; k < 4; ++k) {
+        const Vec3& h = corner[k]->hit;
+        const double m =
+            kCullMargin * (h.cwiseAbs().maxCoeff() + c.bounds.min.cwiseAbs().maxCoeff() +
+                           c.bounds.max.cwiseAbs().maxCoeff() + c.thickness);
+        if (!((h.array() >= c.bounds.min.array() - c.thickness + m).all() &&
+              (h.array() <= c.bounds.max.array() + c.thickness - m).all())) {
+            return false;
+        }
+        for (size_t q = 0; q < poly.size(); ++q) {
+            const Vec3& edge = e.edges[i][q];
+            const double g = normal.dot(edge.cross(h - poly[q]));
+            const double slack = kCullMargin * edge.norm() *
+                                 (h.cwiseAbs().maxCoeff() + poly[q].cwiseAbs().maxCoeff());
+            if (!(g > slack)) return false;
+        }
+        const Vec3 a_w = e.pixel.row(3).head<3>().transpose();
+        if (!(a_w.dot(h) + e.pixel(3, 3) > Slack(a_w, e.pixel(3, 3), h))) return false;
+    }
+    return true;
+}
+
+// Its second: no other candidate plane and no box lies in front of plane `i` anywhere on the
+// tile.
+bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
+                           const RaySample* corner[4], int i, double side) {
+    const Context& c = e.c;
+    const PlanRequest& r = c.request;
+    const Candidate& cand = c.candidates[i];
+    const Vec3 normal = cand.plane.head<3>();
+    double x0 = corner[0]->ndc_x, x1 = x0, y0 = corner[0]->ndc_y, y1 = y0;
+    for (int k = 1; k < 4; ++k) {
+        x0 = std::min(x0, corner[k]->ndc_x);
+        x1 = std::max(x1, corner[k]->ndc_x);
+        y0 = std::min(y0, corner[k]->ndc_y);
+        y1 = std::max(y1, corner[k]->ndc_y);
+    }
+    // The eight points whose hull holds every segment from a ray's origin to its end point.
+    Vec3 points[8];
+    for (int k = 0; k < 4; ++k) {
+        points[k] = corner[k]->origin;
+        points[4 + k] = corner[k]->hit;
+    }
+    // No other candidate plane in front: its polygon off the tile's screen rectangle, or the
+    // eight points strictly on one side of it.
+    for (size_t k = 0; k < c.candidates.size(); ++k) {
+        if (static_cast<int>(k) == i) continue;
+        if (Disjoint(proofs.polygons[k], x0, y0, x1, y1)) continue;
+        const Vec4& p = c.candidates[k].plane;
+        const Vec3 nk = p.head<3>();
+        double s = 0.0;
+        bool separated = true;
+        for (const Vec3& x : points) {
+            const double v = nk.dot(x) + p.w();
+            const double sign = v > 0.0 ? 1.0 : -1.0;
+            if (!(std::abs(v) > Slack(nk, p.w(), x)) || (s != 0.0 && sign != s)) {
+                separated = false;
+                break;
+            }
+            s = sign;
+        }
+        if (!separated) return false;
+    }
+    // No box entered before the plane: off the tile's screen rectangle, strictly behind the
+    // plane, or (an axis-aligned plane) no nearer than it in the slab test itself.
+    int axis = -1;
+    for (int a = 0; a < 3; ++a) {
+        if (normal(a) == 1.0 || normal(a) == -1.0) {
+            if (normal((a + 1) % 3) == 0.0 && normal((a + 2) % 3) == 0.0) axis = a;
+        }
+    }
+    for (size_t b = 0; b < r.objects.size(); ++b) {
+        if (Disjoint(proofs.boxes[b], x0, y0, x1, y1)) continue;
+        const Aabb& box = r.objects[b].bounds;
+        if (axis >= 0) {
+            // The plane is sigma x_a + w = 0 and a ray's parameter on it is computed as
+            // (-w - o_a) / d_a or (w - o_a) / d_a exactly; the slab entry on axis a is
+            // (bound - o_a) / d_a, and rounding is monotone, so a box face at or behind the
+            // plane is entered no sooner.
+            const double sigma = normal(axis);
+            const double level = -sigma * cand.plane.w();  // x_a on the plane
+            const bool toward_lower = side * sigma > 0.0;  // rays run toward smaller x_a
+            if (toward_lower ? box.max(axis) <= level : box.min(axis) >= level) continue;
+        }
+        bool behind = true;
+        for (int k = 0; k < 8 && behind; ++k) {
+            const Vec3 x = proofs.box_corners[b].row(k).transpose();
+            const double v = normal.dot(x) + cand.plane.w();
+            behind = -side * v > Slack(normal, cand.plane.w(), x);
+        }
+        if (!behind) return false;
+    }
+    return true;
+}
+
+// Its third: map `j` accepts every end point on the tile, and each earlier map rejects all of
+// them by one of its tests.
+bool TileLooksUpOneMap(const PixelEstimate& e, const TileProofs& proofs, const RaySample* corner[4],
+                       int j) {
+    // The lookup: map j accepts every end point, and each earlier map rejects all of them by one
+    // of its tests. Each test is a linear form in (x, y, q) = rows 0, 1, 3 of the map applied to
+    // the point, so margin at the corners is margin over the tile.
+    for (int m = 0; m <= j; ++m) {
+        const PlannedMap& map = e.plan.maps[m];
+        const Mat4& M = map.map.matrix;
+        const size_t forms = 5 + map.lookup.half_planes.size();
+        const Eigen::Vector4d rect = LookupRectangle(map.map, map.lookup);
+        // Form f: coefficients on (x, y, q); f >= 0 (or > 0) is the test.
+        auto coefficients = [&](size_t f) -> Eigen::Vector3d {
+            switch (f) {
+                case 0: return {0.0, 0.0, 1.0};        // q > 0
+                case 1: return {1.0, 0.0, -rect[0]};   // u >= x0
+                case 2: return {-1.0, 0.0, rect[2]};   // u < x1
+                case 3: return {0.0, 1.0, -rect[1]};   // v >= y0
+                case 4: return {0.0, -1.0, rect[3]};   // v < y1
+                default: return map.lookup.half_planes[f - 5];
+            }
+        };
+        // Per corner: (x, y, q), the size of the terms that make them, and |u| + |v|, by which
+        // the rounding of u = x / q grows.
+        Eigen::Vector3d pq[4];
+        double size[4], lixels[4];
+        for (int k = 0; k < 4; ++k) {
+            const Vec4 x = Point(corner[k]->hit);
+            const Vec4 p = M * x;
+            pq[k] = Eigen::Vector3d(p.x(), p.y(), p.w());
+            size[k] = proofs.map_sizes[m].dot(x.cwiseAbs());
+            lixels[k] = (std::abs(p.x()) + std::abs(p.y())) /
+                        std::max(std::abs(p.w()), std::numeric_limits<double>::min());
+        }
+        bool accepted = true;
+        bool rejected = false;
+        for (size_t f = 0; f < forms && !rejected; ++f) {
+            const Eigen::Vector3d alpha = coefficients(f);
+            bool all_above = true, all_below = true;
+            for (int k = 0; k < 4; ++k) {
+                const double slack =
+                    kCullMargin * alpha.cwiseAbs().sum() * size[k] * (1.0 + lixels[k]);
+                const double v = alpha.dot(pq[k]);
+                const bool q_positive = pq[k].z() > kCullMargin * size[k];
+                all_above = all_above && v > slack && q_positive;
+                all_below = all_below && v < -slack && (f == 0 || q_positive);
+            }
+            if (!all_above) accepted = false;
+            if (all_below) rejected = true;
+            if (m == j && !accepted) break;
+        }
+        if (m < j ? !rejected : !accepted) return false;
+    }
+    return true;
+}
+
+// Whether every ray of the tile spanned by four corner samples ends on the same candidate plane
+// inside its needed surface, with no nearer plane or box, and is read by the same map: then the
+// samples inside the tile need not be traced. Every condition holds at the corners with a
+// margin far above rounding and is affine (or convex) over the tile: rays of a central viewer
+// through the tile have origins in the hull of the corner origins and end points on the plane in
+// the hull of the corner end points, so each segment lies in the hull of those eight points.
+bool TileUniform(const PixelEstimate& e, const TileProofs& proofs, const RaySample* corner[4]) {
+    const int i = corner[0]->surface;
+    const int j = corner[0]->map;
+    if (i < 0 || j < 0) return false;
+    for (int k = 0; k < 4; ++k) {
+        const RaySample& s = *corner[k];
+        if (s.surface != i || s.map != j) return false;
+        // A central viewer with the near plane nearer than the far plane along every ray.
+        if (!(s.near_w > 0.0 && s.far_w > 0.0 && s.near_w >= s.far_w)) return false;
+    }
+    double side = 0.0;
+    return TileEndsOnItsPlane(e, corner, i, side) &&
+           TileSeesNothingNearer(e, proofs, corner, i, side) &&
+           TileLooksUpOneMap(e, proofs, corner, j);
+}
+
+// Rays from the viewer: the nearest of the planes' needed surfaces and the objects' boxes, then
+// the lookup rule; counts per map scaled to the viewport (DESIGN §4.5 statistics). The grid is
+// traced at tile corners first; a tile whose corners TileUniform proves alike is filled without
+// tracing its other samples, which gives the same counts as tracing every one.
+void EstimatePixels(const Context& c, Plan& plan) {
+    const PlanRequest& r = c.request;
+    PixelEstimate e{c, plan, r.viewer.inverse(), PixelMatrix(r.viewer, r.viewport), {}, {}, {}};
+    e.edges.resize(c.candidates.size());
+    for (size_t i = 0; i < c.candidates.size(); ++i) {
+        const auto& poly = r.planes[c.candidates[i].index].polygon;
+        for (size_t k = 0; k < poly.size(); ++k) {
+            e.edges[i].push_back(poly[(k + 1) % poly.size()] - poly[k]);
+        }
+    }
+    e.box_magnitudes.reserve(r.objects.size());
+    for (const SceneObject& o : r.objects) {
+        e.box_magnitudes.push_back(
+            std::max(o.bounds.min.cwiseAbs().maxCoeff(), o.bounds.max.cwiseAbs().maxCoeff()));
+    }
+    e.proofs = PrepareTileProofs(e);
+    const TileProofs& proofs = e.proofs;
+    const int n = kPixelSamplesPerSide;
+    constexpr int kTile = kPixelTileSamples;
+    // Tile corners: every kTile-th sample and the last one.
+    std::vector<int> lattice;
+    for (int s = 0; s < n; s += kTile) lattice.push_back(s);
+    if (lattice.back() != n - 1) lattice.push_back(n - 1);
+    const size_t side = lattice.size();
+    // Corner samples, traced when a tile first asks for them.
+    std::vector<RaySample> corners(side * side);
+    std::vector<bool> traced(side * side, false);
+    auto corner = [&](size_t a, size_t b) -> const RaySample* {
+        const size_t k = b * side + a;
+        if (!traced[k]) {
+            corners[k] = TraceSample(e, lattice[a], lattice[b]);
+            traced[k] = true;
+        }
+        return &corners[k];
+    };
+    // Each sample's map (-1: none), or kUntraced.
+    constexpr int kUntraced = -2;
+    std::vector<int> maps(static_cast<size_t>(n) * n, kUntraced);
+    // Fills the tile between lattice corners (a0, b0) and (a1, b1) when its corners prove it
+    // uniform.
+    auto fill = [&](size_t a0, size_t b0, size_t a1, size_t b1) {
+        const RaySample* tile[4] = {corner(a0, b0), corner(a1, b0), corner(a0, b1),
+                                    corner(a1, b1)};
+        if (!proofs.enabled || !TileUniform(e, proofs, tile)) return false;
+        for (int sy = lattice[b0]; sy <= lattice[b1]; ++sy) {
+            for (int sx = lattice[a0]; sx <= lattice[a1]; ++sx) maps[sy * n + sx] = tile[0]->map;
+        }
+        return true;
+    };
+    // Tiles of 4 x 4 lattice cells first; where one fails, its quarters, down to single cells.
+    auto fill_down = [&](auto& self, size_t a0, size_t b0, size_t a1, size_t b1) -> void {
+        if (fill(a0, b0, a1, b1) || (a1 - a0 <= 1 && b1 - b0 <= 1)) return;
+        const size_t am = a1 - a0 > 1 ? (a0 + a1) / 2 : a1;
+        const size_t bm = b1 - b0 > 1 ? (b0 + b1) / 2 : b1;
+        self(self, a0, b0, am, bm);
+        if (am < a1) self(self, am, b0, a1, bm);
+        if (bm < b1) self(self, a0, bm, am, b1);
+        if (am < a1 && bm < b1) self(self, am, bm, a1, b1);
+    };
+    for (size_t b = 0; b + 1 < side; b += 4) {
+        for (size_t a = 0; a + 1 < side; a += 4) {
+            fill_down(fill_down, a, b, std::min(a + 4, side - 1), std::min(b + 4, side - 1));
+        }
+    }
+    for (size_t k = 0; k < side * side; ++k) {
+        if (traced[k]) maps[lattice[k / side] * n + lattice[k % side]] = corners[k].map;
+    }
+    // Counted in runs of one map: adding one per sample to the same counter is a chain of
+    // dependent stores that costs more than the filled tiles' tracing saved.
+    std::vector<std::int64_t> counts(plan.maps.size(), 0);
+    int run_map = -1;
+    std::int64_t run = 0;
+    for (int sy = 0; sy < n; ++sy) {
+        for (int sx = 0; sx < n; ++sx) {
+            int index = maps[sy * n + sx];
+            if (index == kUntraced) index = TraceSample(e, sx, sy).map;
+            if (index != run_map) {
+                if (run_map >= 0) counts[run_map] += run;
+                run_map = index;
+                run = 0;
+            }
+            ++run;
+        }
+    }
+    if (run_map >= 0) counts[run_map] += run;
+    const double pixels_per_sample =
+        static_cast<double>(r.viewport.width) * r.viewport.height / (n * n);
+    for (size_t i = 0; i < plan.maps.size(); ++i) {
+        plan.maps[i].expected_pixels = static_cast<double>(counts[i]) * pixels_per_sample;
+    }
+}
+
+}  // namespace lixel::scheduling
