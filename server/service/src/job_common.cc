@@ -1,0 +1,73 @@
+// What the RPC jobs share (job_common.h).
+#include "job_common.h"
+
+#include <lixel/service/proto_convert.h>
+
+namespace lixel::service {
+
+grpc::Status InvalidArgument(const Error& error) {
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, error.Message());
+}
+
+namespace jobs {
+
+double Since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+grpc::Status NotFound(const std::string& id) {
+    return grpc::Status(grpc::StatusCode::NOT_FOUND,
+                        "scene_id: no scene " + id + " on this instance; upload it again");
+}
+
+grpc::Status Exhausted(const std::string& message) {
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, message);
+}
+
+grpc::Status CancelledStatus() {
+    return grpc::Status(grpc::StatusCode::CANCELLED, "request: cancelled or past its deadline");
+}
+
+grpc::Status FindScene(ServiceState& state, const v1::PlanRequest& plan, bool required,
+                       const std::string& field, std::shared_ptr<const SceneRecord>* out) {
+    if (plan.scene_id().empty()) {
+        if (required) {
+            return InvalidArgument(Error{field + ".scene_id", "is required: upload a scene first"});
+        }
+        return grpc::Status::OK;
+    }
+    *out = state.cache.Get(plan.scene_id());
+    state.metrics.CacheLookup(*out != nullptr);
+    if (*out == nullptr) return NotFound(plan.scene_id());
+    return grpc::Status::OK;
+}
+
+std::uint64_t PlanBytes(const Plan& plan) {
+    std::uint64_t bytes = 0;
+    for (const ImageShape& image : PlannedImages(plan)) bytes += image.bytes();
+    return bytes;
+}
+
+Error InPlan(const Error& error) {
+    std::string field = error.field;
+    if (field.rfind("viewer", 0) == 0 || field.rfind("viewport", 0) == 0) {
+        field = "camera." + field;
+    }
+    return Error{"plan." + field, error.reason};
+}
+
+grpc::Status GpuUnavailable(GpuWorker& worker) {
+    if (worker.fault.exchange(false)) {
+        worker.scenes.clear();
+        worker.renderer.reset();
+        worker.error = "context lost";
+    }
+    if (worker.ready()) return grpc::Status::OK;
+    // A worker whose context failed is rebuilt before it is given up on (issue 8's fault case).
+    if (auto rebuilt = RebuildGpuWorker(worker); rebuilt.ok()) return grpc::Status::OK;
+    return grpc::Status(grpc::StatusCode::UNAVAILABLE, "gl: this worker has no GL context (" +
+                                                           worker.error + ")");
+}
+
+}  // namespace jobs
+}  // namespace lixel::service

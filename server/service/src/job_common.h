@@ -1,0 +1,40 @@
+// What the RPC jobs share (one file per RPC beside this one: solve_job.cc, plan_job.cc,
+// upload_job.cc, render_job.cc, view_job.cc, silhouettes_job.cc): the status mapping, the scene
+// lookup, the plan's error names and bytes, and the GPU worker's availability.
+#pragma once
+
+#include <lixel/service/jobs.h>
+#include <lixel/solver/scheduler.h>
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace lixel::service::jobs {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point t);  // seconds
+
+grpc::Status NotFound(const std::string& id);          // NOT_FOUND naming scene_id
+grpc::Status Exhausted(const std::string& message);    // RESOURCE_EXHAUSTED
+grpc::Status CancelledStatus();                        // CANCELLED: cancelled or past its deadline
+
+// Resolves the plan's scene: a cached upload, or none when the request carries bounds only.
+grpc::Status FindScene(ServiceState& state, const v1::PlanRequest& plan, bool required,
+                       const std::string& field, std::shared_ptr<const SceneRecord>* out);
+
+// Bytes of every image a plan renders and Render streams, as float32 (the memory cap of DESIGN
+// §8): PlannedImages' shapes, the silhouette map's corner depth included.
+std::uint64_t PlanBytes(const Plan& plan);
+
+// An error the solver found in a decoded plan request, named from the request's root: the
+// solver's "viewer" and "viewport" are the request's plan.camera, its "planes[i]" and "light"
+// sit under plan.
+Error InPlan(const Error& error);
+
+// OK when the worker has a GL context, rebuilding a lost one first; else UNAVAILABLE.
+grpc::Status GpuUnavailable(GpuWorker& worker);
+
+}  // namespace lixel::service::jobs

@@ -1,0 +1,132 @@
+// Render: the plan, then each map's images streamed as they are read back.
+#include "job_common.h"
+
+#include <cstdio>
+
+namespace lixel::service {
+
+using namespace jobs;
+
+namespace {
+
+v1::PassKind PassKindOf(Pass pass, bool corner_depth) {
+    if (corner_depth) return v1::PASS_CORNER_DEPTH;
+    switch (pass) {
+        case Pass::kDepth: return v1::PASS_DEPTH;
+        case Pass::kSecondDepth: return v1::PASS_SECOND_DEPTH;
+        case Pass::kSilhouetteMap: return v1::PASS_SILHOUETTE_MAP;
+    }
+    return v1::PASS_DEPTH;
+}
+
+}  // namespace
+
+grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
+                       const CancelCheck& cancelled,
+                       const std::function<grpc::Status(std::uint64_t)>& reserve,
+                       RenderFeed& feed) {
+    std::shared_ptr<const SceneRecord> scene;
+    if (auto s = FindScene(state, request.plan(), true, "plan", &scene); !s.ok()) return s;
+    auto decoded = DecodePlanRequest(request.plan(), scene.get(), "plan");
+    if (!decoded) return InvalidArgument(decoded.error());
+    auto plan = PlanShadowMaps(*decoded);
+    if (!plan) return InvalidArgument(InPlan(plan.error()));
+    const std::uint64_t bytes = PlanBytes(*plan);
+    if (bytes > state.options.memory_cap_bytes) {
+        return Exhausted("plan: its maps need " + std::to_string(bytes) + " bytes, over the " +
+                         std::to_string(state.options.memory_cap_bytes) + "-byte memory cap");
+    }
+    if (bytes > state.options.max_response_bytes) {
+        return Exhausted("plan: " + std::to_string(bytes) + " bytes of maps, over the " +
+                         std::to_string(state.options.max_response_bytes) +
+                         "-byte response limit");
+    }
+    const std::vector<ImageShape> shapes = PlannedImages(*plan);
+    v1::RenderChunk header;
+    v1::RenderHeader* h = header.mutable_header();
+    EncodePlan(*plan, h->mutable_plan());
+    h->mutable_plan()->set_instance(state.options.instance);
+    std::uint64_t largest = 0;
+    double total = 0.0;
+    for (const ImageShape& shape : shapes) {
+        v1::MapImage* m = h->add_images();
+        m->set_map_index(static_cast<std::uint32_t>(shape.map_index));
+        m->set_pass(PassKindOf(shape.pass, shape.corner_depth));
+        m->set_width(static_cast<std::uint32_t>(shape.width));
+        m->set_height(static_cast<std::uint32_t>(shape.height));
+        m->set_bytes(shape.bytes());
+        largest = std::max(largest, shape.bytes());
+        total += static_cast<double>(shape.bytes());
+    }
+    const std::uint64_t chunk = std::max<std::uint64_t>(1, state.options.chunk_bytes);
+    if (grpc::Status held = reserve(header.ByteSizeLong() + largest + std::min(chunk, largest));
+        !held.ok()) {
+        return held;
+    }
+    if (auto s = GpuUnavailable(worker); !s.ok()) return s;
+    if (cancelled()) return CancelledStatus();
+    auto gpu_scene = SceneOnGpu(worker, request.plan().scene_id(), *scene);
+    if (!gpu_scene) return InvalidArgument(gpu_scene.error());
+    if (!feed.PutHeader(std::move(header))) return CancelledStatus();
+
+    std::size_t next = 0;
+    bool mismatch = false;
+    bool stalled = false;
+    const double idle_seconds = state.options.stream_idle_seconds;
+    const auto room = [&] {
+        const RenderFeed::Room r = feed.WaitForRoom(cancelled, idle_seconds);
+        stalled = r == RenderFeed::Room::kStalled;
+        return r == RenderFeed::Room::kRoom;
+    };
+    auto rendered = RenderPlanImages(
+        worker, **gpu_scene, *plan, cancelled, room,
+        [&](RenderedImage image) {
+            const ImageShape& shape = shapes.at(next);
+            if (image.map_index != shape.map_index || image.pass != shape.pass ||
+                image.corner_depth != shape.corner_depth || image.image.width != shape.width || image.image.height != shape.height ||
+                image.image.channels != shape.channels) {
+                mismatch = true;
+                return false;
+            }
+            return feed.PutImage(static_cast<std::uint32_t>(next++), std::move(image.image));
+        });
+    if (stalled) {
+        char limit[32];
+        std::snprintf(limit, sizeof limit, "%g", idle_seconds);
+        return Exhausted(std::string("stream: the client took nothing for over ") + limit +
+                         " s, the limit stream_idle_seconds = " + limit);
+    }
+    if (mismatch) {
+        return grpc::Status(grpc::StatusCode::INTERNAL,
+                            "render: image " + std::to_string(next) + " is not the header's");
+    }
+    if (!rendered) {
+        if (cancelled()) return CancelledStatus();
+        return grpc::Status(grpc::StatusCode::INTERNAL, rendered.error().Message());
+    }
+    if (next != shapes.size()) {
+        return grpc::Status(grpc::StatusCode::INTERNAL,
+                            "render: " + std::to_string(next) + " of the header's " +
+                                std::to_string(shapes.size()) + " images");
+    }
+    state.metrics.MapsRendered(static_cast<double>(shapes.size()), total);
+    return grpc::Status::OK;
+}
+
+grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
+                       const CancelCheck& cancelled, std::vector<v1::RenderChunk>* stream) {
+    // The writer is this thread: each wake drains what the producer just put.
+    RenderFeed* self = nullptr;
+    RenderFeed feed(state.options.chunk_bytes, [&] {
+        v1::RenderChunk message;
+        grpc::Status ignored;
+        while (self->Next(&message, &ignored) == RenderFeed::Step::kWrite) {
+            stream->push_back(std::move(message));
+        }
+    });
+    self = &feed;
+    return RenderJob(state, worker, request, cancelled,
+                     [](std::uint64_t) { return grpc::Status::OK; }, feed);
+}
+
+}  // namespace lixel::service
