@@ -3,10 +3,9 @@
 #include <absl/flags/flag.h>
 #include <absl/flags/parse.h>
 #include <absl/flags/reflection.h>
-#include <absl/flags/usage.h>
-#include <absl/flags/usage_config.h>
 #include <lixel/render/context.h>
 #include <lixel/service/access.h>
+#include <lixel/command_line/flag_scan.h>
 #include <lixel/service/server.h>
 
 #include <pthread.h>
@@ -207,12 +206,6 @@ bool Ours(const absl::CommandLineFlag& flag) {
     return std::string_view(__FILE__).ends_with(flag.Filename());
 }
 
-bool IsUsageFlag(std::string_view name) {
-    return name == "help" || name == "helpfull" || name == "helpshort" ||
-           name == "helppackage" || name == "helpon" || name == "helpmatch" || name == "version" ||
-           name == "only_check_args";
-}
-
 // Reads argv as absl::ParseCommandLine will, before it does, and returns the names given. absl
 // refuses an unknown flag or a bad value by exiting 1, the code of a failed run; an operator's
 // mistake exits 2 here instead, naming the flag and what it accepts. absl would also take flags
@@ -220,6 +213,16 @@ bool IsUsageFlag(std::string_view name) {
 // only, so what was given is known exactly (a --token_file that came from elsewhere would be
 // skipped, and the server would run without a token).
 std::set<std::string> ScanArguments(int argc, char** argv) {
+    const lixel::command_line::ScanRules rules{
+        Ours,
+        [](const std::string& name) {
+            return lixel::Error{"--" + name, "is not a flag of lixel_server (--help lists them)"};
+        },
+        [](const absl::CommandLineFlag& flag, const std::string& value, const std::string& error) {
+            const Bounds* bounds = BoundsOf(std::string(flag.Name()));
+            return lixel::Error{"--" + std::string(flag.Name()) + "=" + value,
+                                error + (bounds != nullptr ? "; valid: " + RangeText(*bounds) : "")};
+        }};
     std::set<std::string> given;
     for (int i = 1; i < argc; ++i) {
         std::string_view arg = argv[i];
@@ -227,40 +230,10 @@ std::set<std::string> ScanArguments(int argc, char** argv) {
             Refuse("unexpected argument '" + std::string(arg) +
                    "': lixel_server takes flags only (--help lists them)");
         }
-        arg.remove_prefix(arg.starts_with("--") ? 2 : 1);
-        const auto eq = arg.find('=');
-        const std::string name(arg.substr(0, eq));
-        if (IsUsageFlag(name)) continue;  // absl's --help and friends, handled by absl
-        absl::CommandLineFlag* flag = absl::FindCommandLineFlag(name);
-        bool negated = false;
-        if (flag == nullptr && name.starts_with("no")) {
-            flag = absl::FindCommandLineFlag(name.substr(2));
-            negated = flag != nullptr && flag->IsOfType<bool>();
-            if (!negated) flag = nullptr;
-        }
-        if (flag == nullptr || !Ours(*flag)) {
-            Refuse("--" + name + ": is not a flag of lixel_server (--help lists them)");
-        }
-        const std::string flag_name(flag->Name());
-        std::string value;
-        if (eq != std::string_view::npos) {
-            if (negated) Refuse("--" + name + ": takes no value");
-            value = arg.substr(eq + 1);
-        } else if (flag->IsOfType<bool>()) {
-            value = negated ? "false" : "true";
-        } else if (i + 1 < argc) {
-            value = argv[++i];  // "--flag value"
-        } else {
-            Refuse("--" + name + ": needs a value (" + flag->Help() + ")");
-        }
-        // A trial parse: the value ParseCommandLine then sets is the same.
-        std::string error;
-        if (!flag->ParseFrom(value, &error)) {
-            const Bounds* bounds = BoundsOf(flag_name);
-            Refuse("--" + flag_name + "=" + value + ": " + error +
-                   (bounds != nullptr ? "; valid: " + RangeText(*bounds) : ""));
-        }
-        given.insert(flag_name);
+        auto scanned = lixel::command_line::ScanFlag(argc, argv, i, rules);
+        if (!scanned) Refuse(scanned.error().Message());
+        // Null: absl's --help and friends, handled by absl.
+        if (scanned->flag != nullptr) given.insert(std::string(scanned->flag->Name()));
     }
     return given;
 }
@@ -289,24 +262,10 @@ std::string TrimmedEnd(std::string text) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    absl::SetProgramUsageMessage("serves lixel.v1.Shadow; flags as --name=value (docs/service.md)");
-    absl::FlagsUsageConfig usage;
     // --help lists this file's flags, named from the source root ("server/main.cc").
-    usage.contains_helpshort_flags = [](absl::string_view file) {
-        return std::string_view(__FILE__).ends_with(std::string_view(file.data(), file.size()));
-    };
-    usage.contains_help_flags = usage.contains_helpshort_flags;
-    usage.normalize_filename = [](absl::string_view file) {
-        constexpr std::string_view kSelf = "server/main.cc";
-        const std::string_view self = __FILE__;
-        std::string_view name(file.data(), file.size());
-        if (self.ends_with(kSelf) && name.starts_with(self.substr(0, self.size() - kSelf.size()))) {
-            name.remove_prefix(self.size() - kSelf.size());
-        }
-        while (name.starts_with('/')) name.remove_prefix(1);
-        return std::string(name);
-    };
-    absl::SetFlagsUsageConfig(usage);
+    lixel::command_line::ListFlagsOf(__FILE__, "server/main.cc",
+                                     "serves lixel.v1.Shadow; flags as --name=value "
+                                     "(docs/service.md)");
     const std::set<std::string> given = ScanArguments(argc, argv);
     absl::ParseCommandLine(argc, argv);  // --help and friends print and exit here
     CheckBounds();

@@ -4,8 +4,7 @@
 #include <absl/flags/flag.h>
 #include <absl/flags/parse.h>
 #include <absl/flags/reflection.h>
-#include <absl/flags/usage.h>
-#include <absl/flags/usage_config.h>
+#include <lixel/command_line/flag_scan.h>
 #include <lixel/scene/builtin_scenes.h>
 #include <lixel/scene/scene_io.h>
 #include <lixel/service/proto_convert.h>
@@ -108,12 +107,6 @@ bool Ours(const absl::CommandLineFlag& flag) {
     return std::string_view(__FILE__).ends_with(flag.Filename());
 }
 
-bool IsUsageFlag(std::string_view name) {
-    return name == "help" || name == "helpfull" || name == "helpshort" ||
-           name == "helppackage" || name == "helpon" || name == "helpmatch" || name == "version" ||
-           name == "only_check_args";
-}
-
 Error NotOurs(const std::string& name) {
     return Error{"--" + name, "is not a flag of this command"};
 }
@@ -129,25 +122,14 @@ Error NotOurs(const std::string& name) {
 // flag comes from argv. The scan refuses what absl would refuse by exiting 1 (an unknown flag, a
 // value that does not parse) as an Error, which the CLI reports with exit code 2.
 Result<Flags> Flags::Parse(int argc, char** argv, const char* usage_message) {
-    absl::SetProgramUsageMessage(usage_message);
-    absl::FlagsUsageConfig usage;
     // --help lists this file's flags, named from the source root ("client/cli/cli_options.cc").
-    usage.contains_helpshort_flags = [](absl::string_view file) {
-        return std::string_view(__FILE__).ends_with(std::string_view(file.data(), file.size()));
-    };
-    usage.contains_help_flags = usage.contains_helpshort_flags;
-    usage.normalize_filename = [](absl::string_view file) {
-        constexpr std::string_view kSelf = "client/cli/cli_options.cc";
-        const std::string_view self = __FILE__;
-        std::string_view name(file.data(), file.size());
-        if (self.ends_with(kSelf) && name.starts_with(self.substr(0, self.size() - kSelf.size()))) {
-            name.remove_prefix(self.size() - kSelf.size());
-        }
-        while (name.starts_with('/')) name.remove_prefix(1);
-        return std::string(name);
-    };
-    absl::SetFlagsUsageConfig(usage);
+    command_line::ListFlagsOf(__FILE__, "client/cli/cli_options.cc", usage_message);
 
+    const command_line::ScanRules rules{
+        Ours, NotOurs,
+        [](const absl::CommandLineFlag& flag, const std::string&, const std::string& error) {
+            return Error{"--" + std::string(flag.Name()), error + " (" + flag.Help() + ")"};
+        }};
     Flags flags;
     std::vector<std::string> positional;
     for (int i = 1; i < argc; ++i) {
@@ -160,35 +142,10 @@ Result<Flags> Flags::Parse(int argc, char** argv, const char* usage_message) {
             positional.emplace_back(arg);
             continue;
         }
-        arg.remove_prefix(arg.starts_with("--") ? 2 : 1);
-        const auto eq = arg.find('=');
-        const std::string name(arg.substr(0, eq));
-        if (IsUsageFlag(name)) continue;  // absl's --help and friends, handled by absl
-        absl::CommandLineFlag* flag = absl::FindCommandLineFlag(name);
-        bool negated = false;
-        if (flag == nullptr && name.starts_with("no")) {
-            flag = absl::FindCommandLineFlag(name.substr(2));
-            negated = flag != nullptr && flag->IsOfType<bool>();
-            if (!negated) flag = nullptr;
-        }
-        if (flag == nullptr || !Ours(*flag)) return NotOurs(name);
-        const std::string flag_name(flag->Name());
-        std::string value;
-        if (eq != std::string_view::npos) {
-            if (negated) return Error{"--" + name, "takes no value"};
-            value = arg.substr(eq + 1);
-        } else if (flag->IsOfType<bool>()) {
-            value = negated ? "false" : "true";
-        } else if (i + 1 < argc) {
-            value = argv[++i];  // "--flag value"
-        } else {
-            return Error{"--" + name, "needs a value (" + flag->Help() + ")"};
-        }
-        // A trial parse: the value ParseCommandLine then sets is the same.
-        std::string error;
-        if (!flag->ParseFrom(value, &error)) {
-            return Error{"--" + flag_name, error + " (" + flag->Help() + ")"};
-        }
+        auto scanned = command_line::ScanFlag(argc, argv, i, rules);
+        if (!scanned) return scanned.error();
+        if (scanned->flag == nullptr) continue;  // absl's --help and friends, handled by absl
+        const std::string flag_name(scanned->flag->Name());
         flags.given_.insert(flag_name);
     }
     if (positional.empty()) return Error{"lixel", "needs a command (lixel help lists them)"};

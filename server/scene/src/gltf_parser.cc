@@ -17,6 +17,8 @@
 #include <string>
 #include <system_error>
 
+#include "file_extension.h"
+
 namespace lixel::scene {
 namespace {
 
@@ -24,12 +26,6 @@ namespace {
 bool SkipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                const unsigned char*, int, void*) {
     return true;
-}
-
-std::string Lower(std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return s;
 }
 
 // A checked view of one accessor's elements.
@@ -404,7 +400,7 @@ Result<std::vector<Mesh>> LoadGltf(const std::string& path) {
     loader.SetImageLoader(&SkipImage, nullptr);
     tinygltf::Model model;
     std::string err, warn;
-    const bool binary = Lower(std::filesystem::path(path).extension().string()) == ".glb";
+    const bool binary = LowerExtension(path) == ".glb";
     const bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                            : loader.LoadASCIIFromFile(&model, &err, &warn, path);
     if (!ok) {

@@ -11,16 +11,9 @@
 #include <sstream>
 #include <system_error>
 
+#include "file_extension.h"
+
 namespace lixel::scene {
-namespace {
-
-std::string Lower(std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return s;
-}
-
-}  // namespace
 
 Result<std::vector<Mesh>> LoadObj(const std::string& path) {
     // The error_code overload: a path the OS refuses (too long, found by fuzz/fuzz_mesh_load
@@ -39,7 +32,7 @@ Result<std::vector<Mesh>> LoadObj(const std::string& path) {
 }
 
 Result<std::vector<Mesh>> LoadMeshes(const std::string& path) {
-    const std::string ext = Lower(std::filesystem::path(path).extension().string());
+    const std::string ext = LowerExtension(path);
     if (ext == ".obj") return LoadObj(path);
     if (ext == ".gltf" || ext == ".glb") return LoadGltf(path);
     return Error{path, "unknown mesh format '" + ext + "' (expected .obj, .gltf or .glb)"};
