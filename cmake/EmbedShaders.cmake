@@ -8,7 +8,7 @@
 set(delimiter "lixel_glsl")
 set(body "")
 foreach(entry IN LISTS SHADERS)
-    # An absolute path (the client kit, client/glsl) is embedded under its file name.
+    # An absolute path (the client kit, kit/glsl) is embedded under its file name.
     if(IS_ABSOLUTE "${entry}")
         set(path "${entry}")
         get_filename_component(name "${entry}" NAME)

@@ -27,7 +27,7 @@ install(TARGETS lixel_warnings lixel_solver lixel_kit lixel_proto lixel_client l
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/solver/include/lixel/solver
-                  ${PROJECT_SOURCE_DIR}/client/kit/include/lixel/kit
+                  ${PROJECT_SOURCE_DIR}/kit/include/lixel/kit
                   ${PROJECT_SOURCE_DIR}/client/include/lixel/client
                   ${PROJECT_SOURCE_DIR}/client/gl/include/lixel/client
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/lixel
@@ -38,7 +38,7 @@ install(FILES ${lixel_generated}/lixel.pb.h ${lixel_generated}/lixel.grpc.pb.h
 install(FILES ${PROJECT_SOURCE_DIR}/proto/lixel/v1/lixel.proto
         DESTINATION ${CMAKE_INSTALL_DATADIR}/lixel/proto/lixel/v1)
 set(LIXEL_INSTALL_GLSLDIR ${CMAKE_INSTALL_DATADIR}/lixel/glsl)
-install(FILES ${PROJECT_SOURCE_DIR}/client/glsl/lixel_shadows.glsl DESTINATION ${LIXEL_INSTALL_GLSLDIR})
+install(FILES ${PROJECT_SOURCE_DIR}/kit/glsl/lixel_shadows.glsl DESTINATION ${LIXEL_INSTALL_GLSLDIR})
 
 install(EXPORT lixelTargets NAMESPACE lixel:: DESTINATION ${LIXEL_INSTALL_CMAKEDIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/lixelConfig.cmake.in

@@ -7,7 +7,7 @@
 // vertex opposite edges 0-2, 2-4, 4-0 in the neighbouring triangle, or a copy of the triangle's
 // own opposite vertex at an open boundary.
 
-// The kit's depth convention (client/glsl/lixel_shadows.glsl).
+// The kit's depth convention (kit/glsl/lixel_shadows.glsl).
 #include "lixel_shadows.glsl"
 
 layout(triangles_adjacency) in;

@@ -1,7 +1,7 @@
 #version 450 core
 // View pass: per viewer pixel, the map chosen by the plan's lookup rule and the shadow test of
 // the method asked for. Outputs the lit fraction (the mask), a shaded preview and the map used.
-// The client shader kit (client/glsl): the same lookup rule and tests every client runs.
+// The client shader kit (kit/glsl): the same lookup rule and tests every client runs.
 #include "lixel_shadows.glsl"
 
 in vec3 v_position;

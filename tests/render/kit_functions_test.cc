@@ -1,4 +1,4 @@
-// The client shader kit's functions (client/glsl/lixel_shadows.glsl) against the CPU reference
+// The client shader kit's functions (kit/glsl/lixel_shadows.glsl) against the CPU reference
 // (issue 15): at random world points, the kit's lixel_select_map picks the map the solver's
 // LookupMap picks, at the lixel the double matrices give, and lixel_hard_shadow answers as the
 // stored depth of that texel says, with the block and atlas a client builds from what Render

@@ -39,7 +39,7 @@ Eigen::Vector4f Vec4At(const std::vector<std::byte>& bytes, std::size_t offset) 
     return v;
 }
 
-// client/glsl/lixel_shadows.glsl's lixel_select_map, on the block's bytes, in float.
+// kit/glsl/lixel_shadows.glsl's lixel_select_map, on the block's bytes, in float.
 int KitSelectMap(const std::vector<std::byte>& block, const Eigen::Vector3f& p,
                  Eigen::Vector3f& s) {
     using L = ShadowBlockLayout;

@@ -1,4 +1,4 @@
-// The engine client's view, fragment stage: the client shader kit (client/glsl/lixel_shadows.glsl,
+// The engine client's view, fragment stage: the client shader kit (kit/glsl/lixel_shadows.glsl,
 // which EngineView puts before this text, after "#version 450 core" and the defines
 // LIXEL_MAX_MAPS, LIXEL_MAX_HALF_PLANES and ENGINE_FILTER) picks the map by the plan's lookup rule
 // and runs the filter's test. Outputs the lit fraction (the mask) and a shaded colour.

@@ -246,7 +246,7 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
 
     const Program& shader = ProgramFor(request.method);
     const GLuint program = shader.id();
-    // The maps as the kit reads them (client/glsl/lixel_shadows.glsl): one std140 block, built
+    // The maps as the kit reads them (kit/glsl/lixel_shadows.glsl): one std140 block, built
     // by the same lixel::kit code clients use.
     std::vector<kit::KitMap> maps;
     for (const ViewMap& m : request.maps) maps.push_back(kit::MakeKitMap(m.map, m.lookup, origin));

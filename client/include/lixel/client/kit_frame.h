@@ -1,4 +1,4 @@
-// What Render streams, as the client shader kit (client/glsl/lixel_shadows.glsl) reads it: the
+// What Render streams, as the client shader kit (kit/glsl/lixel_shadows.glsl) reads it: the
 // LixelShadowMaps block's bytes, the atlas "a" image of every map's depth (or corner depth) and,
 // for the silhouette test, the atlas "b" image of its silhouette points, laid out as lixel's own
 // view pass lays them out (lixel::kit). Data only: upload the block as a uniform buffer, atlas

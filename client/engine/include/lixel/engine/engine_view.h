@@ -1,6 +1,6 @@
 // The engine client's own view of a scene, shadowed through the client shader kit from what
 // Render streams: the meshes drawn relative to the KitFrame's origin, a depth pre-pass, then one
-// shading pass whose fragment stage includes client/glsl/lixel_shadows.glsl. Conventions are
+// shading pass whose fragment stage includes kit/glsl/lixel_shadows.glsl. Conventions are
 // lixel's own view pass's (server/render, shaders/view.frag), so the lit mask it reads back is
 // the one View returns for the same plan: [0, 1] clip depth (glClipControl ZERO_TO_ONE, lower
 // left), viewer depth cleared to 1 with GL_LESS, pixel centres at +0.5, row 0 at the bottom,

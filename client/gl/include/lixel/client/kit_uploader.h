@@ -1,7 +1,7 @@
 // A KitFrame (kit_frame.h) on the GPU, for GL 4.5 clients: the LixelShadowMaps block in a
 // uniform buffer, atlas "a" in an R32F texture and, for the silhouette test, atlas "b" (the
 // silhouette points) in an RG32F texture (both NEAREST, clamped): what
-// client/glsl/lixel_shadows.glsl reads. The buffer and the textures are kept across frames; a
+// kit/glsl/lixel_shadows.glsl reads. The buffer and the textures are kept across frames; a
 // texture is reallocated only when a frame's atlas has another size (an immutable
 // glTextureStorage2D texture cannot change size), and reallocations() counts how often that
 // happened to atlas "a" (atlas_b_reallocations() to "b"), since each one is a stall an engine

@@ -7,7 +7,7 @@
 namespace lixel::render {
 
 struct EmbeddedShader {
-    std::string_view name;    // file name in shaders/, e.g. "depth.vert", "lixel_shadows.glsl" (the kit, client/glsl)
+    std::string_view name;    // file name in shaders/, e.g. "depth.vert", "lixel_shadows.glsl" (the kit, kit/glsl)
     std::string_view source;  // the file's text
 };
 

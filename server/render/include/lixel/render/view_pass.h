@@ -61,7 +61,7 @@ struct ShadowOptions {
     // An open, two-sided surface is its own second surface and compares equal to itself in exact
     // arithmetic; rasterised and resampled depth differ by rounding, so its bias is a multiple of
     // the rounding bound of its stored depth at the point (lixel_stored_depth_rounding,
-    // client/glsl/lixel_shadows.glsl), which scales with the depth row where a constant would
+    // kit/glsl/lixel_shadows.glsl), which scales with the depth row where a constant would
     // not. The second-depth pass already pushes open surfaces back by kOpenSecondDepthOffset
     // times their depth change per lixel, which leaves no acne on view_second_depth_test's open
     // floor and plate with 0 (before it, 4 was the least that did); the default 16 is a margin

@@ -1,4 +1,4 @@
-// Where each of a view's maps sits in the kit's atlases (client/glsl/lixel_shadows.glsl reads
+// Where each of a view's maps sits in the kit's atlases (kit/glsl/lixel_shadows.glsl reads
 // every map from one texture): the view pass packs its maps so, and a client packing the maps it
 // received the same way gets the same origins for the block.
 #pragma once

@@ -1,4 +1,4 @@
-// The LixelShadowMaps uniform block of the client shader kit (client/glsl/lixel_shadows.glsl) as
+// The LixelShadowMaps uniform block of the client shader kit (kit/glsl/lixel_shadows.glsl) as
 // bytes, std140: what a view's maps are to the kit's lookup rule and tests. The layout is the
 // kit file's table; the constants below are its offsets. Data only: upload the bytes with any
 // API (glBufferData, a Vulkan uniform buffer, WebGL's bufferData).
