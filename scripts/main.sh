@@ -42,5 +42,5 @@ lixel frames --scene=floor_wall --frames=60 --size=512 --coherent --check --out=
     > "$out_dir/frames.txt"
 tail -4 "$out_dir/frames.txt"
 echo "lixel: wrote $out_dir/plan.txt, solve.txt, maps/, view/, report/ (report.md, report.csv," \
-     "error_vs_time.png, floor_wall_masks.png), sequence/ (sequence.md, sequence.csv," \
+     "error_vs_time.png, floor_wall_masks_<test>.png), sequence/ (sequence.md, sequence.csv," \
      "sequence.png), frames/ (frame_*.png, contact_sheet.png) and frames.txt"

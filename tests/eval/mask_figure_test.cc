@@ -1,5 +1,6 @@
-// Tests for lixel::eval's labelled mask grid (mask_figure.h): rows, columns and the empty cells
-// of skipped runs, the gnuplot figure's size and tile placement, the unlabelled fallback.
+// Tests for lixel::eval's labelled mask grids (mask_figure.h): a grid per shadow test, rows by
+// fitting, columns by budget, the empty cells of skipped runs, the gnuplot figures' size and tile
+// placement, the unlabelled fallback.
 #include <gtest/gtest.h>
 #include <lixel/eval/mask_figure.h>
 #include <lixel/eval/png_image.h>
@@ -39,19 +40,50 @@ MaskFigure SmallFigure() {
     figure.Skip("b + PCF");
     figure.Add("b + PCF", 400, Filled(40, 30, Palette::kLit));
     figure.Add("b + PCF", 12345, Filled(40, 30, Palette::kLit));  // not a column: ignored
+    figure.Add("b + depth", 100, Filled(40, 30, Palette::kLit));
+    figure.Add("a (uniform scale) + PCF", 100, Filled(40, 30, Palette::kShadow));
     figure.AddToEveryBudget("volumes", Filled(40, 30, Palette::kUndecided));
     return figure;
 }
 
-TEST(MaskFigure, RowsPerMethodColumnsPerBudget) {
+TEST(MaskFigure, PlacesAMethodByItsShadowTestAndFitting) {
+    const MaskGridPlace pcf = MaskGridPlaceOf("plane-optimal (uniform scale) + PCF");
+    EXPECT_EQ(pcf.grid, "PCF");
+    EXPECT_EQ(pcf.row, "plane-optimal (uniform scale)");
+    const MaskGridPlace second = MaskGridPlaceOf("LiSPSM + second depth");
+    EXPECT_EQ(second.grid, "second depth");
+    EXPECT_EQ(second.row, "LiSPSM");
+    const MaskGridPlace volumes = MaskGridPlaceOf("smooth silhouette volumes");
+    EXPECT_EQ(volumes.grid, kVolumesGrid);
+    EXPECT_EQ(volumes.row, "smooth silhouette volumes");
+    EXPECT_EQ(MaskGridFile("floor_wall", "second depth"), "floor_wall_masks_second_depth.png");
+    EXPECT_EQ(MaskGridFile("floor_wall", "PCF"), "floor_wall_masks_pcf.png");
+    EXPECT_EQ(MaskGridFile("room", kVolumesGrid), "room_masks_shadow_volumes.png");
+}
+
+TEST(MaskFigure, AGridPerShadowTestRowsPerFittingColumnsPerBudget) {
     const MaskFigure figure = SmallFigure();
-    ASSERT_EQ(figure.rows().size(), 3u);
-    EXPECT_EQ(figure.rows()[0].method, "a + depth");
-    EXPECT_EQ(figure.rows()[1].method, "b + PCF");
-    ASSERT_EQ(figure.rows()[1].cells.size(), 2u);
-    EXPECT_FALSE(figure.rows()[1].cells[0]);  // skipped at 100
-    EXPECT_TRUE(figure.rows()[1].cells[1]);
-    EXPECT_TRUE(figure.rows()[2].cells[0] && figure.rows()[2].cells[1]);
+    ASSERT_EQ(figure.grids().size(), 3u);
+    const MaskGrid& depth = figure.grids()[0];
+    const MaskGrid& pcf = figure.grids()[1];
+    const MaskGrid& volumes = figure.grids()[2];
+    EXPECT_EQ(depth.name, "depth");
+    EXPECT_EQ(pcf.name, "PCF");
+    EXPECT_EQ(volumes.name, kVolumesGrid);
+    ASSERT_EQ(depth.rows.size(), 2u);
+    EXPECT_EQ(depth.rows[0].label, "a");
+    EXPECT_EQ(depth.rows[1].label, "b");
+    EXPECT_TRUE(depth.rows[0].cells[0] && depth.rows[0].cells[1]);
+    EXPECT_TRUE(depth.rows[1].cells[0]);
+    EXPECT_FALSE(depth.rows[1].cells[1]);
+    ASSERT_EQ(pcf.rows.size(), 2u);
+    EXPECT_EQ(pcf.rows[0].label, "b");
+    EXPECT_EQ(pcf.rows[1].label, "a (uniform scale)");
+    ASSERT_EQ(pcf.rows[0].cells.size(), 2u);
+    EXPECT_FALSE(pcf.rows[0].cells[0]);  // skipped at 100
+    EXPECT_TRUE(pcf.rows[0].cells[1]);
+    ASSERT_EQ(volumes.rows.size(), 1u);
+    EXPECT_TRUE(volumes.rows[0].cells[0] && volumes.rows[0].cells[1]);
     // Tiles are shrunk to kMaskTileSide.
     MaskFigure big("big", RgbImage(1024, 512), {1});
     EXPECT_LE(big.truth().width, kMaskTileSide);
@@ -59,25 +91,44 @@ TEST(MaskFigure, RowsPerMethodColumnsPerBudget) {
 }
 
 TEST(MaskFigure, UnlabelledFallbackTilesPreviewTruthThenRows) {
-    const RgbImage grid = UnlabelledMaskFigure(SmallFigure());
-    EXPECT_EQ(grid.width, 2 * 40 + 3 * 4);
-    EXPECT_EQ(grid.height, 4 * 30 + 5 * 4);  // preview/truth, then three methods
+    const MaskFigure figure = SmallFigure();
+    const RgbImage depth = UnlabelledMaskGrid(figure, figure.grids()[0]);
+    EXPECT_EQ(depth.width, 2 * 40 + 3 * 4);
+    EXPECT_EQ(depth.height, 3 * 30 + 4 * 4);  // preview/truth, then two fittings
+    const RgbImage volumes = UnlabelledMaskGrid(figure, figure.grids()[2]);
+    EXPECT_EQ(volumes.height, 2 * 30 + 3 * 4);
+    const fs::path dir = fs::path(::testing::TempDir()) / "lixel_mask_figure_unlabelled";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    auto written = WriteMaskFigure(dir.string(), figure, /*labelled=*/false);
+    ASSERT_TRUE(written.ok()) << written.error().Message();
+    EXPECT_FALSE(written->labelled);
+    const std::vector<std::string> files = {"room_masks_depth.png", "room_masks_pcf.png",
+                                            "room_masks_shadow_volumes.png"};
+    EXPECT_EQ(written->files, files);
+    auto png = ReadPng((dir / "room_masks_pcf.png").string());
+    ASSERT_TRUE(png.ok()) << png.error().Message();
+    EXPECT_EQ(png->height, depth.height);
+    EXPECT_NE(MaskFigureNote(*written, false).find("room_masks_pcf.png"), std::string::npos);
 }
 
-TEST(MaskFigure, GnuplotDrawsTheLabelledGrid) {
+TEST(MaskFigure, GnuplotDrawsALabelledGridPerShadowTest) {
     if (!GnuplotAvailable()) GTEST_SKIP() << "gnuplot not installed";
     const fs::path dir = fs::path(::testing::TempDir()) / "lixel_mask_figure";
     fs::remove_all(dir);
     fs::create_directories(dir);
     MaskFigure figure = SmallFigure();
     figure.SetPreview(Filled(40, 30, Palette::kEmpty), "a + depth, 20² lixels");
-    auto ok = PlotMaskFigure(dir.string(), figure);
-    ASSERT_TRUE(ok.ok()) << ok.error().Message();
-    auto png = ReadPng((dir / "room_masks.png").string());
+    auto written = WriteMaskFigure(dir.string(), figure, /*labelled=*/true);
+    ASSERT_TRUE(written.ok()) << written.error().Message();
+    EXPECT_TRUE(written->labelled);
+    ASSERT_EQ(written->files.size(), 3u);
+    EXPECT_EQ(written->files[0], "room_masks_depth.png");
+    auto png = ReadPng((dir / "room_masks_depth.png").string());
     ASSERT_TRUE(png.ok()) << png.error().Message();
-    // Label column 230 + gap 6 + two tile columns; title, captions, preview row, three rows.
+    // Label column 230 + gap 6 + two tile columns; title, captions, preview row, two rows.
     EXPECT_EQ(png->width, 230 + 6 + 2 * (40 + 6));
-    EXPECT_EQ(png->height, 34 + 34 + 30 + 6 + 22 + 3 * (30 + 6) + 6);
+    EXPECT_EQ(png->height, 34 + 34 + 30 + 6 + 22 + 2 * (30 + 6) + 6);
     // The red-over-blue tile is drawn upright and whole: its red half above its blue half.
     // (Right of the label column, whose legend has swatches of the same colours.)
     auto rows_of = [&](const std::uint8_t (&c)[3], int& count) {
@@ -99,17 +150,25 @@ TEST(MaskFigure, GnuplotDrawsTheLabelledGrid) {
     EXPECT_GE(red, 40 * 15 * 8 / 10);  // allow for a resampled edge
     EXPECT_GE(blue, 40 * 15 * 8 / 10);
     EXPECT_GT(red_rows.first, blue_rows.second) << "tile drawn upside down";
-    // Every label is in the script: rows, columns, captions, the legend.
-    std::ifstream in(dir / "room_masks.gp");
-    std::stringstream script;
-    script << in.rdbuf();
-    for (const char* label : {"\"a + depth\"", "\"b + PCF\"", "\"volumes\"", "10² lixels",
-                              "20² lixels", "skipped", "false lit", "false shadow", "undecided",
+    // Every label is in the grid's script: title, rows, columns, captions, the legend.
+    const auto script_of = [&](const char* name) {
+        std::ifstream in(dir / name);
+        std::stringstream script;
+        script << in.rdbuf();
+        return script.str();
+    };
+    const std::string pcf = script_of("room_masks_pcf.gp");
+    for (const char* label : {"room, PCF: masks against the truth", "\"b\"",
+                              "\"a (uniform scale)\"", "10² lixels", "20² lixels", "skipped",
+                              "false lit", "false shadow", "undecided",
                               "shaded preview\\na + depth, 20² lixels", "truth"}) {
-        EXPECT_NE(script.str().find(label), std::string::npos) << label;
+        EXPECT_NE(pcf.find(label), std::string::npos) << label;
     }
-    EXPECT_TRUE(fs::exists(dir / "room_masks" / "r0_c0.png"));
-    EXPECT_FALSE(fs::exists(dir / "room_masks" / "r1_c0.png"));  // the skipped cell
+    EXPECT_EQ(pcf.find("\"a\""), std::string::npos) << "a depth row in the PCF grid";
+    EXPECT_NE(script_of("room_masks_shadow_volumes.gp").find("\"volumes\""), std::string::npos);
+    EXPECT_TRUE(fs::exists(dir / "room_masks_pcf" / "r0_c1.png"));
+    EXPECT_FALSE(fs::exists(dir / "room_masks_pcf" / "r0_c0.png"));  // the skipped cell
+    EXPECT_TRUE(fs::exists(dir / "room_masks_depth" / "r1_c0.png"));
 }
 
 }  // namespace

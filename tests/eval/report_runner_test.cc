@@ -1,9 +1,11 @@
 // Tests for lixel::eval's report runner (report_runner.h): the whole sweep end to end on a small
 // floor/wall view through the GL renderer. GL tests live in their own executable.
 #include <gtest/gtest.h>
+#include <lixel/eval/mask_figure.h>
 #include <lixel/eval/png_image.h>
 #include <lixel/eval/report_runner.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -124,18 +126,42 @@ TEST(RunReport, EndToEndOnASmallScene) {
     ASSERT_TRUE(preview.ok()) << preview.error().Message();
     EXPECT_EQ(preview->width, 96);
     EXPECT_EQ(preview->height, 96);
-    auto grid = ReadPng((out / "floor_wall_masks.png").string());
-    ASSERT_TRUE(grid.ok()) << grid.error().Message();
-    // A row per method, a column per budget, below the preview and the truth: labelled by
-    // gnuplot (a label column of 230 px beside the 96 px tiles) or, without it, tiles only.
-    const int methods = static_cast<int>(options.methods.size()) + (volume_rows ? 1 : 0);
+    // A grid per shadow test (depth, PCF, second depth, silhouette map, then the volumes), a row
+    // per fitting and a column per budget, below the preview and the truth: labelled by gnuplot
+    // (a label column of 230 px beside the 96 px tiles) or, without it, tiles only.
+    std::vector<std::pair<std::string, int>> grids;  // name, rows
+    for (const Method& m : options.methods) {
+        const std::string grid = MaskGridPlaceOf(m.Name()).grid;
+        auto g = std::find_if(grids.begin(), grids.end(),
+                              [&](const auto& known) { return known.first == grid; });
+        if (g == grids.end()) g = grids.insert(grids.end(), {grid, 0});
+        ++g->second;
+    }
+    if (volume_rows > 0) grids.push_back({kVolumesGrid, 1});
+    std::ifstream md_file(out / "report.md");
+    std::stringstream md_text;
+    md_text << md_file.rdbuf();
+    const std::string md = md_text.str();
+    EXPECT_EQ(grids.size(), volume_rows > 0 ? 5u : 4u);
+    for (const auto& [name, fittings] : grids) {
+        const std::string file = MaskGridFile("floor_wall", name);
+        EXPECT_NE(std::find(summary->files.begin(), summary->files.end(), file),
+                  summary->files.end())
+            << file;
+        auto grid = ReadPng((out / file).string());
+        ASSERT_TRUE(grid.ok()) << grid.error().Message();
+        if (GnuplotAvailable()) {
+            EXPECT_EQ(grid->width, 230 + 6 + 3 * (96 + 6)) << file;
+            EXPECT_EQ(grid->height, 34 + 34 + 96 + 6 + 22 + fittings * (96 + 6) + 6) << file;
+        } else {
+            EXPECT_EQ(grid->width, 3 * 96 + 4 * 4) << file;
+            EXPECT_EQ(grid->height, (1 + fittings) * 96 + (2 + fittings) * 4) << file;
+        }
+        EXPECT_NE(md.find(file), std::string::npos) << file;
+    }
+    EXPECT_FALSE(fs::exists(out / "floor_wall_masks.png")) << "one grid of every method";
     if (GnuplotAvailable()) {
         EXPECT_TRUE(fs::exists(out / "error_vs_time.png"));
-        EXPECT_EQ(grid->width, 230 + 6 + 3 * (96 + 6));
-        EXPECT_EQ(grid->height, 34 + 34 + 96 + 6 + 22 + methods * (96 + 6) + 6);
-    } else {
-        EXPECT_EQ(grid->width, 3 * 96 + 4 * 4);
-        EXPECT_EQ(grid->height, (1 + methods) * 96 + (2 + methods) * 4);
     }
 }
 

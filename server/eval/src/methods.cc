@@ -3,6 +3,8 @@
 #include <lixel/solver/baseline_plan.h>
 #include <lixel/solver/extent_hull.h>
 
+#include <cmath>
+
 namespace lixel::eval {
 
 const char* FittingName(Fitting fitting) noexcept {
@@ -72,7 +74,18 @@ std::vector<Method> DepthMethods() {
             {Fitting::kCsm, ShadowTest::kDepth}};
 }
 
-std::vector<std::int64_t> DefaultBudgets() { return {256 * 256, 512 * 512, 1024 * 1024}; }
+std::vector<std::int64_t> DefaultBudgets() { return {256 * 256, kPaperBudget, 1024 * 1024}; }
+
+std::int64_t NearestBudget(const std::vector<std::int64_t>& budgets, std::int64_t wanted) {
+    const auto distance = [&](std::int64_t b) {
+        return std::abs(std::log(double(b) / double(wanted)));
+    };
+    std::int64_t best = budgets.front();
+    for (const std::int64_t b : budgets) {
+        if (distance(b) < distance(best)) best = b;
+    }
+    return best;
+}
 
 Result<Plan> PlanMethod(const scene::Scene& scene, const Method& method, std::int64_t budget) {
     PlanRequest request = scene.MakePlanRequest(budget);

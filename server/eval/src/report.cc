@@ -1,5 +1,6 @@
 // report.csv and report.md writers, the Pareto front and the best-per-budget marks (report.h).
 #include <lixel/eval/report.h>
+#include <lixel/eval/mask_figure.h>
 
 #include "text_format.h"
 
@@ -189,31 +190,46 @@ Result<bool> WriteReportCsv(const std::string& path, const std::vector<ReportRow
     return WriteText(path, out.str());
 }
 
-Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<ReportRow>& rows,
-                                 const std::vector<std::string>& notes, const ReportInfo& info) {
-    const std::vector<bool> best = BestPerBudget(rows);
-    std::vector<std::string> scenes;
-    for (const ReportRow& r : rows) {
-        if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) {
-            scenes.push_back(r.scene);
-        }
-    }
-    // Rows from a driver that measured no costs (stage times only) keep the old total-ms column.
-    const bool costs = std::any_of(rows.begin(), rows.end(),
-                                   [](const ReportRow& r) { return r.cost.measured(); });
+namespace {
+
+// How the report.md tables are formatted: a ratio or a time with its spread, the aliasing
+// triple.
+std::string RatioText(const Spread& s) {
+    if (!s.valid()) return "–";
+    return Fixed(s.median, 2) + " [" + Fixed(s.min, 2) + "–" + Fixed(s.max, 2) + "]";
+}
+std::string MsText(const Spread& s) { return s.valid() ? Fixed(s.median, 2) : std::string("–"); }
+std::string MsSpreadText(const Spread& s) {
+    if (!s.valid()) return "–";
+    return Fixed(s.median, 3) + " [" + Fixed(s.min, 3) + "–" + Fixed(s.max, 3) + "]";
+}
+std::string AliasingText(const AliasingStats& s) {
+    if (s.pixels == 0) return "–";
+    return Fixed(s.mean, 2) + " / " + Fixed(s.p95, 2) + " / " +
+           Fixed(100.0 * s.over_threshold, 1) + "%";
+}
+
+// What every table of report.md shares: the rows, which are best at their budget, whether costs
+// were measured, and the renderer they were measured on.
+struct MarkdownContext {
+    const std::vector<ReportRow>& rows;
+    std::vector<bool> best;
+    bool costs = false;  // rows from a driver that measured none keep the total-ms column
+    std::string on;
+};
+
+// The opening: what the columns mean, how the costs were measured, the plot.
+void WritePreamble(std::ostringstream& out, const MarkdownContext& c) {
     int fewest = std::numeric_limits<int>::max(), most = 0;
-    for (const ReportRow& r : rows) {
+    for (const ReportRow& r : c.rows) {
         const int n = r.cost.repeats > 0 ? r.cost.repeats : r.repeats;
         fewest = std::min(fewest, n);
         most = std::max(most, n);
     }
-    const std::string repeats = rows.empty()      ? std::string("0")
+    const std::string repeats = c.rows.empty()    ? std::string("0")
                                 : fewest == most ? std::to_string(most)
                                                  : std::to_string(fewest) + " to " +
                                                        std::to_string(most);
-    const std::string on = info.gl_renderer.empty() ? std::string("an unnamed GL renderer")
-                                                    : info.gl_renderer;
-    std::ostringstream out;
     out << "# lixel shadow report: error against run time\n\n"
         << "Misclassified: % of decided visible pixels whose lit/shadow answer differs from "
            "Embree ray casting, over all of them, on the planes of interest and elsewhere (band: "
@@ -227,7 +243,7 @@ Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<Repo
            "are given in lixels and per pixel of the view (1/16, 1/4, 1: the defaults at a "
            "1024² view). Plane-optimal maps hold only where a shadow can fall, so a plan may "
            "use fewer lixels than its budget.\n\n";
-    if (costs) {
+    if (c.costs) {
         out << "Costs (docs/eval.md), GPU-inclusive (glFinish before each clock stops), after one "
                "untimed warm-up, over "
             << repeats
@@ -241,7 +257,7 @@ Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<Repo
                "of the repeat's own ratio, [min–max]. **cost ×** = map × + lookup × (2: as "
                "cheap as the two baselines; the volumes: lookup × alone) is the x axis of the "
                "plot and of its Pareto front. Absolute ms (medians) were measured on "
-            << on
+            << c.on
             << " and hold only there. The mask read-back is in neither cost (it is the "
                "measurement's transfer; see the stages).\n\n";
         if (fewest < kMinCostRepeats) {
@@ -249,27 +265,136 @@ Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<Repo
                 << ")**: the medians, minima and maxima are indicative only.\n\n";
         }
     } else {
-        out << "Times: medians of " << repeats << " repeats, ms, on " << on << ".\n\n";
+        out << "Times: medians of " << repeats << " repeats, ms, on " << c.on << ".\n\n";
     }
     out << "![error against cost](error_vs_time.png)\n";
-    auto ratio = [](const Spread& s) {
-        if (!s.valid()) return std::string("–");
-        return Fixed(s.median, 2) + " [" + Fixed(s.min, 2) + "–" + Fixed(s.max, 2) + "]";
-    };
-    auto ms = [](const Spread& s) {
-        return s.valid() ? Fixed(s.median, 2) : std::string("–");
-    };
-    auto ms_spread = [](const Spread& s) {
-        if (!s.valid()) return std::string("–");
-        return Fixed(s.median, 3) + " [" + Fixed(s.min, 3) + "–" + Fixed(s.max, 3) + "]";
-    };
+}
+
+// The scene's main table, a row per run in `order`, then its costs and baselines folded away.
+void WriteSceneTable(std::ostringstream& out, const MarkdownContext& c, const std::string& scene,
+                     const std::vector<std::size_t>& order) {
+    out << "\n## " << scene << "\n\n"
+        << "| budget | method | lixels | maps | misclassified % | planes % | elsewhere % | "
+           "band % | m planes | m elsewhere | use |"
+        << (c.costs ? " map × | lookup × | cost × | map ms | lookup ms |\n" : " total ms |\n")
+        << "|---:|---|---:|---:|---:|---:|---:|---:|---|---|---:|"
+        << (c.costs ? "---:|---:|---:|---:|---:|\n" : "---:|\n");
+    for (const std::size_t i : order) {
+        const ReportRow& r = c.rows[i];
+        const std::string b = c.best[i] ? "**" : "";
+        out << "| " << BudgetLabel(r.budget) << " (" << PerPixelLabel(r.LixelsPerPixel())
+            << " per pixel) | " << b << r.method << b << " | " << r.total_lixels << " | "
+            << r.maps << " | " << b << Fixed(r.error.Percent(), 3) << b << " | "
+            << Fixed(r.error.PlanesPercent(), 3) << " | " << Fixed(r.error.ElsewherePercent(), 3)
+            << " | " << Fixed(r.error.BandPercent(), 2) << " | " << AliasingText(r.aliasing_planes)
+            << " | " << AliasingText(r.aliasing_elsewhere) << " | "
+            << Fixed(100.0 * r.lixel_use, 1) << "% |";
+        if (c.costs) {
+            out << " " << RatioText(r.cost.map_ratio) << " | " << RatioText(r.cost.lookup_ratio)
+                << " | " << RatioText(r.cost.cost_ratio) << " | " << MsText(r.cost.map_ms)
+                << " | " << MsText(r.cost.lookup_ms) << " |\n";
+        } else {
+            out << " " << Fixed(r.TotalMs(), 2) << " |\n";
+        }
+    }
+    if (!c.costs) return;
+    out << "\n<details><summary>costs and baselines (ms on " << c.on
+        << ", median [min–max])</summary>\n\n"
+        << "| budget | method | map cost | lookup cost | bare depth pass | bare view "
+           "pass | repeats |\n|---:|---|---:|---:|---:|---:|---:|\n";
+    for (const std::size_t i : order) {
+        const ReportRow& r = c.rows[i];
+        out << "| " << BudgetLabel(r.budget) << " | " << r.method << " | "
+            << MsSpreadText(r.cost.map_ms) << " | " << MsSpreadText(r.cost.lookup_ms) << " | "
+            << MsSpreadText(r.cost.baseline_depth_ms) << " | "
+            << MsSpreadText(r.cost.baseline_view_ms) << " | " << r.cost.repeats << " |\n";
+    }
+    out << "\n</details>\n";
+}
+
+// Paper 002's claim, judged where it is made: the smooth objects' own shadows.
+void WriteSmoothTruthTable(std::ostringstream& out, const MarkdownContext& c,
+                           const std::string& scene, const std::vector<std::size_t>& order) {
+    const auto twin = std::find_if(order.begin(), order.end(), [&](std::size_t i) {
+        return c.rows[i].smooth_truth.has_value();
+    });
+    if (twin == order.end()) return;
+    out << "\n### " << scene << " against the smooth objects\n\n"
+        << "Misclassified % against Embree on the scene's smooth casters tessellated "
+           "8 times finer (the smooth surfaces their normals describe), on the "
+        << c.rows[*twin].smooth_truth->pixels
+        << " pixels where both tessellations see the same unrefined receiver; the "
+           "mesh's own truth (the table's) beside it.\n\n"
+        << "| budget | method | vs smooth objects % | vs the mesh % |"
+        << (c.costs ? " cost × |" : "") << "\n|---:|---|---:|---:|" << (c.costs ? "---:|" : "")
+        << "\n";
+    for (const std::size_t i : order) {
+        const ReportRow& r = c.rows[i];
+        if (!r.smooth_truth) continue;
+        out << "| " << BudgetLabel(r.budget) << " | " << r.method << " | "
+            << Fixed(r.smooth_truth->WrongPercent(), 3) << " | " << Fixed(r.error.Percent(), 3)
+            << " |";
+        if (c.costs) out << " " << RatioText(r.cost.cost_ratio) << " |";
+        out << "\n";
+    }
+}
+
+// The stage breakdown of the same rows, folded away.
+void WriteStageTable(std::ostringstream& out, const MarkdownContext& c,
+                     const std::vector<std::size_t>& order) {
+    const std::vector<std::string> stages = StageUnion(c.rows);
+    if (stages.empty()) return;
+    out << "\n<details><summary>stages (median ms)</summary>\n\n| budget | method |";
+    for (const std::string& s : stages) out << " " << s << " |";
+    out << "\n|---:|---|";
+    for (std::size_t k = 0; k < stages.size(); ++k) out << "---:|";
+    out << "\n";
+    for (const std::size_t i : order) {
+        const ReportRow& r = c.rows[i];
+        out << "| " << BudgetLabel(r.budget) << " | " << r.method << " |";
+        for (const std::string& s : stages) {
+            const auto it = std::find_if(r.stage_ms.begin(), r.stage_ms.end(),
+                                         [&](const auto& p) { return p.first == s; });
+            out << " " << (it == r.stage_ms.end() ? "–" : Fixed(it->second, 3)) << " |";
+        }
+        out << "\n";
+    }
+    out << "\n</details>\n";
+}
+
+// The scene's mask grids (mask_figure.h), one per shadow test its rows ran, in their order.
+void WriteMaskLinks(std::ostringstream& out, const MarkdownContext& c, const std::string& scene,
+                    const std::vector<std::size_t>& order) {
+    std::vector<std::string> grids;
+    for (const std::size_t i : order) {
+        const std::string grid = MaskGridPlaceOf(c.rows[i].method).grid;
+        if (std::find(grids.begin(), grids.end(), grid) == grids.end()) grids.push_back(grid);
+    }
+    out << "\n";
+    for (const std::string& grid : grids) {
+        out << "\n![" << scene << ", " << grid << ": masks](" << MaskGridFile(scene, grid)
+            << ")\n";
+    }
+}
+
+}  // namespace
+
+Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<ReportRow>& rows,
+                                 const std::vector<std::string>& notes, const ReportInfo& info) {
+    MarkdownContext c{rows, BestPerBudget(rows),
+                      std::any_of(rows.begin(), rows.end(),
+                                  [](const ReportRow& r) { return r.cost.measured(); }),
+                      info.gl_renderer.empty() ? std::string("an unnamed GL renderer")
+                                               : info.gl_renderer};
+    std::vector<std::string> scenes;
+    for (const ReportRow& r : rows) {
+        if (std::find(scenes.begin(), scenes.end(), r.scene) == scenes.end()) {
+            scenes.push_back(r.scene);
+        }
+    }
+    std::ostringstream out;
+    WritePreamble(out, c);
     for (const std::string& scene : scenes) {
-        out << "\n## " << scene << "\n\n"
-            << "| budget | method | lixels | maps | misclassified % | planes % | elsewhere % | "
-               "band % | m planes | m elsewhere | use |"
-            << (costs ? " map × | lookup × | cost × | map ms | lookup ms |\n" : " total ms |\n")
-            << "|---:|---|---:|---:|---:|---:|---:|---:|---|---|---:|"
-            << (costs ? "---:|---:|---:|---:|---:|\n" : "---:|\n");
         std::vector<std::size_t> order;
         for (std::size_t i = 0; i < rows.size(); ++i) {
             if (rows[i].scene == scene) order.push_back(i);
@@ -277,87 +402,10 @@ Result<bool> WriteReportMarkdown(const std::string& path, const std::vector<Repo
         std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
             return rows[a].budget < rows[b].budget;
         });
-        auto aliasing = [](const AliasingStats& s) {
-            if (s.pixels == 0) return std::string("–");
-            return Fixed(s.mean, 2) + " / " + Fixed(s.p95, 2) + " / " +
-                   Fixed(100.0 * s.over_threshold, 1) + "%";
-        };
-        for (const std::size_t i : order) {
-            const ReportRow& r = rows[i];
-            const std::string b = best[i] ? "**" : "";
-            out << "| " << BudgetLabel(r.budget) << " (" << PerPixelLabel(r.LixelsPerPixel())
-                << " per pixel) | " << b << r.method << b << " | "
-                << r.total_lixels << " | " << r.maps << " | " << b << Fixed(r.error.Percent(), 3)
-                << b << " | " << Fixed(r.error.PlanesPercent(), 3) << " | "
-                << Fixed(r.error.ElsewherePercent(), 3) << " | "
-                << Fixed(r.error.BandPercent(), 2) << " | "
-                << aliasing(r.aliasing_planes) << " | " << aliasing(r.aliasing_elsewhere) << " | "
-                << Fixed(100.0 * r.lixel_use, 1) << "% |";
-            if (costs) {
-                out << " " << ratio(r.cost.map_ratio) << " | " << ratio(r.cost.lookup_ratio)
-                    << " | " << ratio(r.cost.cost_ratio) << " | " << ms(r.cost.map_ms) << " | "
-                    << ms(r.cost.lookup_ms) << " |\n";
-            } else {
-                out << " " << Fixed(r.TotalMs(), 2) << " |\n";
-            }
-        }
-        if (costs) {
-            out << "\n<details><summary>costs and baselines (ms on " << on
-                << ", median [min–max])</summary>\n\n"
-                << "| budget | method | map cost | lookup cost | bare depth pass | bare view "
-                   "pass | repeats |\n|---:|---|---:|---:|---:|---:|---:|\n";
-            for (const std::size_t i : order) {
-                const ReportRow& r = rows[i];
-                out << "| " << BudgetLabel(r.budget) << " | " << r.method << " | "
-                    << ms_spread(r.cost.map_ms) << " | " << ms_spread(r.cost.lookup_ms) << " | "
-                    << ms_spread(r.cost.baseline_depth_ms) << " | "
-                    << ms_spread(r.cost.baseline_view_ms) << " | " << r.cost.repeats << " |\n";
-            }
-            out << "\n</details>\n";
-        }
-        // Paper 002's claim, judged where it is made: the smooth objects' own shadows.
-        const auto twin = std::find_if(order.begin(), order.end(),
-                                       [&](std::size_t i) { return rows[i].smooth_truth.has_value(); });
-        if (twin != order.end()) {
-            out << "\n### " << scene << " against the smooth objects\n\n"
-                << "Misclassified % against Embree on the scene's smooth casters tessellated "
-                   "8 times finer (the smooth surfaces their normals describe), on the "
-                << rows[*twin].smooth_truth->pixels
-                << " pixels where both tessellations see the same unrefined receiver; the "
-                   "mesh's own truth (the table's) beside it.\n\n"
-                << "| budget | method | vs smooth objects % | vs the mesh % |"
-                << (costs ? " cost × |" : "") << "\n|---:|---|---:|---:|"
-                << (costs ? "---:|" : "") << "\n";
-            for (const std::size_t i : order) {
-                const ReportRow& r = rows[i];
-                if (!r.smooth_truth) continue;
-                out << "| " << BudgetLabel(r.budget) << " | " << r.method << " | "
-                    << Fixed(r.smooth_truth->WrongPercent(), 3) << " | "
-                    << Fixed(r.error.Percent(), 3) << " |"
-                    << (costs ? " " + ratio(r.cost.cost_ratio) + " |" : "") << "\n";
-            }
-        }
-        // Stage breakdown of the same rows.
-        const std::vector<std::string> stages = StageUnion(rows);
-        if (!stages.empty()) {
-            out << "\n<details><summary>stages (median ms)</summary>\n\n| budget | method |";
-            for (const std::string& s : stages) out << " " << s << " |";
-            out << "\n|---:|---|";
-            for (std::size_t k = 0; k < stages.size(); ++k) out << "---:|";
-            out << "\n";
-            for (const std::size_t i : order) {
-                const ReportRow& r = rows[i];
-                out << "| " << BudgetLabel(r.budget) << " | " << r.method << " |";
-                for (const std::string& s : stages) {
-                    const auto it = std::find_if(r.stage_ms.begin(), r.stage_ms.end(),
-                                                 [&](const auto& p) { return p.first == s; });
-                    out << " " << (it == r.stage_ms.end() ? "–" : Fixed(it->second, 3)) << " |";
-                }
-                out << "\n";
-            }
-            out << "\n</details>\n";
-        }
-        out << "\n![masks of " << scene << "](" << scene << "_masks.png)\n";
+        WriteSceneTable(out, c, scene, order);
+        WriteSmoothTruthTable(out, c, scene, order);
+        WriteStageTable(out, c, order);
+        WriteMaskLinks(out, c, scene, order);
     }
     if (!notes.empty()) {
         out << "\n## Notes\n\n";

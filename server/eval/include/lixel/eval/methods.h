@@ -39,7 +39,10 @@ std::vector<Method> AllMethods();
 std::vector<Method> DepthMethods();
 
 // The paper's budget (512^2 total, §4) with one below and one above it.
+inline constexpr std::int64_t kPaperBudget = 512 * 512;
 std::vector<std::int64_t> DefaultBudgets();
+// The budget of `budgets` (not empty) nearest `wanted` by ratio; the first of a tie.
+std::int64_t NearestBudget(const std::vector<std::int64_t>& budgets, std::int64_t wanted);
 
 // A plan for `method` on `scene` within `budget` lixels. Plane-optimal goes through the
 // scheduler (PlanShadowMaps); a baseline through PlanBaseline (baseline_plan.h): one map, or

@@ -1,8 +1,8 @@
 // The error-vs-run-time sweep (issue 6, DESIGN §7): for every scene, method and budget, plan
 // the maps, render them and the view with lixel::render, read the mask back, and score it
 // against Embree ground truth; every repeat also times the cost baselines of cost.h. Writes
-// report.csv, report.md, error_vs_time.png, and per scene a labelled mask grid and a shaded
-// preview into one folder. This is the one lixel::eval piece that needs GL.
+// report.csv, report.md, error_vs_time.png, and per scene labelled mask grids (one per shadow
+// test) and a shaded preview into one folder. This is the one lixel::eval piece that needs GL.
 #pragma once
 
 #include <lixel/eval/methods.h>
@@ -37,9 +37,9 @@ struct ReportOptions {
     render::ContextOptions gl;
     bool progress = true;  // progress bar on stderr
     bool plot = true;      // error_vs_time.png through gnuplot
-    // The mask grid shows every budget; its shaded preview (<scene>_preview.png) is the first
+    // The mask grids show every budget; their shaded preview (<scene>_preview.png) is the first
     // method's at the budget closest to this one (the paper's 512^2).
-    std::int64_t grid_budget = 512 * 512;
+    std::int64_t grid_budget = kPaperBudget;
 };
 
 struct ReportSummary {
