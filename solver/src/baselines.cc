@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -221,6 +222,216 @@ Result<BaselineMap> FitPsmMap(const BaselineInput& input, const ExtentHull& hull
     return BaselineMap{*map, std::move(info)};
 }
 
+namespace {
+
+// gamma and n_opt of the LiSPSM warp (Wimmer et al. 2004) into `info`; `toward` is the direction
+// toward the light, `centroid` the receivers'. Returns why the warp falls back to the uniform
+// map, or nothing.
+std::optional<std::string> SetLispsmStrength(const Focus& focus, const Vec4& light,
+                                             const Vec3& forward, BaselineInfo& info,
+                                             Vec3& toward, Vec3& centroid) {
+    // gamma, metric: between the view direction and the direction toward the light, for a
+    // point light the one from the receivers' centroid (the light's rays over R differ by the
+    // angle R subtends; the warp takes one direction, as a directional approximation would).
+    const bool point_light = light.w() != 0.0;
+    centroid = Vec3::Zero();
+    for (const Vec4& r : focus.receivers) {
+        centroid += r.head<3>() / static_cast<double>(focus.receivers.size());
+    }
+    const Vec3 toward_light = point_light ? Vec3(light.head<3>() / light.w() - centroid)
+                                          : Vec3(light.head<3>());
+    toward = toward_light.normalized();
+    info.sin_gamma = forward.cross(toward).norm();
+    if (!(info.sin_gamma >= kLispsmMinSinGamma)) {
+        return "view direction nearly parallel to the light (sin gamma = " +
+               std::to_string(info.sin_gamma) + ")";
+    }
+    // Wimmer et al. 2004, eq. for the general case: n_opt = (z_n + sqrt(z_n z_f)) / sin(gamma),
+    // the distance from the warp's centre of projection to the near face of the receivers'
+    // light-space bounds that makes the perspective aliasing along the view direction equal at
+    // z_n and z_f (for gamma = 90 degrees its worst case then grows as sqrt(z_f / z_n), Lloyd
+    // et al. 2008, against z_f / z_n for the uniform map).
+    info.n_opt = (info.z_near + std::sqrt(info.z_near * info.z_far)) / info.sin_gamma;
+    // Ogre's blend toward uniform as the directions become parallel (LiSPSMShadowCameraSetup:
+    // beyond |cos gamma| = 0.9, n_opt grows linearly up to 21 times at parallel): 1 / sin(gamma)
+    // alone leaves the warp too strong there, where the projected view direction says little
+    // about view depth.
+    const double cos_gamma = std::abs(forward.dot(toward));
+    if (cos_gamma > kLispsmBlendCosGamma) {
+        info.n_opt *= 1.0 + kLispsmBlendGain * (cos_gamma - kLispsmBlendCosGamma) /
+                                (1.0 - kLispsmBlendCosGamma);
+    }
+    return std::nullopt;
+}
+
+// The space the LiSPSM warp is built in and its axes there, with n_opt carried into it.
+struct LispsmFrame {
+    Mat4 space = Mat4::Identity();
+    Vec3 x_axis = Vec3::Zero(), y_axis = Vec3::Zero();
+    double y_min = 0.0;     // the held points' near face along y
+    double centre_x = 0.0;  // the projection centre's x
+    double n_space = 0.0;   // n_opt in the space's units
+
+    // The warp P followed by the orthographic projection along the light, for a near distance
+    // n: the projection centre sits n before the near face of the held points' light-space
+    // bounds, so they span warp depths [n, n + extent]. Image x is the warp's x / depth, image
+    // y its depth coordinate -n / depth (the scale that makes lixels square at the near face;
+    // the rectangle fit renormalises).
+    Mat4 WarpFor(double n) const {
+        const Vec3 centre = centre_x * x_axis + (y_min - n) * y_axis;
+        Mat4 warp = Mat4::Zero();
+        warp.row(0) << x_axis.x(), x_axis.y(), x_axis.z(), -x_axis.dot(centre);
+        warp.row(1) << 0.0, 0.0, 0.0, -n;
+        warp.row(3) << y_axis.x(), y_axis.y(), y_axis.z(), -y_axis.dot(centre);
+        return Mat4(warp * space);
+    }
+};
+
+// What FrameLispsm gives: the frame, or why the warp falls back to the uniform map.
+struct LispsmFrameOrFallback {
+    LispsmFrame frame;
+    std::optional<std::string> fallback;
+};
+
+// The space the warp is built in (Wimmer et al. §6): the world for a directional light; for a
+// point light the post-perspective space of a uniform light frustum T around the held points,
+// where the light is the direction +z and the map is T's image followed by the warp. That space
+// is not metric (image coordinates are tangents, depth 1 / distance), so n_opt, metric, is
+// carried into it as a ratio: the warp's near distance over the receivers' extent along its
+// axis is kept, n_s / d_s = n_opt / d, with d the receivers' metric extent along the view
+// direction projected perpendicular to `toward` (the directional approximation's axis). The
+// warp then has the strength LiSPSM would give a directional light from the receivers'
+// centroid, on top of the point light's own perspective; as the light recedes, T tends to an
+// orthographic map and this to the directional case. (The alternative, n_opt from T's own z,
+// mixes tangents with inverse distances and gave n_opt ~ 1e-6: a warp far past the depth row's
+// limit.)
+Result<LispsmFrameOrFallback> FrameLispsm(const Focus& focus, const Vec4& light, const Vec3& eye,
+                                          const Vec3& forward, const Vec3& toward,
+                                          const Vec3& centroid, double n_opt) {
+    const bool point_light = light.w() != 0.0;
+    LispsmFrameOrFallback out;
+    LispsmFrame& f = out.frame;
+    Vec3 z_axis = -toward;  // light space z: the light's propagation
+    Vec3 y_axis = forward - forward.dot(z_axis) * z_axis;
+    if (point_light) {
+        Result<Mat4> basis = LightFrustumBasis(light, focus.points);
+        if (!basis) return basis.error();
+        f.space = *basis;
+        z_axis = -Vec3::UnitZ();
+        // The view direction's image at the receivers' centroid: d/dt of T(c + t f), the
+        // direction in which view depth grows across the light's image there.
+        const Vec4 c = f.space * Point(centroid);
+        const Vec4 dc = f.space * Direction(forward);
+        const Vec3 velocity = (dc.head<3>() * c.w() - c.head<3>() * dc.w()) / (c.w() * c.w());
+        y_axis = velocity - velocity.dot(z_axis) * z_axis;
+    }
+    if (!(y_axis.norm() > 0.0) || !y_axis.allFinite()) {
+        out.fallback = "the view direction has no image across the light's image";
+        return out;
+    }
+    y_axis.normalize();
+    // x = z cross y so (x, y) is not mirrored for a camera looking along z.
+    f.x_axis = z_axis.cross(y_axis);
+    f.y_axis = y_axis;
+    auto in_space = [&](const Vec4& p) -> Vec3 {
+        const Vec4 s = f.space * p;
+        return s.head<3>() / s.w();
+    };
+    f.y_min = std::numeric_limits<double>::infinity();
+    double x_min = f.y_min, x_max = -f.y_min;
+    for (const Vec4& p : focus.points) {
+        const Vec3 s = in_space(p);
+        f.y_min = std::min(f.y_min, y_axis.dot(s));
+        x_min = std::min(x_min, f.x_axis.dot(s));
+        x_max = std::max(x_max, f.x_axis.dot(s));
+    }
+    f.n_space = n_opt;
+    if (point_light) {
+        const Vec3 metric_axis = (forward - forward.dot(toward) * toward).normalized();
+        double d_lo = std::numeric_limits<double>::infinity(), d_hi = -d_lo;
+        double s_lo = d_lo, s_hi = -d_lo;
+        for (const Vec4& r : focus.receivers) {
+            d_lo = std::min(d_lo, metric_axis.dot(r.head<3>()));
+            d_hi = std::max(d_hi, metric_axis.dot(r.head<3>()));
+            s_lo = std::min(s_lo, y_axis.dot(in_space(r)));
+            s_hi = std::max(s_hi, y_axis.dot(in_space(r)));
+        }
+        f.n_space = n_opt * (s_hi - s_lo) / (d_hi - d_lo);
+        if (!(f.n_space > 0.0) || !std::isfinite(f.n_space)) {
+            out.fallback = "the receivers have no extent along the warp's axis";
+            return out;
+        }
+    }
+    // The projection centre's x: in line with the eye (Wimmer et al.; Filament and Ogre), or for
+    // a point light whose image plane the eye is behind, the middle of the held points' image.
+    f.centre_x = 0.5 * (x_min + x_max);
+    if (const Vec4 e = f.space * Point(eye); e.w() > 1e-12 * e.norm()) {
+        f.centre_x = f.x_axis.dot(e.head<3>() / e.w());
+    }
+    return out;
+}
+
+// FitDepthRow keeps q_near >= kMinNearRatio q_far and lets the renderer clamp what is nearer;
+// the warp must not push receivers there. Where n would, the warp is weakened by doubling n
+// until the receivers' q range fits (it tends to the unwarped range).
+double WeakenToFitDepthRow(const LispsmFrame& frame, const Focus& focus) {
+    double n = frame.n_space;
+    double ratio = QRatio(frame.WarpFor(n), focus);
+    for (int doubling = 0; doubling < 64 && !(ratio >= kWarpMinNearRatio); ++doubling) {
+        const double weaker_ratio = QRatio(frame.WarpFor(2.0 * n), focus);
+        if (!(weaker_ratio > ratio)) break;  // at the unwarped limit
+        n *= 2.0;
+        ratio = weaker_ratio;
+    }
+    return n;
+}
+
+// The warp fixes the image's y axis to the projected view direction; within the warped image
+// the map may still be turned, and is, to the minimal-area rectangle, as the uniform map's
+// image is (LightFrustumBasis) and PSM's post-perspective one: a view direction projected
+// diagonally across a thin image (a floor lit from low) otherwise leaves most of a square map
+// empty.
+Result<LightMap> LispsmMapFor(const Mat4& warp, const BaselineInput& input, const ExtentHull& hull,
+                              const Focus& focus) {
+    return FitImageRectangle(TurnImageToMinimalArea(warp, focus.points), hull.light, focus.points,
+                             SquareMap(input), focus.receivers);
+}
+
+// n_opt is Wimmer et al.'s gamma = 90 degrees optimum along the view axis, carried to other
+// angles by 1 / sin(gamma), and it can lose to the uniform map: off the perpendicular the warp's
+// axis, the view direction projected into the light's image, mixes the receivers' lateral extent
+// with their depth, so the near part of a wide view on one side can be taken for far; near it, a
+// receiver's face across the view can lose. The family n_opt belongs to runs to the uniform map
+// (n -> infinity), so LiSPSM keeps its promise by construction: it takes the strongest warp of
+// the family, n_opt times 2^k, whose worst aliasing over the seen receivers is not worse than
+// the uniform map's beyond the sampling's noise, and the uniform map where none is.
+Result<BaselineMap> KeepLispsmPromise(const BaselineInput& input, const ExtentHull& hull,
+                                      const Focus& focus, const LispsmFrame& frame, LightMap map,
+                                      BaselineInfo info) {
+    const std::vector<Receiver> seen = SampleSeenReceivers(input, kLispsmAliasingSamples);
+    Result<BaselineMap> uniform = Uniform(input, hull, focus, info);
+    if (!uniform) return uniform.error();
+    const double bound = kLispsmPromiseSlack * WorstAliasing(uniform->map, input, seen);
+    if (!std::isfinite(bound) || WorstAliasing(map, input, seen) <= bound) {
+        return BaselineMap{map, std::move(info)};
+    }
+    const double n = info.warp_near;
+    for (int doubling = 1; doubling <= kLispsmWeakenings; ++doubling) {
+        const double weaker_n = n * std::pow(2.0, doubling);
+        Result<LightMap> weaker = LispsmMapFor(frame.WarpFor(weaker_n), input, hull, focus);
+        if (!weaker || !(WorstAliasing(*weaker, input, seen) <= bound)) continue;
+        info.warp_near = weaker_n;
+        return BaselineMap{*weaker, std::move(info)};
+    }
+    // FallBack's map, already fitted for the bound.
+    info.used = BaselineMethod::kUniform;
+    info.fallback_reason = "every warp is more aliased than the uniform map at the seen "
+                           "receivers (sin gamma = " + std::to_string(info.sin_gamma) + ")";
+    return BaselineMap{uniform->map, std::move(info)};
+}
+
+}  // namespace
+
 Result<BaselineMap> FitLispsmMap(const BaselineInput& input, const ExtentHull& hull) noexcept {
     if (Result<bool> ok = ValidateInput(input, hull); !ok) return ok.error();
     const Focus focus = FocusOf(input, hull);
@@ -244,180 +455,21 @@ Result<BaselineMap> FitLispsmMap(const BaselineInput& input, const ExtentHull& h
     z_near = std::max(z_near, 1e-6 * z_far);
     info.z_near = z_near;
     info.z_far = z_far;
-
-    // gamma, metric: between the view direction and the direction toward the light, for a
-    // point light the one from the receivers' centroid (the light's rays over R differ by the
-    // angle R subtends; the warp takes one direction, as a directional approximation would).
-    const bool point_light = hull.light.w() != 0.0;
-    Vec3 centroid = Vec3::Zero();
-    for (const Vec4& r : focus.receivers) {
-        centroid += r.head<3>() / static_cast<double>(focus.receivers.size());
+    Vec3 toward, centroid;
+    if (std::optional<std::string> why =
+            SetLispsmStrength(focus, hull.light, forward, info, toward, centroid)) {
+        return FallBack(input, hull, focus, std::move(info), *why);
     }
-    const Vec3 toward_light = point_light ? Vec3(hull.light.head<3>() / hull.light.w() - centroid)
-                                          : Vec3(hull.light.head<3>());
-    const Vec3 toward = toward_light.normalized();
-    info.sin_gamma = forward.cross(toward).norm();
-    if (!(info.sin_gamma >= kLispsmMinSinGamma)) {
-        return FallBack(input, hull, focus, std::move(info),
-                        "view direction nearly parallel to the light (sin gamma = " +
-                            std::to_string(info.sin_gamma) + ")");
-    }
-    // Wimmer et al. 2004, eq. for the general case: n_opt = (z_n + sqrt(z_n z_f)) / sin(gamma),
-    // the distance from the warp's centre of projection to the near face of the receivers'
-    // light-space bounds that makes the perspective aliasing along the view direction equal at
-    // z_n and z_f (for gamma = 90 degrees its worst case then grows as sqrt(z_f / z_n), Lloyd
-    // et al. 2008, against z_f / z_n for the uniform map).
-    info.n_opt = (z_near + std::sqrt(z_near * z_far)) / info.sin_gamma;
-    // Ogre's blend toward uniform as the directions become parallel (LiSPSMShadowCameraSetup:
-    // beyond |cos gamma| = 0.9, n_opt grows linearly up to 21 times at parallel): 1 / sin(gamma)
-    // alone leaves the warp too strong there, where the projected view direction says little
-    // about view depth.
-    const double cos_gamma = std::abs(forward.dot(toward));
-    if (cos_gamma > kLispsmBlendCosGamma) {
-        info.n_opt *= 1.0 + kLispsmBlendGain * (cos_gamma - kLispsmBlendCosGamma) /
-                                (1.0 - kLispsmBlendCosGamma);
-    }
-
-    // The space the warp is built in (Wimmer et al. §6): the world for a directional light; for
-    // a point light the post-perspective space of a uniform light frustum T around the held
-    // points, where the light is the direction +z and the map is T's image followed by the
-    // warp. That space is not metric (image coordinates are tangents, depth 1 / distance), so
-    // n_opt, metric, is carried into it as a ratio: the warp's near distance over the
-    // receivers' extent along its axis is kept, n_s / d_s = n_opt / d, with d the receivers'
-    // metric extent along the view direction projected perpendicular to `toward` (the
-    // directional approximation's axis). The warp then has the strength LiSPSM would give a
-    // directional light from the receivers' centroid, on top of the point light's own
-    // perspective; as the light recedes, T tends to an orthographic map and this to the
-    // directional case. (The alternative, n_opt from T's own z, mixes tangents with inverse
-    // distances and gave n_opt ~ 1e-6: a warp far past the depth row's limit.)
-    Mat4 space = Mat4::Identity();
-    Vec3 z_axis = -toward;  // light space z: the light's propagation
-    Vec3 y_axis = forward - forward.dot(z_axis) * z_axis;
-    if (point_light) {
-        Result<Mat4> basis = LightFrustumBasis(hull.light, focus.points);
-        if (!basis) return basis.error();
-        space = *basis;
-        z_axis = -Vec3::UnitZ();
-        // The view direction's image at the receivers' centroid: d/dt of T(c + t f), the
-        // direction in which view depth grows across the light's image there.
-        const Vec4 c = space * Point(centroid);
-        const Vec4 dc = space * Direction(forward);
-        const Vec3 velocity = (dc.head<3>() * c.w() - c.head<3>() * dc.w()) / (c.w() * c.w());
-        y_axis = velocity - velocity.dot(z_axis) * z_axis;
-    }
-    if (!(y_axis.norm() > 0.0) || !y_axis.allFinite()) {
-        return FallBack(input, hull, focus, std::move(info),
-                        "the view direction has no image across the light's image");
-    }
-    y_axis.normalize();
-    // x = z cross y so (x, y) is not mirrored for a camera looking along z.
-    const Vec3 x_axis = z_axis.cross(y_axis);
-    auto in_space = [&](const Vec4& p) -> Vec3 {
-        const Vec4 s = space * p;
-        return s.head<3>() / s.w();
-    };
-    double y_min = std::numeric_limits<double>::infinity();
-    double x_min = y_min, x_max = -y_min;
-    for (const Vec4& p : focus.points) {
-        const Vec3 s = in_space(p);
-        y_min = std::min(y_min, y_axis.dot(s));
-        x_min = std::min(x_min, x_axis.dot(s));
-        x_max = std::max(x_max, x_axis.dot(s));
-    }
-    double n_space = info.n_opt;
-    if (point_light) {
-        const Vec3 metric_axis = (forward - forward.dot(toward) * toward).normalized();
-        double d_lo = std::numeric_limits<double>::infinity(), d_hi = -d_lo;
-        double s_lo = d_lo, s_hi = -d_lo;
-        for (const Vec4& r : focus.receivers) {
-            d_lo = std::min(d_lo, metric_axis.dot(r.head<3>()));
-            d_hi = std::max(d_hi, metric_axis.dot(r.head<3>()));
-            s_lo = std::min(s_lo, y_axis.dot(in_space(r)));
-            s_hi = std::max(s_hi, y_axis.dot(in_space(r)));
-        }
-        n_space = info.n_opt * (s_hi - s_lo) / (d_hi - d_lo);
-        if (!(n_space > 0.0) || !std::isfinite(n_space)) {
-            return FallBack(input, hull, focus, std::move(info),
-                            "the receivers have no extent along the warp's axis");
-        }
-    }
-    // The projection centre's x: in line with the eye (Wimmer et al.; Filament and Ogre), or for a
-    // point light whose image plane the eye is behind, the middle of the held points' image.
-    double centre_x = 0.5 * (x_min + x_max);
-    if (const Vec4 e = space * Point(eye); e.w() > 1e-12 * e.norm()) {
-        centre_x = x_axis.dot(e.head<3>() / e.w());
-    }
-    // The warp P followed by the orthographic projection along the light, for a near distance
-    // n: the projection centre sits n before the near face of the held points' light-space
-    // bounds, so they span warp depths [n, n + extent]. Image x is the warp's x / depth, image
-    // y its depth coordinate -n / depth (the scale that makes lixels square at the near face;
-    // the rectangle fit renormalises).
-    auto warp_for = [&](double n) {
-        const Vec3 centre = centre_x * x_axis + (y_min - n) * y_axis;
-        Mat4 warp = Mat4::Zero();
-        warp.row(0) << x_axis.x(), x_axis.y(), x_axis.z(), -x_axis.dot(centre);
-        warp.row(1) << 0.0, 0.0, 0.0, -n;
-        warp.row(3) << y_axis.x(), y_axis.y(), y_axis.z(), -y_axis.dot(centre);
-        return Mat4(warp * space);
-    };
-    // FitDepthRow keeps q_near >= kMinNearRatio q_far and lets the renderer clamp what is
-    // nearer; the warp must not push receivers there. Where n would, the warp is weakened by
-    // doubling n until the receivers' q range fits (it tends to the unwarped range).
-    double n = n_space;
-    Mat4 prelim = warp_for(n);
-    double ratio = QRatio(prelim, focus);
-    for (int doubling = 0; doubling < 64 && !(ratio >= kWarpMinNearRatio); ++doubling) {
-        const Mat4 weaker = warp_for(2.0 * n);
-        const double weaker_ratio = QRatio(weaker, focus);
-        if (!(weaker_ratio > ratio)) break;  // at the unwarped limit
-        n *= 2.0;
-        prelim = weaker;
-        ratio = weaker_ratio;
-    }
-    // The warp fixes the image's y axis to the projected view direction; within the warped
-    // image the map may still be turned, and is, to the minimal-area rectangle, as the uniform
-    // map's image is (LightFrustumBasis) and PSM's post-perspective one: a view direction
-    // projected diagonally across a thin image (a floor lit from low) otherwise leaves most of
-    // a square map empty.
-    info.warp_near = n;
-    auto map_for = [&](const Mat4& warp) {
-        return FitImageRectangle(TurnImageToMinimalArea(warp, focus.points), hull.light,
-                                 focus.points, SquareMap(input), focus.receivers);
-    };
-    Result<LightMap> map = map_for(prelim);
+    Result<LispsmFrameOrFallback> framed =
+        FrameLispsm(focus, hull.light, eye, forward, toward, centroid, info.n_opt);
+    if (!framed) return framed.error();
+    if (framed->fallback) return FallBack(input, hull, focus, std::move(info), *framed->fallback);
+    const LispsmFrame& frame = framed->frame;
+    info.warp_near = WeakenToFitDepthRow(frame, focus);
+    Result<LightMap> map = LispsmMapFor(frame.WarpFor(info.warp_near), input, hull, focus);
     if (!map) return map.error();
-    // n_opt is Wimmer et al.'s gamma = 90 degrees optimum along the view axis, carried to other
-    // angles by 1 / sin(gamma), and it can lose to the uniform map: off the perpendicular the
-    // warp's axis, the view direction projected into the light's image, mixes the receivers'
-    // lateral extent with their depth, so the near part of a wide view on one side can be taken
-    // for far; near it, a receiver's face across the view can lose. The family n_opt belongs to
-    // runs to the uniform map (n -> infinity), so LiSPSM keeps its promise by construction: it
-    // takes the strongest warp of the family, n_opt times 2^k, whose worst aliasing over the
-    // seen receivers is not worse than the uniform map's beyond the sampling's noise, and the
-    // uniform map where none is.
-    if (!input.receivers.empty()) {
-        const std::vector<Receiver> seen = SampleSeenReceivers(input, kLispsmAliasingSamples);
-        Result<BaselineMap> uniform = Uniform(input, hull, focus, info);
-        if (!uniform) return uniform.error();
-        const double bound = kLispsmPromiseSlack * WorstAliasing(uniform->map, input, seen);
-        bool kept = !std::isfinite(bound) || WorstAliasing(*map, input, seen) <= bound;
-        for (int doubling = 1; doubling <= kLispsmWeakenings && !kept; ++doubling) {
-            const double weaker_n = n * std::pow(2.0, doubling);
-            Result<LightMap> weaker = map_for(warp_for(weaker_n));
-            if (!weaker || !(WorstAliasing(*weaker, input, seen) <= bound)) continue;
-            map = std::move(weaker);
-            info.warp_near = weaker_n;
-            kept = true;
-        }
-        if (!kept) {
-            // FallBack's map, already fitted for the bound.
-            info.used = BaselineMethod::kUniform;
-            info.fallback_reason = "every warp is more aliased than the uniform map at the seen "
-                                   "receivers (sin gamma = " + std::to_string(info.sin_gamma) + ")";
-            return BaselineMap{uniform->map, std::move(info)};
-        }
-    }
-    return BaselineMap{*map, std::move(info)};
+    if (input.receivers.empty()) return BaselineMap{*map, std::move(info)};
+    return KeepLispsmPromise(input, hull, focus, frame, *map, std::move(info));
 }
 
 Result<BaselineMap> FitBaseline(BaselineMethod method, const BaselineInput& input,

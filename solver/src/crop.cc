@@ -118,20 +118,7 @@ Result<Rectangle> FitScale(const Bounds2d& b, double& scale, const CropOptions& 
                      std::to_string(options.max_side) + ")"};
 }
 
-}  // namespace
-
-Mat4 ApplyImageAffine(const Mat3& affine, const Mat4& matrix) noexcept {
-    Mat4 out = matrix;
-    const RowVec4 rx = matrix.row(0);
-    const RowVec4 ry = matrix.row(1);
-    const RowVec4 rw = matrix.row(3);
-    out.row(0) = affine(0, 0) * rx + affine(0, 1) * ry + affine(0, 2) * rw;
-    out.row(1) = affine(1, 0) * rx + affine(1, 1) * ry + affine(1, 2) * rw;
-    return out;
-}
-
-Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> needed_points,
-                                    const CropOptions& options) noexcept {
+Result<bool> CheckCropOptions(const CropOptions& options) {
     if (!(options.scale > 0.0 && options.scale <= 1.0)) {
         return Error{"crop.scale", "must be in (0, 1], got " + std::to_string(options.scale)};
     }
@@ -168,11 +155,12 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
                                    std::to_string(side)};
         }
     }
-    if (needed_points.empty()) return Error{"needed_points", "is empty: nothing to crop to"};
-    if (!matrix.allFinite()) return Error{"matrix", "has non-finite entries"};
+    return true;
+}
 
-    // Per-thread scratch: a solve per plane per frame should not allocate.
-    thread_local std::vector<Vec2> image;
+// The needed points' images under `matrix` into `image`; each must be in front of the light.
+Result<bool> ImageNeededPoints(const Mat4& matrix, std::span<const Vec4> needed_points,
+                               std::vector<Vec2>& image) {
     image.clear();
     for (size_t i = 0; i < needed_points.size(); ++i) {
         const Vec4 p = matrix * needed_points[i];
@@ -187,11 +175,14 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
         }
         image.push_back(xy);
     }
+    return true;
+}
 
-    // Candidate twists. The minimal-area enclosing rectangle has a side along a hull edge, so
-    // the hull's edge directions (mod 90 degrees) plus "no twist" are enough; integer rounding
-    // is compared directly so a twist never costs lixels.
-    thread_local std::vector<double> twists;
+// Candidate twists into `twists`. The minimal-area enclosing rectangle has a side along a hull
+// edge, so the hull's edge directions (mod 90 degrees) plus "no twist" are enough; integer
+// rounding is compared directly so a twist never costs lixels.
+Result<bool> CandidateTwists(const Mat4& matrix, const std::vector<Vec2>& image,
+                             const CropOptions& options, std::vector<double>& twists) {
     twists.assign(1, 0.0);
     if (options.twist == Twist::kMinimizeArea && !options.in_phase) {
         const std::vector<Vec2> hull = ConvexHull2d(image);
@@ -225,7 +216,13 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
         }
         twists.assign(1, theta);
     }
+    return true;
+}
 
+// The candidate of least integer area; with frame coherence, the previous twist unless the best
+// saves `twist_saving` of the map's lixels (guard band included, as the texture is allocated).
+double ChooseTwist(const std::vector<Vec2>& image, const std::vector<double>& twists,
+                   const CropOptions& options) {
     double best_theta = twists.front();
     std::int64_t best_area = std::numeric_limits<std::int64_t>::max();
     for (double theta : twists) {
@@ -236,8 +233,6 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
         }
     }
     if (options.twist == Twist::kMinimizeArea && options.previous_twist && !options.in_phase) {
-        // Frame coherence: the previous twist stays unless the best one saves `twist_saving` of
-        // the map's lixels (guard band included, as the texture is allocated).
         const double previous = *options.previous_twist;
         const auto guarded = [&](double theta) {
             return static_cast<double>(GuardedArea(
@@ -247,26 +242,13 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
         const double best = guarded(best_theta);
         if (!(best < kept && kept - best >= options.twist_saving * kept)) best_theta = previous;
     }
+    return best_theta;
+}
 
-    const Bounds2d bounds = RotatedBounds(image, best_theta);
-    double scale = options.scale;
-    auto rect = FitScale(bounds, scale, options);
-    if (!rect) return rect.error();
-
-    CropResult out;
-    out.twist_radians = best_theta;
-    out.scale = scale;
-    out.origin = Vec2(rect->x0, rect->y0);
-    const double c = std::cos(best_theta);
-    const double s = std::sin(best_theta);
-    // A_l = renumber(guard - x0, guard - y0) * scale * rotate(theta).
-    const double g = options.guard;
-    out.guard = options.guard;
-    out.map.width = static_cast<int>(rect->width) + 2 * options.guard;
-    out.map.height = static_cast<int>(rect->height) + 2 * options.guard;
-    // Frame coherence: the previous size when the map fits in it with little waste, the needed
-    // rectangle centred on whole lixels (so the lookup rectangle, the map less its band, still
-    // holds every needed ray).
+// Frame coherence: the previous size when the map fits in it with little waste, the needed
+// rectangle centred on whole lixels (so the lookup rectangle, the map less its band, still holds
+// every needed ray); else the headroom, when the budget allows it.
+void PadForCoherence(const CropOptions& options, CropResult& out) {
     const std::int64_t previous_area =
         static_cast<std::int64_t>(options.previous_width) * options.previous_height;
     if (previous_area > 0 && out.map.width <= options.previous_width &&
@@ -295,6 +277,50 @@ Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> ne
             out.map.height = height;
         }
     }
+}
+
+}  // namespace
+
+Mat4 ApplyImageAffine(const Mat3& affine, const Mat4& matrix) noexcept {
+    Mat4 out = matrix;
+    const RowVec4 rx = matrix.row(0);
+    const RowVec4 ry = matrix.row(1);
+    const RowVec4 rw = matrix.row(3);
+    out.row(0) = affine(0, 0) * rx + affine(0, 1) * ry + affine(0, 2) * rw;
+    out.row(1) = affine(1, 0) * rx + affine(1, 1) * ry + affine(1, 2) * rw;
+    return out;
+}
+
+Result<CropResult> CropToNeededRays(const Mat4& matrix, std::span<const Vec4> needed_points,
+                                    const CropOptions& options) noexcept {
+    if (auto ok = CheckCropOptions(options); !ok) return ok.error();
+    if (needed_points.empty()) return Error{"needed_points", "is empty: nothing to crop to"};
+    if (!matrix.allFinite()) return Error{"matrix", "has non-finite entries"};
+
+    // Per-thread scratch: a solve per plane per frame should not allocate.
+    thread_local std::vector<Vec2> image;
+    if (auto ok = ImageNeededPoints(matrix, needed_points, image); !ok) return ok.error();
+    thread_local std::vector<double> twists;
+    if (auto ok = CandidateTwists(matrix, image, options, twists); !ok) return ok.error();
+    const double best_theta = ChooseTwist(image, twists, options);
+
+    const Bounds2d bounds = RotatedBounds(image, best_theta);
+    double scale = options.scale;
+    auto rect = FitScale(bounds, scale, options);
+    if (!rect) return rect.error();
+
+    CropResult out;
+    out.twist_radians = best_theta;
+    out.scale = scale;
+    out.origin = Vec2(rect->x0, rect->y0);
+    const double c = std::cos(best_theta);
+    const double s = std::sin(best_theta);
+    // A_l = renumber(guard - x0, guard - y0) * scale * rotate(theta).
+    const double g = options.guard;
+    out.guard = options.guard;
+    out.map.width = static_cast<int>(rect->width) + 2 * options.guard;
+    out.map.height = static_cast<int>(rect->height) + 2 * options.guard;
+    PadForCoherence(options, out);
     out.affine << scale * c, -scale * s, g + out.pad_x - rect->x0, scale * s, scale * c,
         g + out.pad_y - rect->y0, 0.0, 0.0, 1.0;
     out.map.matrix = ApplyImageAffine(out.affine, matrix);
