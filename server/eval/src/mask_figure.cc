@@ -8,11 +8,11 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string_view>
 
 #include "gnuplot.h"
+#include "text_format.h"
 
 namespace lixel::eval {
 namespace {
@@ -204,12 +204,7 @@ Result<std::string> PlotMaskGrid(const std::string& folder, const MaskFigure& fi
        << "plot NaN notitle\nunset multiplot\n";
 
     const std::string path = (fs::path(folder) / (stem + ".gp")).string();
-    {
-        std::ofstream file(path);
-        if (!file) return Error{path, "cannot open for writing"};
-        file << gp.str();
-        if (!file.flush()) return Error{path, "write failed"};
-    }
+    if (auto ok = text::WriteText(path, gp.str()); !ok) return ok.error();
     if (auto ok = detail::RunGnuplot(path); !ok) return ok.error();
     return png;
 }

@@ -4,13 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "gnuplot.h"
+#include "text_format.h"
 
 namespace lixel::eval {
 namespace {
@@ -41,36 +41,33 @@ std::vector<T> Unique(const std::vector<ReportRow>& rows, T ReportRow::*field) {
     return out;
 }
 
-}  // namespace
+// What the data file and the script share: the scenes and methods in first-seen order, and
+// whether the x axis is the cost ratio (every row measured its costs) or total milliseconds.
+struct PlotData {
+    const std::vector<ReportRow>& rows;
+    std::vector<std::string> scenes;
+    std::vector<std::string> methods;
+    bool ratios = false;
+    CostAxis axis = CostAxis::kMilliseconds;
+    std::string data_path;
 
-Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<ReportRow>& rows,
-                             const ReportInfo& info) {
-    if (rows.empty()) return Error{"rows", "nothing to plot"};
-    const std::vector<std::string> scenes = Unique(rows, &ReportRow::scene);
-    const std::vector<std::string> methods = Unique(rows, &ReportRow::method);
-    const std::string data_path = folder + "/error_vs_time.dat";
-    const std::string script_path = folder + "/error_vs_time.gp";
-    const std::string png_path = folder + "/error_vs_time.png";
-    // Ratios when every row has them (a driver that measured costs); else one axis for all,
-    // total milliseconds, as rows with stage times only allow.
-    const bool ratios = std::all_of(rows.begin(), rows.end(),
-                                    [](const ReportRow& r) { return r.cost.measured(); });
-    const CostAxis axis = ratios ? CostAxis::kRatio : CostAxis::kMilliseconds;
-    auto low = [&](const ReportRow& r) { return ratios ? r.cost.cost_ratio.min : CostOf(r, axis); };
-    auto high = [&](const ReportRow& r) {
+    double Low(const ReportRow& r) const { return ratios ? r.cost.cost_ratio.min : CostOf(r, axis); }
+    double High(const ReportRow& r) const {
         return ratios ? r.cost.cost_ratio.max : CostOf(r, axis);
-    };
+    }
+};
 
-    // Data: per scene, one index block per method (points) and a last block for the front.
+// Data: per scene, one index block per method (points) and a last block for the front.
+std::string DataText(const PlotData& p) {
     std::ostringstream data;
     data << "# cost misclassified_pct budget_label cost_min cost_max   (cost: "
-         << (ratios ? "cost ratio" : "total ms") << "; blocks: scene-major, method, front)\n";
-    for (const std::string& scene : scenes) {
+         << (p.ratios ? "cost ratio" : "total ms") << "; blocks: scene-major, method, front)\n";
+    for (const std::string& scene : p.scenes) {
         std::vector<ReportRow> scene_rows;
-        for (const ReportRow& r : rows) {
+        for (const ReportRow& r : p.rows) {
             if (r.scene == scene) scene_rows.push_back(r);
         }
-        for (const std::string& method : methods) {
+        for (const std::string& method : p.methods) {
             data << "# " << scene << " / " << method << "\n";
             std::vector<const ReportRow*> mine;
             for (const ReportRow& r : scene_rows) {
@@ -80,49 +77,48 @@ Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<Report
             std::sort(mine.begin(), mine.end(),
                       [](const ReportRow* a, const ReportRow* b) { return a->budget < b->budget; });
             for (const ReportRow* r : mine) {
-                data << CostOf(*r, axis) << " " << std::max(r->error.Percent(), kErrorFloorPercent)
-                     << " " << BudgetLabel(r->budget) << "(" << PerPixelLabel(r->LixelsPerPixel())
-                     << ")" << " " << low(*r) << " " << high(*r) << "\n";
+                data << CostOf(*r, p.axis) << " "
+                     << std::max(r->error.Percent(), kErrorFloorPercent) << " "
+                     << BudgetLabel(r->budget) << "(" << PerPixelLabel(r->LixelsPerPixel()) << ")"
+                     << " " << p.Low(*r) << " " << p.High(*r) << "\n";
             }
             // An empty block would shift gnuplot's index numbering: keep a NaN row.
             if (mine.empty()) data << "NaN NaN - NaN NaN\n";
             data << "\n\n";
         }
         data << "# " << scene << " / Pareto front\n";
-        for (const std::size_t i : ParetoFront(scene_rows, axis)) {
-            data << CostOf(scene_rows[i], axis) << " "
+        for (const std::size_t i : ParetoFront(scene_rows, p.axis)) {
+            data << CostOf(scene_rows[i], p.axis) << " "
                  << std::max(scene_rows[i].error.Percent(), kErrorFloorPercent) << " -\n";
         }
         data << "\n\n";
     }
-    {
-        std::ofstream file(data_path);
-        if (!file) return Error{data_path, "cannot open for writing"};
-        file << data.str();
-        if (!file.flush()) return Error{data_path, "write failed"};
-    }
+    return data.str();
+}
 
+// The terminal, the multiplot layout and the axes.
+void WriteScriptHeader(std::ostringstream& gp, const PlotData& p, const ReportInfo& info,
+                       const std::string& png_path) {
     int repeats = 0;
-    for (const ReportRow& r : rows) repeats = std::max(repeats, r.cost.repeats);
-    const int columns = std::min<int>(3, static_cast<int>(scenes.size()));
-    const int panel_rows = (static_cast<int>(scenes.size()) + columns - 1) / columns;
-    std::ostringstream gp;
+    for (const ReportRow& r : p.rows) repeats = std::max(repeats, r.cost.repeats);
+    const int columns = std::min<int>(3, static_cast<int>(p.scenes.size()));
+    const int panel_rows = (static_cast<int>(p.scenes.size()) + columns - 1) / columns;
     gp << "# Generated by lixel::eval::PlotErrorVsTime.\n"
        << "set terminal pngcairo size " << 720 * columns << "," << 560 * panel_rows
        << " font \"sans,9\"\n"
        << "set output " << Quoted(png_path) << "\n"
        << "set datafile missing \"NaN\"\n"
        << "set multiplot layout " << panel_rows << "," << columns << " title "
-       << Quoted(std::string("Shadow error against ") + (ratios ? "cost ratio" : "run time") +
+       << Quoted(std::string("Shadow error against ") + (p.ratios ? "cost ratio" : "run time") +
                  " (one point per method and budget)" +
                  (info.gl_renderer.empty() ? std::string()
                                            : "\ntimes on " + info.gl_renderer))
        << "\n"
        << "set termoption noenhanced\n"
        << "set xlabel "
-       << Quoted(ratios ? "cost ratio = map cost / bare depth pass + lookup cost / bare view pass"
-                          " (median of " + std::to_string(repeats) + ", bars: min-max)"
-                        : std::string("total time per frame, ms (sum of stage medians)"))
+       << Quoted(p.ratios ? "cost ratio = map cost / bare depth pass + lookup cost / bare view pass"
+                            " (median of " + std::to_string(repeats) + ", bars: min-max)"
+                          : std::string("total time per frame, ms (sum of stage medians)"))
        << "\n"
        // Points at the ends of the autoscaled range would sit on the frame.
        << "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n"
@@ -130,64 +126,94 @@ Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<Report
        << "set logscale y\n"
        << "set key outside bottom center horizontal maxrows 3 font \",8\"\n"
        << "set grid\n";
-    // Colour by fitting, point shape by shadow test, each named once in the key: 17 methods
-    // read as 5 colours and 5 shapes instead of 17 entries.
+}
+
+// Colour by fitting, point shape by shadow test, each named once in the key: 17 methods read as
+// 5 colours and 5 shapes instead of 17 entries.
+struct MethodKey {
     std::vector<std::string> fittings, tests;
-    for (const std::string& m : methods) {
-        const auto [fitting, test] = SplitMethod(m);
-        if (IndexOf(fittings, fitting) == static_cast<int>(fittings.size())) {
-            fittings.push_back(fitting);
-        }
-        if (IndexOf(tests, test) == static_cast<int>(tests.size())) tests.push_back(test);
-    }
-    static const char* kColours[] = {"#d62728", "#1f77b4", "#2ca02c", "#ff7f0e",
-                                     "#9467bd", "#8c564b", "#e377c2", "#17becf"};
-    static const int kPointTypes[] = {7, 5, 9, 11, 13, 15, 4, 6};
-    const int blocks_per_scene = static_cast<int>(methods.size()) + 1;
-    for (std::size_t s = 0; s < scenes.size(); ++s) {
-        double lo = INFINITY, hi = 0.0;
-        for (const ReportRow& r : rows) {
-            if (r.scene != scenes[s]) continue;
-            lo = std::min(lo, low(r));
-            hi = std::max(hi, high(r));
-        }
-        // Log cost axis when the methods' costs span more than a decade.
-        gp << (lo > 0 && hi / lo > 10 ? "set logscale x\n" : "unset logscale x\n");
-        gp << "set title " << Quoted(scenes[s]) << "\nplot ";
-        const int base = static_cast<int>(s) * blocks_per_scene;
-        for (std::size_t m = 0; m < methods.size(); ++m) {
-            const auto [fitting, test] = SplitMethod(methods[m]);
-            const char* colour = kColours[IndexOf(fittings, fitting) % 8];
-            const int point = kPointTypes[IndexOf(tests, test) % 8];
-            const std::string block = Quoted(data_path) + " index " + std::to_string(base + m);
-            gp << block << " using 1:2 with linespoints lw 0.5 pt " << point
-               << " ps 1.1 lc rgb \"" << colour << "\" notitle, \\\n     ";
-            if (ratios) {
-                gp << block << " using 1:2:4:5 with xerrorbars pt 0 lw 0.5 lc rgb \"" << colour
-                   << "\" notitle, \\\n     ";
+
+    explicit MethodKey(const std::vector<std::string>& methods) {
+        for (const std::string& m : methods) {
+            const auto [fitting, test] = SplitMethod(m);
+            if (IndexOf(fittings, fitting) == static_cast<int>(fittings.size())) {
+                fittings.push_back(fitting);
             }
-            gp << block
-               << " using 1:2:3 with labels offset 0.9,0.5 font \",6\" tc rgb \"#606060\" "
-                  "notitle, \\\n     ";
+            if (IndexOf(tests, test) == static_cast<int>(tests.size())) tests.push_back(test);
         }
-        for (std::size_t f = 0; f < fittings.size(); ++f) {
-            gp << "NaN with lines lw 4 lc rgb \"" << kColours[f % 8] << "\" title "
-               << Quoted(fittings[f]) << ", \\\n     ";
-        }
-        for (std::size_t t = 0; t < tests.size(); ++t) {
-            gp << "NaN with points pt " << kPointTypes[t % 8] << " ps 1.1 lc rgb \"black\" title "
-               << Quoted(tests[t].empty() ? std::string("no map") : tests[t]) << ", \\\n     ";
-        }
-        gp << Quoted(data_path) << " index " << base + static_cast<int>(methods.size())
-           << " using 1:2 with steps lw 2 dt 2 lc rgb \"black\" title \"Pareto front\"\n";
     }
+};
+
+constexpr const char* kColours[] = {"#d62728", "#1f77b4", "#2ca02c", "#ff7f0e",
+                                    "#9467bd", "#8c564b", "#e377c2", "#17becf"};
+constexpr int kPointTypes[] = {7, 5, 9, 11, 13, 15, 4, 6};
+
+// Scene `s`'s panel: every method's points, bars and budget labels, the key, the front.
+void WriteScenePanel(std::ostringstream& gp, const PlotData& p, const MethodKey& key,
+                     std::size_t s) {
+    const int blocks_per_scene = static_cast<int>(p.methods.size()) + 1;
+    double lo = INFINITY, hi = 0.0;
+    for (const ReportRow& r : p.rows) {
+        if (r.scene != p.scenes[s]) continue;
+        lo = std::min(lo, p.Low(r));
+        hi = std::max(hi, p.High(r));
+    }
+    // Log cost axis when the methods' costs span more than a decade.
+    gp << (lo > 0 && hi / lo > 10 ? "set logscale x\n" : "unset logscale x\n");
+    gp << "set title " << Quoted(p.scenes[s]) << "\nplot ";
+    const int base = static_cast<int>(s) * blocks_per_scene;
+    for (std::size_t m = 0; m < p.methods.size(); ++m) {
+        const auto [fitting, test] = SplitMethod(p.methods[m]);
+        const char* colour = kColours[IndexOf(key.fittings, fitting) % 8];
+        const int point = kPointTypes[IndexOf(key.tests, test) % 8];
+        const std::string block = Quoted(p.data_path) + " index " + std::to_string(base + m);
+        gp << block << " using 1:2 with linespoints lw 0.5 pt " << point << " ps 1.1 lc rgb \""
+           << colour << "\" notitle, \\\n     ";
+        if (p.ratios) {
+            gp << block << " using 1:2:4:5 with xerrorbars pt 0 lw 0.5 lc rgb \"" << colour
+               << "\" notitle, \\\n     ";
+        }
+        gp << block
+           << " using 1:2:3 with labels offset 0.9,0.5 font \",6\" tc rgb \"#606060\" "
+              "notitle, \\\n     ";
+    }
+    for (std::size_t f = 0; f < key.fittings.size(); ++f) {
+        gp << "NaN with lines lw 4 lc rgb \"" << kColours[f % 8] << "\" title "
+           << Quoted(key.fittings[f]) << ", \\\n     ";
+    }
+    for (std::size_t t = 0; t < key.tests.size(); ++t) {
+        gp << "NaN with points pt " << kPointTypes[t % 8] << " ps 1.1 lc rgb \"black\" title "
+           << Quoted(key.tests[t].empty() ? std::string("no map") : key.tests[t])
+           << ", \\\n     ";
+    }
+    gp << Quoted(p.data_path) << " index " << base + static_cast<int>(p.methods.size())
+       << " using 1:2 with steps lw 2 dt 2 lc rgb \"black\" title \"Pareto front\"\n";
+}
+
+}  // namespace
+
+Result<bool> PlotErrorVsTime(const std::string& folder, const std::vector<ReportRow>& rows,
+                             const ReportInfo& info) {
+    if (rows.empty()) return Error{"rows", "nothing to plot"};
+    // Ratios when every row has them (a driver that measured costs); else one axis for all,
+    // total milliseconds, as rows with stage times only allow.
+    const bool ratios = std::all_of(rows.begin(), rows.end(),
+                                    [](const ReportRow& r) { return r.cost.measured(); });
+    const PlotData p{rows,
+                     Unique(rows, &ReportRow::scene),
+                     Unique(rows, &ReportRow::method),
+                     ratios,
+                     ratios ? CostAxis::kRatio : CostAxis::kMilliseconds,
+                     folder + "/error_vs_time.dat"};
+    if (auto ok = text::WriteText(p.data_path, DataText(p)); !ok) return ok;
+
+    std::ostringstream gp;
+    WriteScriptHeader(gp, p, info, folder + "/error_vs_time.png");
+    const MethodKey key(p.methods);
+    for (std::size_t s = 0; s < p.scenes.size(); ++s) WriteScenePanel(gp, p, key, s);
     gp << "unset multiplot\n";
-    {
-        std::ofstream file(script_path);
-        if (!file) return Error{script_path, "cannot open for writing"};
-        file << gp.str();
-        if (!file.flush()) return Error{script_path, "write failed"};
-    }
+    const std::string script_path = folder + "/error_vs_time.gp";
+    if (auto ok = text::WriteText(script_path, gp.str()); !ok) return ok;
     return detail::RunGnuplot(script_path);
 }
 

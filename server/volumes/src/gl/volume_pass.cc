@@ -187,18 +187,17 @@ Result<VolumeRenderInfo> VolumePass::Render(const render::GpuScene& surfaces,
     return Draw(surfaces, volumes, &volume, request, target);
 }
 
-Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
-                                          const VolumeScene& volumes, const GpuVolumeMesh* volume,
-                                          const VolumeRequest& request,
-                                          render::ViewImages& target) {
-    if (auto ok = Validate(request, context_->info().max_texture_size); !ok) return ok.error();
-    if (surfaces.origin() != volumes.origin()) {
-        return Error{"origin", "surfaces and volumes were uploaded with different origins"};
-    }
-    VolumeRenderInfo info;
-    // Which counting, per caster: z-pass only for casters that cannot reach the eye or the near
-    // rectangle (counting_mode.h). A CPU-built volume is one caster, its occluders the scene's
-    // meshes and its own finite triangles.
+namespace {
+
+bool UsesMode(const VolumeRenderInfo& info, CountingMode mode) {
+    return std::find(info.modes.begin(), info.modes.end(), mode) != info.modes.end();
+}
+
+// Which counting, per caster: z-pass only for casters that cannot reach the eye or the near
+// rectangle (counting_mode.h). A CPU-built volume is one caster, its occluders the scene's meshes
+// and its own finite triangles.
+Result<bool> ChooseModes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
+                         const VolumeRequest& request, VolumeRenderInfo& info) {
     const std::size_t casters = volume != nullptr ? 1 : volumes.adjacency().size();
     if (request.counting == CountingChoice::kAuto) {
         std::vector<const EdgeAdjacency*> meshes;
@@ -221,17 +220,18 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
                                        ? CountingMode::kZPass
                                        : CountingMode::kZFail);
     }
-    const auto any = [&](CountingMode m) {
-        return std::find(info.modes.begin(), info.modes.end(), m) != info.modes.end();
-    };
-    info.mode = any(CountingMode::kZFail) ? CountingMode::kZFail : CountingMode::kZPass;
+    info.mode = UsesMode(info, CountingMode::kZFail) ? CountingMode::kZFail : CountingMode::kZPass;
     if (volume != nullptr && info.mode == CountingMode::kZFail && volume->cap_indices() == 0 &&
         volume->side_indices() > 0) {
         return Error{"volume.caps", "z-fail needs a volume built with Caps::kLightAndDark"};
     }
+    return true;
+}
 
+}  // namespace
+
+Result<bool> VolumePass::AttachTargets(const Viewport& size, render::ViewImages& target) {
     const render::GlApi& gl = context_->gl();
-    const Viewport& size = request.viewport;
     const bool resize =
         size.width != target.viewport.width || size.height != target.viewport.height;
     if (!target.mask || resize)
@@ -266,13 +266,6 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
                          "framebuffer incomplete (status " + std::to_string(status) + ")"};
         }
     }
-    const Vec3& origin = volumes.origin();
-    const Eigen::Matrix4f viewer = render::RelativeMatrix(request.viewer, origin);
-    const Vec4 light_world = *NormalizeLight(request.light);
-    const Eigen::Vector4f light = render::RelativePoint(light_world, origin).cast<float>();
-
-    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
-    gl.Viewport(0, 0, size.width, size.height);
     const float no_surface[4] = {render::kNoSurface, 0.0f, 0.0f, 0.0f};
     const float background[4] = {0.0f, 0.0f, 0.0f, 1.0f};
     const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -282,37 +275,31 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     gl.ClearNamedFramebufferiv(fbo, GL_COLOR, 2, no_map);
     api_.ClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, static_cast<float>(kClipDepthFar), 0);
     gl.ClearNamedFramebufferfv(count_fbo, GL_COLOR, 0, zero);
+    return true;
+}
 
-    // 1. Depth of the visible surfaces; every surface pixel starts as shadowed (mask 0).
-    const GLuint sp = surface_.id();
-    gl.ProgramUniformMatrix4fv(sp, surface_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
-    gl.ProgramUniform4fv(sp, surface_.Uniform("u_light"), 1, light.data());
-    gl.ProgramUniform1f(sp, surface_.Uniform("u_lit"), 0.0f);
-    gl.ProgramUniform1i(sp, surface_.Uniform("u_count"), kCountUnit);
-    gl.Enable(GL_DEPTH_TEST);
-    gl.DepthFunc(GL_LESS);
-    gl.DepthMask(GL_TRUE);
-    gl.Disable(GL_CULL_FACE);
-    gl.Disable(GL_BLEND);
-    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    auto draw_surfaces = [&]() {
-        gl.UseProgram(sp);
-        gl.BindVertexArray(surfaces.triangles());
-        for (const render::GpuMeshRange& range : surfaces.ranges()) {
-            gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count), GL_UNSIGNED_INT,
-                            reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
-        }
-    };
-    draw_surfaces();
+void VolumePass::DrawSurfaces(const render::GpuScene& surfaces) {
+    const render::GlApi& gl = context_->gl();
+    gl.UseProgram(surface_.id());
+    gl.BindVertexArray(surfaces.triangles());
+    for (const render::GpuMeshRange& range : surfaces.ranges()) {
+        gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count), GL_UNSIGNED_INT,
+                        reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
+    }
+}
 
-    // 2. Volumes into the count target: each fragment adds +1 or -1 (shadow_volume.frag), in
-    // float, exact for any count below 2^24 where an 8-bit stencil would wrap at 256 (issue
-    // 16.2). Z-pass casters count the fragments in front of the surface (depth LESS) with the
-    // near plane clipping, so the count starts at the near rectangle, which their proof covers;
-    // z-fail casters count those behind it (GEQUAL: exactly where LESS fails), front faces -1,
-    // with caps and depth clamp, which keeps the dark caps and the sides' far ends, at infinity,
-    // from being clipped. Each caster's count is exact for its own volumes, so the sum is too.
-    gl.BindFramebuffer(GL_FRAMEBUFFER, count_fbo);
+// Into the count target: each fragment adds +1 or -1 (shadow_volume.frag), in float, exact for
+// any count below 2^24 where an 8-bit stencil would wrap at 256 (issue 16.2). Z-pass casters
+// count the fragments in front of the surface (depth LESS) with the near plane clipping, so the
+// count starts at the near rectangle, which their proof covers; z-fail casters count those
+// behind it (GEQUAL: exactly where LESS fails), front faces -1, with caps and depth clamp, which
+// keeps the dark caps and the sides' far ends, at infinity, from being clipped. Each caster's
+// count is exact for its own volumes, so the sum is too.
+void VolumePass::CountVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
+                              const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
+                              VolumeRenderInfo& info) {
+    const render::GlApi& gl = context_->gl();
+    gl.BindFramebuffer(GL_FRAMEBUFFER, count_framebuffer_.id());
     gl.ColorMask(GL_TRUE, GL_FALSE, GL_FALSE, GL_FALSE);
     gl.DepthMask(GL_FALSE);
     gl.Enable(GL_BLEND);
@@ -320,7 +307,7 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     api_.BlendFunc(GL_ONE, GL_ONE);
     gl.FrontFace(GL_CCW);
     for (const CountingMode mode : {CountingMode::kZPass, CountingMode::kZFail}) {
-        if (!any(mode)) continue;
+        if (!UsesMode(info, mode)) continue;
         const bool zfail = mode == CountingMode::kZFail;
         const float sign = zfail ? -1.0f : 1.0f;  // added by front faces; back faces add -sign
         for (const render::Program* program : {&sides_, &caps_, &mesh_}) {
@@ -336,38 +323,83 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     }
     gl.Disable(GL_DEPTH_CLAMP);
     gl.Disable(GL_BLEND);
+}
+
+// Overdraw: every volume fragment, depth test off, nothing written.
+void VolumePass::MeasureOverdraw(const VolumeScene& volumes, const GpuVolumeMesh* volume,
+                                 const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
+                                 const Viewport& size, VolumeRenderInfo& info) {
+    const render::GlApi& gl = context_->gl();
+    gl.Disable(GL_DEPTH_TEST);
+    gl.Enable(GL_DEPTH_CLAMP);
+    gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    GLuint query = 0;
+    api_.CreateQueries(GL_SAMPLES_PASSED, 1, &query);
+    api_.BeginQuery(GL_SAMPLES_PASSED, query);
+    VolumeRenderInfo ignored;
+    for (const CountingMode mode : {CountingMode::kZPass, CountingMode::kZFail}) {
+        if (UsesMode(info, mode)) {
+            DrawVolumes(volumes, volume, info.modes, mode, viewer, light, ignored);
+        }
+    }
+    api_.EndQuery(GL_SAMPLES_PASSED);
+    GLuint64 samples = 0;
+    api_.GetQueryObjectui64v(query, GL_QUERY_RESULT, &samples);
+    api_.DeleteQueries(1, &query);
+    info.volume_fragments = samples;
+    info.overdraw = static_cast<double>(samples) /
+                    (static_cast<double>(size.width) * static_cast<double>(size.height));
+    gl.Disable(GL_DEPTH_CLAMP);
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
+                                          const VolumeScene& volumes, const GpuVolumeMesh* volume,
+                                          const VolumeRequest& request,
+                                          render::ViewImages& target) {
+    if (auto ok = Validate(request, context_->info().max_texture_size); !ok) return ok.error();
+    if (surfaces.origin() != volumes.origin()) {
+        return Error{"origin", "surfaces and volumes were uploaded with different origins"};
+    }
+    VolumeRenderInfo info;
+    if (auto ok = ChooseModes(volumes, volume, request, info); !ok) return ok.error();
+    const render::GlApi& gl = context_->gl();
+    const Viewport& size = request.viewport;
+    if (auto ok = AttachTargets(size, target); !ok) return ok.error();
+    const Vec3& origin = volumes.origin();
+    const Eigen::Matrix4f viewer = render::RelativeMatrix(request.viewer, origin);
+    const Vec4 light_world = *NormalizeLight(request.light);
+    const Eigen::Vector4f light = render::RelativePoint(light_world, origin).cast<float>();
+
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+    gl.Viewport(0, 0, size.width, size.height);
+    // 1. Depth of the visible surfaces; every surface pixel starts as shadowed (mask 0).
+    const GLuint sp = surface_.id();
+    gl.ProgramUniformMatrix4fv(sp, surface_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
+    gl.ProgramUniform4fv(sp, surface_.Uniform("u_light"), 1, light.data());
+    gl.ProgramUniform1f(sp, surface_.Uniform("u_lit"), 0.0f);
+    gl.ProgramUniform1i(sp, surface_.Uniform("u_count"), kCountUnit);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LESS);
+    gl.DepthMask(GL_TRUE);
+    gl.Disable(GL_CULL_FACE);
+    gl.Disable(GL_BLEND);
+    gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    DrawSurfaces(surfaces);
+
+    // 2. The volumes' count per pixel.
+    CountVolumes(volumes, volume, viewer, light, info);
 
     // 3. Lit where the count is zero: the same surfaces, same depth (invariant), mask 1.
-    gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
     gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     gl.DepthFunc(GL_EQUAL);
     gl.BindTextureUnit(kCountUnit, count_.id());
     gl.ProgramUniform1f(sp, surface_.Uniform("u_lit"), 1.0f);
-    draw_surfaces();
+    DrawSurfaces(surfaces);
     gl.BindTextureUnit(kCountUnit, 0);
 
-    // Overdraw: every volume fragment, depth test off, nothing written.
-    if (request.measure_overdraw) {
-        gl.Disable(GL_DEPTH_TEST);
-        gl.Enable(GL_DEPTH_CLAMP);
-        gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-        GLuint query = 0;
-        api_.CreateQueries(GL_SAMPLES_PASSED, 1, &query);
-        api_.BeginQuery(GL_SAMPLES_PASSED, query);
-        VolumeRenderInfo ignored;
-        for (const CountingMode mode : {CountingMode::kZPass, CountingMode::kZFail}) {
-            if (any(mode)) DrawVolumes(volumes, volume, info.modes, mode, viewer, light, ignored);
-        }
-        api_.EndQuery(GL_SAMPLES_PASSED);
-        GLuint64 samples = 0;
-        api_.GetQueryObjectui64v(query, GL_QUERY_RESULT, &samples);
-        api_.DeleteQueries(1, &query);
-        info.volume_fragments = samples;
-        info.overdraw = static_cast<double>(samples) /
-                        (static_cast<double>(size.width) * static_cast<double>(size.height));
-        gl.Disable(GL_DEPTH_CLAMP);
-        gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    }
+    if (request.measure_overdraw) MeasureOverdraw(volumes, volume, viewer, light, size, info);
 
     gl.Disable(GL_STENCIL_TEST);
     gl.Enable(GL_DEPTH_TEST);

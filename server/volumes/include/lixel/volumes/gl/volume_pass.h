@@ -77,6 +77,18 @@ class VolumePass {
     Result<VolumeRenderInfo> Draw(const render::GpuScene& surfaces, const VolumeScene& volumes,
                                   const GpuVolumeMesh* volume, const VolumeRequest& request,
                                   render::ViewImages& target);
+    // The target's textures (made or resized to `size`) and the count target, attached and
+    // cleared.
+    Result<bool> AttachTargets(const Viewport& size, render::ViewImages& target);
+    void DrawSurfaces(const render::GpuScene& surfaces);
+    // Every caster's volumes into the count target, each with its counting mode.
+    void CountVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
+                      const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
+                      VolumeRenderInfo& info);
+    // info.volume_fragments and info.overdraw: the volumes' fragments per pixel of `size`.
+    void MeasureOverdraw(const VolumeScene& volumes, const GpuVolumeMesh* volume,
+                         const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
+                         const Viewport& size, VolumeRenderInfo& info);
     // The patch groups of the meshes whose `modes` entry is `mode` (every group without one).
     void DrawPatches(const VolumeScene& volumes, std::span<const CountingMode> modes,
                      std::optional<CountingMode> mode);
