@@ -12,7 +12,6 @@
 #include <cctype>
 #include <cstring>
 #include <filesystem>
-#include <functional>
 #include <limits>
 #include <string>
 #include <system_error>
@@ -219,134 +218,161 @@ std::string_view JsonPart(std::string_view bytes, bool glb) {
     return bytes.substr(20, length);
 }
 
-Result<std::vector<Mesh>> Flatten(const tinygltf::Model& model, const std::string& origin,
-                                  DecodeBudget& budget) {
-    // Roots: the default scene's nodes, else every node no other node lists as a child.
-    std::vector<int> roots;
+// Roots: the default scene's nodes, else every node no other node lists as a child.
+std::vector<int> RootsOf(const tinygltf::Model& model) {
     const int scene_index = model.defaultScene >= 0 ? model.defaultScene : 0;
-    if (scene_index < static_cast<int>(model.scenes.size())) {
-        roots = model.scenes[scene_index].nodes;
-    } else {
-        std::vector<bool> child(model.nodes.size(), false);
-        for (const tinygltf::Node& n : model.nodes) {
-            for (const int c : n.children) {
-                if (c >= 0 && c < static_cast<int>(child.size())) child[c] = true;
-            }
-        }
-        for (std::size_t i = 0; i < child.size(); ++i) {
-            if (!child[i]) roots.push_back(static_cast<int>(i));
+    if (scene_index < static_cast<int>(model.scenes.size())) return model.scenes[scene_index].nodes;
+    std::vector<int> roots;
+    std::vector<bool> child(model.nodes.size(), false);
+    for (const tinygltf::Node& n : model.nodes) {
+        for (const int c : n.children) {
+            if (c >= 0 && c < static_cast<int>(child.size())) child[c] = true;
         }
     }
+    for (std::size_t i = 0; i < child.size(); ++i) {
+        if (!child[i]) roots.push_back(static_cast<int>(i));
+    }
+    return roots;
+}
 
-    std::vector<Mesh> meshes;
-    std::vector<int> depth_guard(model.nodes.size(), 0);
-    std::function<Result<bool>(int, const Eigen::Matrix4d&)> visit =
-        [&](int node_index, const Eigen::Matrix4d& parent) -> Result<bool> {
-        if (node_index < 0 || node_index >= static_cast<int>(model.nodes.size())) {
-            return Error{origin + ": nodes", "index " + std::to_string(node_index) + " out of range"};
+// The node tree flattened into world-space meshes, one per triangle primitive of each mesh a
+// node places, within the decode budget.
+class Flattener {
+  public:
+    Flattener(const tinygltf::Model& model, const std::string& origin, DecodeBudget& budget)
+        : model_(model), origin_(origin), budget_(budget), on_path_(model.nodes.size(), 0) {}
+
+    Result<bool> Visit(int node_index, const Eigen::Matrix4d& parent) {
+        if (node_index < 0 || node_index >= static_cast<int>(model_.nodes.size())) {
+            return Error{origin_ + ": nodes",
+                         "index " + std::to_string(node_index) + " out of range"};
         }
-        if (!budget.AddNodeVisit() || budget.Cancelled()) return Stopped(origin, budget);
+        if (!budget_.AddNodeVisit() || budget_.Cancelled()) return Stopped(origin_, budget_);
         // A node reached again on the current path is a cycle, which glTF forbids.
-        if (depth_guard[node_index]++) {
-            return Error{origin + ": nodes[" + std::to_string(node_index) + "]",
+        if (on_path_[node_index]++) {
+            return Error{origin_ + ": nodes[" + std::to_string(node_index) + "]",
                          "node hierarchy has a cycle"};
         }
-        const tinygltf::Node& node = model.nodes[node_index];
+        const tinygltf::Node& node = model_.nodes[node_index];
         const Eigen::Matrix4d world = parent * LocalTransform(node);
         if (node.mesh >= 0) {
-            if (node.mesh >= static_cast<int>(model.meshes.size())) {
-                return Error{origin + ": nodes[" + std::to_string(node_index) + "].mesh",
+            if (node.mesh >= static_cast<int>(model_.meshes.size())) {
+                return Error{origin_ + ": nodes[" + std::to_string(node_index) + "].mesh",
                              "index " + std::to_string(node.mesh) + " out of range"};
             }
-            const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
-            const Eigen::Matrix3d normal_matrix = linear.inverse().transpose();
-            const bool mirrored = linear.determinant() < 0;
-            const tinygltf::Mesh& source = model.meshes[node.mesh];
+            const tinygltf::Mesh& source = model_.meshes[node.mesh];
             for (std::size_t p = 0; p < source.primitives.size(); ++p) {
-                const tinygltf::Primitive& prim = source.primitives[p];
-                const std::string field = origin + ": meshes[" + std::to_string(node.mesh) +
-                                          "].primitives[" + std::to_string(p) + "]";
-                if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES &&
-                    prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
-                    prim.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-                    continue;  // points and lines cast no shadow
-                }
-                const auto position = prim.attributes.find("POSITION");
-                if (position == prim.attributes.end()) {
-                    return Error{field + ".attributes", "no POSITION"};
-                }
-                auto pv = View(model, position->second, TINYGLTF_TYPE_VEC3, origin);
-                if (!pv) return pv.error();
-                if (pv->component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) {
-                    return Error{field + ".attributes.POSITION", "must be float VEC3"};
-                }
-                Mesh mesh;
-                mesh.name = (node.name.empty() ? source.name : node.name);
-                if (mesh.name.empty()) mesh.name = "mesh " + std::to_string(node.mesh);
-                if (source.primitives.size() > 1) mesh.name += "[" + std::to_string(p) + "]";
-                // Counted before anything is kept: a node tree may instance one mesh many times.
-                const std::size_t corner_count =
-                    prim.indices >= 0 && prim.indices < static_cast<int>(model.accessors.size())
-                        ? model.accessors[prim.indices].count
-                        : pv->count;
-                const std::size_t triangle_count =
-                    prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1
-                        ? corner_count / 3
-                        : (corner_count >= 2 ? corner_count - 2 : 0);
-                if (!budget.AddVertices(pv->count) || !budget.AddTriangles(triangle_count)) {
-                    return Stopped(origin, budget);
-                }
-                for (std::size_t i = 0; i < pv->count; ++i) {
-                    if (budget.Cancelled()) return Stopped(origin, budget);
-                    const Eigen::Vector3f local = ReadVec3(*pv, i);
-                    if (!local.allFinite()) {
-                        return Error{field + ".attributes.POSITION[" + std::to_string(i) + "]",
-                                     "not finite"};
-                    }
-                    const Eigen::Vector4d w =
-                        world * Eigen::Vector4d(local.x(), local.y(), local.z(), 1.0);
-                    mesh.positions.push_back(w.head<3>().cast<float>());
-                }
-                const auto normal = prim.attributes.find("NORMAL");
-                if (normal != prim.attributes.end()) {
-                    auto nv = View(model, normal->second, TINYGLTF_TYPE_VEC3, origin);
-                    if (!nv) return nv.error();
-                    if (nv->count != pv->count ||
-                        nv->component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) {
-                        return Error{field + ".attributes.NORMAL",
-                                     "must be float VEC3 with one normal per position"};
-                    }
-                    for (std::size_t i = 0; i < nv->count; ++i) {
-                        const Eigen::Vector3d n = normal_matrix * ReadVec3(*nv, i).cast<double>();
-                        mesh.normals.push_back((n.norm() > 0 ? n.normalized() : n).cast<float>());
-                    }
-                }
-                auto corners = Corners(model, prim, pv->count, field, origin);
-                if (!corners) return corners.error();
-                mesh.indices = std::move(*corners);
-                if (mirrored) {
-                    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-                        std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
-                    }
-                }
-                if (mesh.TriangleCount() == 0) continue;
-                mesh.closed = IsClosedByPosition(mesh);
-                meshes.push_back(std::move(mesh));
+                if (auto ok = AddPrimitive(node, p, world); !ok) return ok;
             }
         }
         for (const int child : node.children) {
-            auto visited = visit(child, world);
-            if (!visited) return visited;
+            if (auto visited = Visit(child, world); !visited) return visited;
         }
-        --depth_guard[node_index];
+        --on_path_[node_index];
         return true;
-    };
-    for (const int root : roots) {
-        auto visited = visit(root, Eigen::Matrix4d::Identity());
-        if (!visited) return visited.error();
     }
-    if (meshes.empty()) return Error{origin, "no triangles: a glTF scene needs a triangle mesh"};
-    return meshes;
+
+    std::vector<Mesh>& meshes() { return meshes_; }
+
+  private:
+    // Primitive `p` of the node's mesh, in world space; points and lines cast no shadow.
+    Result<bool> AddPrimitive(const tinygltf::Node& node, std::size_t p,
+                              const Eigen::Matrix4d& world) {
+        const tinygltf::Mesh& source = model_.meshes[node.mesh];
+        const tinygltf::Primitive& prim = source.primitives[p];
+        const std::string field = origin_ + ": meshes[" + std::to_string(node.mesh) +
+                                  "].primitives[" + std::to_string(p) + "]";
+        if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES &&
+            prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP && prim.mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+            return true;
+        }
+        const auto position = prim.attributes.find("POSITION");
+        if (position == prim.attributes.end()) return Error{field + ".attributes", "no POSITION"};
+        auto pv = View(model_, position->second, TINYGLTF_TYPE_VEC3, origin_);
+        if (!pv) return pv.error();
+        if (pv->component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+            return Error{field + ".attributes.POSITION", "must be float VEC3"};
+        }
+        Mesh mesh;
+        mesh.name = (node.name.empty() ? source.name : node.name);
+        if (mesh.name.empty()) mesh.name = "mesh " + std::to_string(node.mesh);
+        if (source.primitives.size() > 1) mesh.name += "[" + std::to_string(p) + "]";
+        // Counted before anything is kept: a node tree may instance one mesh many times.
+        const std::size_t corner_count =
+            prim.indices >= 0 && prim.indices < static_cast<int>(model_.accessors.size())
+                ? model_.accessors[prim.indices].count
+                : pv->count;
+        const std::size_t triangle_count = prim.mode == TINYGLTF_MODE_TRIANGLES || prim.mode == -1
+                                               ? corner_count / 3
+                                               : (corner_count >= 2 ? corner_count - 2 : 0);
+        if (!budget_.AddVertices(pv->count) || !budget_.AddTriangles(triangle_count)) {
+            return Stopped(origin_, budget_);
+        }
+        for (std::size_t i = 0; i < pv->count; ++i) {
+            if (budget_.Cancelled()) return Stopped(origin_, budget_);
+            const Eigen::Vector3f local = ReadVec3(*pv, i);
+            if (!local.allFinite()) {
+                return Error{field + ".attributes.POSITION[" + std::to_string(i) + "]",
+                             "not finite"};
+            }
+            const Eigen::Vector4d w = world * Eigen::Vector4d(local.x(), local.y(), local.z(), 1.0);
+            mesh.positions.push_back(w.head<3>().cast<float>());
+        }
+        const Eigen::Matrix3d linear = world.topLeftCorner<3, 3>();
+        if (auto ok = AddNormals(prim, *pv, linear.inverse().transpose(), field, mesh); !ok) {
+            return ok;
+        }
+        auto corners = Corners(model_, prim, pv->count, field, origin_);
+        if (!corners) return corners.error();
+        mesh.indices = std::move(*corners);
+        if (linear.determinant() < 0) {  // mirrored: keep the winding outward
+            for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+                std::swap(mesh.indices[t + 1], mesh.indices[t + 2]);
+            }
+        }
+        if (mesh.TriangleCount() == 0) return true;
+        mesh.closed = IsClosedByPosition(mesh);
+        meshes_.push_back(std::move(mesh));
+        return true;
+    }
+
+    Result<bool> AddNormals(const tinygltf::Primitive& prim, const AccessorView& positions,
+                            const Eigen::Matrix3d& normal_matrix, const std::string& field,
+                            Mesh& mesh) {
+        const auto normal = prim.attributes.find("NORMAL");
+        if (normal == prim.attributes.end()) return true;
+        auto nv = View(model_, normal->second, TINYGLTF_TYPE_VEC3, origin_);
+        if (!nv) return nv.error();
+        if (nv->count != positions.count || nv->component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) {
+            return Error{field + ".attributes.NORMAL",
+                         "must be float VEC3 with one normal per position"};
+        }
+        for (std::size_t i = 0; i < nv->count; ++i) {
+            const Eigen::Vector3d n = normal_matrix * ReadVec3(*nv, i).cast<double>();
+            mesh.normals.push_back((n.norm() > 0 ? n.normalized() : n).cast<float>());
+        }
+        return true;
+    }
+
+    const tinygltf::Model& model_;
+    const std::string& origin_;
+    DecodeBudget& budget_;
+    std::vector<Mesh> meshes_;
+    std::vector<int> on_path_;  // per node: how often it is on the path being visited
+};
+
+Result<std::vector<Mesh>> Flatten(const tinygltf::Model& model, const std::string& origin,
+                                  DecodeBudget& budget) {
+    Flattener flattener(model, origin, budget);
+    for (const int root : RootsOf(model)) {
+        if (auto visited = flattener.Visit(root, Eigen::Matrix4d::Identity()); !visited) {
+            return visited.error();
+        }
+    }
+    if (flattener.meshes().empty()) {
+        return Error{origin, "no triangles: a glTF scene needs a triangle mesh"};
+    }
+    return std::move(flattener.meshes());
 }
 
 }  // namespace
