@@ -13,6 +13,8 @@ std::int64_t TotalLixels(const std::vector<PlannedMap>& maps) {
     return t;
 }
 
+namespace {
+
 // One step of the budget loop: `scale` times the square root of the lixels the lowered maps may
 // take over what they take now (`total` less the `fixed` lixels of maps held at scale 1), a
 // little under it, and 2 % more from the fifth attempt so that rounding the rectangles outward
@@ -137,6 +139,8 @@ void NameScales(std::vector<PlannedMap>& maps, const std::string* lowered_reason
                              : "one lixel per pixel: the budget holds every plane map";
     }
 }
+
+}  // namespace
 
 Result<BudgetedPlaneMaps> FitPlaneMapsToBudget(const Context& c) {
     const PlanRequest& r = c.request;

@@ -7,6 +7,7 @@
 #include <limits>
 
 namespace lixel::scheduling {
+namespace {
 
 constexpr const char* kCubeFaceNames[kCubeFaces] = {"+x", "-x", "+y", "-y", "+z", "-z"};
 // Longest side over shortest side allowed for a fallback or cube-face map.
@@ -22,6 +23,8 @@ bool PlaneHeld(const Context& c, const std::vector<RayCone>& cones, int plane) {
     }
     return false;
 }
+
+}  // namespace
 
 // The visible regions' parts no map accepts: what the fallback (or cube faces) must cover. An
 // object lying on a plane whose needed polygon the maps hold needs nothing more: its visible
@@ -44,6 +47,8 @@ std::vector<UncoveredPiece> Uncovered(const Context& c, const std::vector<Planne
     }
     return out;
 }
+
+namespace {
 
 std::vector<Vec4> VerticesOf(const std::vector<UncoveredPiece>& pieces) {
     std::vector<Vec4> points;
@@ -168,8 +173,6 @@ SolveDiagnostics DiagnoseHeld(const Context& c, const PlannedMap& m,
     }
     return DiagnoseMap(m.map, c.light, c.request.viewer, c.request.viewport, held);
 }
-
-namespace {
 
 // The fallback as one light frustum over `points` (the uncovered pieces' vertices), with the
 // previous frame's size where frame coherence keeps it; false when no frustum fits.

@@ -6,6 +6,8 @@
 
 namespace lixel::scheduling {
 
+namespace {
+
 // Objects that can cast into a map: their boxes meet the map's accepted cone, and for a plane
 // map they rise above the plane on its lit side.
 std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m) {
@@ -28,6 +30,8 @@ std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m)
     }
     return casters;
 }
+
+}  // namespace
 
 // The second-depth and silhouette passes on the maps some caster reaches, the volumes pass when
 // any does, and what was left out and why (DESIGN §4.5).

@@ -8,6 +8,8 @@
 
 namespace lixel::scheduling {
 
+namespace {
+
 // Viewer pixels sampled per side to estimate how many pixels read each map.
 constexpr int kPixelSamplesPerSide = 48;
 // Samples per side of the tiles whose corners EstimatePixels traces first.
@@ -453,6 +455,8 @@ bool TileUniform(const PixelEstimate& e, const TileProofs& proofs, const RaySamp
            TileSeesNothingNearer(e, proofs, corner, i, side) &&
            TileLooksUpOneMap(e, proofs, corner, j);
 }
+
+}  // namespace
 
 // Rays from the viewer: the nearest of the planes' needed surfaces and the objects' boxes, then
 // the lookup rule; counts per map scaled to the viewport (DESIGN §4.5 statistics). The grid is

@@ -9,6 +9,8 @@
 
 namespace lixel::scheduling {
 
+namespace {
+
 // The geometry a map can hold: every object's box inside the extent hull and the map's accepted
 // cone (the extent hull alone when there are no objects). Its vertices bound the depth range
 // of every point the lookup sends to this map, casters outside the view included.
@@ -28,6 +30,8 @@ std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
     }
     return points;
 }
+
+}  // namespace
 
 // The guard band a map of `budget` lixels gets: kGuardLixels, but at most 1/16 of the budget's
 // side (a 64^2 budget keeps 4, a 16^2 one 1), so small budgets stay mostly interior, and less
@@ -62,6 +66,8 @@ void RefitDepth(const Context& c, PlannedMap& m, const std::vector<Vec4>& receiv
     if (r_z.ok()) m.map.matrix.row(2) = *r_z;
 }
 
+namespace {
+
 // The objects' boxes (thickened) that can cast onto a candidate's needed polygon: all but those
 // lying on or behind a plane of interest, to the planning thickness, whose front side holds the
 // light and the whole needed polygon, since every light ray to the polygon then stays in front
@@ -89,6 +95,8 @@ std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate
     }
     return casters;
 }
+
+}  // namespace
 
 // Solves every candidate plane's map at one uniform scale, in priority order, leaving out
 // those whose needed rays earlier maps already accept.

@@ -94,6 +94,8 @@ std::vector<Vec4> Points(const std::vector<Vec3>& vertices) {
     return out;
 }
 
+namespace {
+
 // every view ray starts on the near plane, so it does when the whole near face of the frustum
 // lies on its front side, by more than `margin` (world units). A plane the viewer faces can still
 // cut the near face (a wall just past the eye of a wide view, or any plane across an
@@ -276,6 +278,8 @@ void FindViewRegions(Context& c) {
     std::erase_if(c.view_regions, [](const ViewRegion& v) { return v.region.empty(); });
     for (const ConvexPolytope& held : c.held_regions) c.held_vertices.push_back(held.vertices());
 }
+
+}  // namespace
 
 Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& hull) {
     Context c{r, bounds, hull, hull.light, FrustumPlanes(r.viewer),

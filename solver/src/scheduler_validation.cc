@@ -18,10 +18,11 @@ std::string PlaneName(const PlanRequest& r, size_t i) {
     return "plane " + (r.planes[i].name.empty() ? std::to_string(i) : r.planes[i].name);
 }
 
+namespace {
+
 // Turns and distances below this share of the polygon's extent (squared for turns) are a
 // straight angle or a vertex on an edge's line, within what rounding the vertices carry.
 constexpr double kPolygonSlack = 1e-9;
-
 
 // A bounded plane of interest must be convex and counter-clockwise seen from its normal's side:
 // the lookup's edge tests (paper §3: "four explicit point line tests") and EstimatePixels keep a
@@ -72,6 +73,8 @@ Result<bool> ConvexCounterClockwise(const PlaneOfInterest& p, const std::string&
     }
     return true;
 }
+
+}  // namespace
 
 Result<Aabb> ValidatedBounds(const PlanRequest& r) {
     if (auto v = ValidateViewer(r.viewer, r.viewport); !v) return v.error();

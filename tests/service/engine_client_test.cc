@@ -357,24 +357,33 @@ void AddImage(client::RenderedMaps& rendered, int map, v1::PassKind pass, int wi
     rendered.images.emplace_back(static_cast<std::size_t>(width * height * channels), value);
 }
 
+// Texel (x, y) of map `map` in an atlas of `channels` floats a texel: its first channel.
+template <class Atlas>
+float TexelOf(const Atlas& atlas, int map, int x, int y, int channels = 1) {
+    const Eigen::Vector2i at = atlas.origins[map] + Eigen::Vector2i(x, y);
+    return atlas.texels[(static_cast<std::size_t>(at.y()) * atlas.width + at.x()) * channels];
+}
+
+// The kit frame of `rendered` for `depth` after `fill` gave the maps without a caster their
+// missing images: refused before, `images` images after, however often `fill` is called.
+Result<client::KitFrame> FrameAfterFilling(client::RenderedMaps& rendered, client::KitDepth depth,
+                                           void (*fill)(client::RenderedMaps&), int images) {
+    EXPECT_EQ(client::KitFrameOf(rendered, depth, Vec3::Zero()).error().field, "images");
+    fill(rendered);
+    fill(rendered);  // once per map, however often called
+    EXPECT_EQ(rendered.header.images_size(), images);
+    return client::KitFrameOf(rendered, depth, Vec3::Zero());
+}
+
 TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySecondDepth) {
     // Only map 0 streamed a second depth (map 1 has no caster).
     client::RenderedMaps rendered = TwoSmallMaps();
     AddImage(rendered, 0, v1::PASS_SECOND_DEPTH, 3, 2, 1, 0.5f);
-    EXPECT_EQ(
-        client::KitFrameOf(rendered, client::KitDepth::kSecondDepth, Vec3::Zero()).error().field,
-        "images");
-    FillMissingSecondDepth(rendered);
-    FillMissingSecondDepth(rendered);  // once per map, however often called
-    ASSERT_EQ(rendered.header.images_size(), 2);
-    auto frame = client::KitFrameOf(rendered, client::KitDepth::kSecondDepth, Vec3::Zero());
+    auto frame =
+        FrameAfterFilling(rendered, client::KitDepth::kSecondDepth, FillMissingSecondDepth, 2);
     ASSERT_TRUE(frame.ok()) << frame.error().Message();
-    const auto texel = [&](int map, int x, int y) {
-        const Eigen::Vector2i at = frame->atlas.origins[map] + Eigen::Vector2i(x, y);
-        return frame->atlas.texels[static_cast<std::size_t>(at.y()) * frame->atlas.width + at.x()];
-    };
-    EXPECT_EQ(texel(0, 2, 1), 0.5f);
-    EXPECT_EQ(texel(1, 2, 1), 0.0f);
+    EXPECT_EQ(TexelOf(frame->atlas, 0, 2, 1), 0.5f);
+    EXPECT_EQ(TexelOf(frame->atlas, 1, 2, 1), 0.0f);
 }
 
 TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySilhouetteMap) {
@@ -382,27 +391,13 @@ TEST(FrameLoop, AMapWithoutACasterGetsAnEmptySilhouetteMap) {
     client::RenderedMaps rendered = TwoSmallMaps();
     AddImage(rendered, 0, v1::PASS_CORNER_DEPTH, 4, 3, 1, 0.5f);
     AddImage(rendered, 0, v1::PASS_SILHOUETTE_MAP, 3, 2, 2, 0.25f);
-    EXPECT_EQ(
-        client::KitFrameOf(rendered, client::KitDepth::kSilhouette, Vec3::Zero()).error().field,
-        "images");
-    FillMissingSilhouetteMap(rendered);
-    FillMissingSilhouetteMap(rendered);  // once per map, however often called
-    ASSERT_EQ(rendered.header.images_size(), 4);
-    auto frame = client::KitFrameOf(rendered, client::KitDepth::kSilhouette, Vec3::Zero());
+    auto frame =
+        FrameAfterFilling(rendered, client::KitDepth::kSilhouette, FillMissingSilhouetteMap, 4);
     ASSERT_TRUE(frame.ok()) << frame.error().Message();
-    const auto a = [&](int map, int x, int y) {
-        const Eigen::Vector2i at = frame->atlas.origins[map] + Eigen::Vector2i(x, y);
-        return frame->atlas.texels[static_cast<std::size_t>(at.y()) * frame->atlas.width + at.x()];
-    };
-    const auto b = [&](int map, int x, int y) {
-        const Eigen::Vector2i at = frame->atlas_b.origins[map] + Eigen::Vector2i(x, y);
-        return frame->atlas_b
-            .texels[(static_cast<std::size_t>(at.y()) * frame->atlas_b.width + at.x()) * 2];
-    };
-    EXPECT_EQ(a(0, 3, 2), 0.5f);
-    EXPECT_EQ(a(1, 3, 2), 0.0f);  // the corner beyond the last texel exists too
-    EXPECT_EQ(b(0, 2, 1), 0.25f);
-    EXPECT_EQ(b(1, 2, 1), client::kNoSilhouettePoint);
+    EXPECT_EQ(TexelOf(frame->atlas, 0, 3, 2), 0.5f);
+    EXPECT_EQ(TexelOf(frame->atlas, 1, 3, 2), 0.0f);  // the corner beyond the last texel exists too
+    EXPECT_EQ(TexelOf(frame->atlas_b, 0, 2, 1, 2), 0.25f);
+    EXPECT_EQ(TexelOf(frame->atlas_b, 1, 2, 1, 2), client::kNoSilhouettePoint);
 }
 
 TEST(MaskComparison, ComparesOnlyWhereBothShowASurface) {

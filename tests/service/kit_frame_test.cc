@@ -81,16 +81,13 @@ double DistanceToRuleEdge(const LightMap& map, const LookupRule& rule, const Vec
 }
 
 TEST(KitFrame, TheKitPicksTheSolversMapAndTexelFromWhatRenderStreams) {
-    auto server = testing::StartServer(testing::SmallServerOptions("kit-frame"));
-    ASSERT_NE(server, nullptr);
-    auto client = testing::Connect(testing::Target(*server));
-    auto uploaded = client->UploadScene(testing::SmallScene());
-    ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
+    const testing::SmallSceneServer service = testing::StartWithSmallScene("kit-frame");
+    ASSERT_FALSE(service.scene_id.empty());
     v1::RenderRequest request;
-    request.mutable_plan()->set_scene_id(uploaded->scene_id());
+    request.mutable_plan()->set_scene_id(service.scene_id);
     request.mutable_plan()->set_lixel_budget(256 * 256);
     request.mutable_plan()->mutable_passes()->set_second_depth(true);
-    auto rendered = client->Render(request);
+    auto rendered = service.client->Render(request);
     ASSERT_TRUE(rendered.ok()) << rendered.error().Message();
 
     const scene::Scene scene = scene::FloorWallScene();
@@ -131,7 +128,7 @@ TEST(KitFrame, TheKitPicksTheSolversMapAndTexelFromWhatRenderStreams) {
             continue;
         }
         const int want = LookupMap(plan, Point(x));
-        Eigen::Vector3f s;
+        Eigen::Vector3f s = Eigen::Vector3f::Zero();
         const int got = KitSelectMap(frame->block, (x - origin).cast<float>(), s);
         ++compared;
         ASSERT_EQ(got, want) << "point " << x.transpose();
@@ -182,7 +179,7 @@ TEST(KitFrame, TheKitPicksTheSolversMapAndTexelFromWhatRenderStreams) {
     // The second depth the same way; a depth the stream lacks is named.
     EXPECT_TRUE(client::KitFrameOf(*rendered, client::KitDepth::kSecondDepth, origin).ok());
     request.mutable_plan()->mutable_passes()->set_second_depth(false);
-    auto first_only = client->Render(request);
+    auto first_only = service.client->Render(request);
     ASSERT_TRUE(first_only.ok());
     auto missing = client::KitFrameOf(*first_only, client::KitDepth::kSecondDepth, origin);
     ASSERT_FALSE(missing.ok());
@@ -351,16 +348,13 @@ TEST(KitFrame, SilhouetteFramePacksCornerDepthWithItsBorderAndPointsWithout) {
 // (h + 1), float32 stored depth) right before its points, and counts those bytes against its
 // response limit: a limit one byte below what it streams is refused before any work.
 TEST(KitFrame, RenderStreamsEverySilhouetteMapsCornerDepthBeforeItsPoints) {
-    auto server = testing::StartServer(testing::SmallServerOptions("kit-silhouette"));
-    ASSERT_NE(server, nullptr);
-    auto client = testing::Connect(testing::Target(*server));
-    auto uploaded = client->UploadScene(testing::SmallScene());
-    ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
+    const testing::SmallSceneServer service = testing::StartWithSmallScene("kit-silhouette");
+    ASSERT_FALSE(service.scene_id.empty());
     v1::RenderRequest request;
-    request.mutable_plan()->set_scene_id(uploaded->scene_id());
+    request.mutable_plan()->set_scene_id(service.scene_id);
     request.mutable_plan()->set_lixel_budget(128 * 128);
     request.mutable_plan()->mutable_passes()->set_silhouette_map(true);
-    auto rendered = client->Render(request);
+    auto rendered = service.client->Render(request);
     ASSERT_TRUE(rendered.ok()) << rendered.error().Message();
     const v1::RenderHeader& header = rendered->header;
     int silhouette_maps = 0;

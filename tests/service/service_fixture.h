@@ -67,6 +67,25 @@ inline v1::Scene SmallScene() {
     return message;
 }
 
+// A fresh server on loopback with SmallScene() uploaded, and a client of it. Failures are
+// reported as test failures; then `scene_id` is empty.
+struct SmallSceneServer {
+    std::unique_ptr<service::Server> server;
+    std::unique_ptr<client::Client> client;
+    std::string scene_id;
+};
+
+inline SmallSceneServer StartWithSmallScene(const std::string& instance) {
+    SmallSceneServer s;
+    s.server = StartServer(SmallServerOptions(instance));
+    if (s.server == nullptr) return s;
+    s.client = Connect(Target(*s.server));
+    auto uploaded = s.client->UploadScene(SmallScene());
+    EXPECT_TRUE(uploaded.ok()) << (uploaded.ok() ? "" : uploaded.error().Message());
+    if (uploaded.ok()) s.scene_id = uploaded->scene_id();
+    return s;
+}
+
 // A raw stub without the client's retries, to see statuses as the server sends them.
 inline std::unique_ptr<v1::Shadow::Stub> RawStub(const std::string& target) {
     return v1::Shadow::NewStub(grpc::CreateChannel(target, grpc::InsecureChannelCredentials()));

@@ -313,8 +313,8 @@ Result<bool> EngineView::EnsureTargets(const Viewport& size) {
     return true;
 }
 
-Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter filter,
-                                      const EngineShadowOptions& o) {
+Result<bool> EngineView::CheckDraw(const EngineCamera& camera, EngineFilter filter,
+                                   const EngineShadowOptions& o, Vec4& light, Vec4& eye) const {
     if (auto ok = ValidateViewer(camera.viewer, camera.viewport, "camera.viewer"); !ok) {
         return ok.error();
     }
@@ -324,10 +324,12 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
         return Error{"camera.viewport",
                      "larger than GL_MAX_TEXTURE_SIZE " + std::to_string(max_side)};
     }
-    auto light = NormalizedLight(camera.light);
-    if (!light) return light.error();
-    auto eye = EyePoint(camera.viewer);
-    if (!eye) return Error{"camera.viewer", eye.error().reason};
+    auto normalized = NormalizedLight(camera.light);
+    if (!normalized) return normalized.error();
+    light = *normalized;
+    auto eye_point = EyePoint(camera.viewer);
+    if (!eye_point) return Error{"camera.viewer", eye_point.error().reason};
+    eye = *eye_point;
     const std::pair<const char*, float> biases[] = {
         {"options.depth_bias", o.depth_bias},
         {"options.slope_bias", o.slope_bias},
@@ -358,17 +360,19 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
                      "the kit frame's origin is not the meshes': positions and maps "
                      "would be relative to different points"};
     }
-    if (auto ok = EnsureTargets(camera.viewport); !ok) return ok.error();
+    return true;
+}
 
-    const GLuint program = programs_[index];
+void EngineView::SetUniforms(GLuint program, const EngineCamera& camera, const Vec4& light,
+                             const Vec4& eye, const EngineShadowOptions& o) {
     const auto uniform = [&](const char* name) { return gl_.GetUniformLocation(program, name); };
     const Eigen::Matrix4f viewer = (camera.viewer * Translation(origin_)).cast<float>();
     gl_.ProgramUniformMatrix4fv(program, uniform("u_viewer"), 1, GL_FALSE, viewer.data());
     gl_.ProgramUniformMatrix4fv(prepass_, gl_.GetUniformLocation(prepass_, "u_viewer"), 1, GL_FALSE,
                                 viewer.data());
-    const Eigen::Vector4f light_relative = Relative(*light, origin_);
+    const Eigen::Vector4f light_relative = Relative(light, origin_);
     gl_.ProgramUniform4fv(program, uniform("u_light"), 1, light_relative.data());
-    const Eigen::Vector4f eye_relative = Relative(*eye, origin_);
+    const Eigen::Vector4f eye_relative = Relative(eye, origin_);
     gl_.ProgramUniform4fv(program, uniform("u_eye"), 1, eye_relative.data());
     gl_.ProgramUniform1f(program, uniform("u_depth_bias"), o.depth_bias);
     gl_.ProgramUniform1f(program, uniform("u_slope_bias"), o.slope_bias);
@@ -377,8 +381,10 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
     gl_.ProgramUniform1f(program, uniform("u_open_second_depth_bias"), o.open_second_depth_bias);
     gl_.ProgramUniform1i(program, uniform("u_pcf_radius"), o.pcf_radius);
     gl_.ProgramUniform1i(program, uniform("u_virtual_samples"), o.virtual_samples ? 1 : 0);
-    const GLint receiver_open = uniform("u_receiver_open");
+}
 
+void EngineView::DrawMeshes(GLuint program, const Viewport& viewport) {
+    const GLint receiver_open = gl_.GetUniformLocation(program, "u_receiver_open");
     // DESIGN §3: z/w in [0, 1], lower-left origin; pixel centres at +0.5 (GL's default). The
     // caller's clip convention is put back after the draw.
     GLint clip_origin = GL_LOWER_LEFT, clip_depth = GL_NEGATIVE_ONE_TO_ONE;
@@ -387,7 +393,7 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
     gl_.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     uploader_.Bind(kBlockBinding, kAtlasUnitA, kAtlasUnitB);
     gl_.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
-    gl_.Viewport(0, 0, camera.viewport.width, camera.viewport.height);
+    gl_.Viewport(0, 0, viewport.width, viewport.height);
     gl_.Enable(GL_DEPTH_TEST);
     gl_.DepthFunc(GL_LESS);
     gl_.DepthMask(GL_TRUE);
@@ -424,10 +430,12 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
     gl_.BindVertexArray(0);
     gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
     gl_.ClipControl(static_cast<GLenum>(clip_origin), static_cast<GLenum>(clip_depth));
+}
 
+EngineImages EngineView::ReadImages(const Viewport& viewport) {
     EngineImages images;
-    images.width = camera.viewport.width;
-    images.height = camera.viewport.height;
+    images.width = viewport.width;
+    images.height = viewport.height;
     const std::size_t pixels = static_cast<std::size_t>(images.width) * images.height;
     images.mask.resize(pixels);
     std::vector<std::uint8_t> rgba(pixels * 4);
@@ -443,6 +451,18 @@ Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter f
     for (std::size_t i = 0; i < pixels; ++i) {
         for (int c = 0; c < 3; ++c) images.rgb[3 * i + c] = rgba[4 * i + c];
     }
+    return images;
+}
+
+Result<EngineImages> EngineView::Draw(const EngineCamera& camera, EngineFilter filter,
+                                      const EngineShadowOptions& o) {
+    Vec4 light, eye;
+    if (auto ok = CheckDraw(camera, filter, o, light, eye); !ok) return ok.error();
+    if (auto ok = EnsureTargets(camera.viewport); !ok) return ok.error();
+    const GLuint program = programs_[static_cast<int>(filter)];
+    SetUniforms(program, camera, light, eye, o);
+    DrawMeshes(program, camera.viewport);
+    EngineImages images = ReadImages(camera.viewport);
     if (auto ok = gl_.Check("gl"); !ok) return Error{"gl", "draw: " + ok.error().reason};
     return images;
 }

@@ -227,9 +227,10 @@ std::string MaskGridFile(const std::string& scene, const std::string& grid) {
     return scene + "_masks_" + slug + ".png";
 }
 
-MaskFigure::MaskFigure(std::string scene, const RgbImage& truth,
-                       std::vector<std::int64_t> budgets)
-    : scene_(std::move(scene)), truth_(Shrink(truth, kMaskTileSide)), budgets_(std::move(budgets)) {}
+MaskFigure::MaskFigure(std::string scene, const RgbImage& truth, std::vector<std::int64_t> budgets)
+    : scene_(std::move(scene)),
+      truth_(Shrink(truth, kMaskTileSide)),
+      budgets_(std::move(budgets)) {}
 
 MaskGrid::Row& MaskFigure::RowOf(const std::string& method) {
     MaskGridPlace place = MaskGridPlaceOf(method);
@@ -302,7 +303,8 @@ Result<WrittenMaskGrids> WriteMaskFigure(const std::string& folder, const MaskFi
     }
     for (const MaskGrid& grid : figure.grids()) {
         const std::string file = MaskGridFile(figure.scene(), grid.name);
-        if (auto ok = WritePng((fs::path(folder) / file).string(), UnlabelledMaskGrid(figure, grid));
+        if (auto ok =
+                WritePng((fs::path(folder) / file).string(), UnlabelledMaskGrid(figure, grid));
             !ok) {
             return ok.error();
         }

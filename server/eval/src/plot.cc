@@ -51,7 +51,9 @@ struct PlotData {
     CostAxis axis = CostAxis::kMilliseconds;
     std::string data_path;
 
-    double Low(const ReportRow& r) const { return ratios ? r.cost.cost_ratio.min : CostOf(r, axis); }
+    double Low(const ReportRow& r) const {
+        return ratios ? r.cost.cost_ratio.min : CostOf(r, axis);
+    }
     double High(const ReportRow& r) const {
         return ratios ? r.cost.cost_ratio.max : CostOf(r, axis);
     }

@@ -179,7 +179,8 @@ Result<bool> WriteReportCsv(const std::string& path, const std::vector<ReportRow
             }
         }
         if (r.smooth_truth) {
-            out << "," << r.smooth_truth->pixels << "," << Number(r.smooth_truth->WrongPercent(), 6);
+            out << "," << r.smooth_truth->pixels << ","
+                << Number(r.smooth_truth->WrongPercent(), 6);
         } else {
             out << ",,";
         }

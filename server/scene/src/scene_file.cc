@@ -148,8 +148,9 @@ Result<bool> ReadCameraLine(const Line& line, SceneFileState& state) {
     if (line.keyword == "eye" || line.keyword == "target" || line.keyword == "up") {
         auto v = Vector(line);
         if (!v) return v.error();
-        (line.keyword == "eye" ? camera.eye : line.keyword == "target" ? camera.target : camera.up) =
-            *v;
+        (line.keyword == "eye"      ? camera.eye
+         : line.keyword == "target" ? camera.target
+                                    : camera.up) = *v;
         return true;
     }
     auto v = Scalar(line);

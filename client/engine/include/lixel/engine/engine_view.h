@@ -116,6 +116,15 @@ class EngineView {
     void Release() noexcept;
     void TakeHandles(EngineView& other) noexcept;
     Result<bool> EnsureTargets(const Viewport& size);
+    // Draw's steps: its arguments and state checked (the light normalised, the eye found), the
+    // filter's program set up, the meshes
+    // drawn (depth pre-pass, then the nearest surface shaded) and the targets read back.
+    Result<bool> CheckDraw(const EngineCamera& camera, EngineFilter filter,
+                           const EngineShadowOptions& o, Vec4& light, Vec4& eye) const;
+    void SetUniforms(GLuint program, const EngineCamera& camera, const Vec4& light,
+                     const Vec4& eye, const EngineShadowOptions& o);
+    void DrawMeshes(GLuint program, const Viewport& viewport);
+    EngineImages ReadImages(const Viewport& viewport);
 
     client::GlFunctions gl_;
     client::KitUploader uploader_;
