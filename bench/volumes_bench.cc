@@ -231,39 +231,90 @@ Gl* TheGl() {
 
 constexpr int kViewSize = 512;
 
-void BM_VolumeView(benchmark::State& state) {
-    Gl* g = TheGl();
-    if (g == nullptr) {
-        state.SkipWithError("no GL 4.5 context");
-        return;
-    }
-    const GridScene& s = Grid(state.range(0));
-    auto surfaces = render::UploadScene(*g->context, s.meshes);
-    auto volumes = gl::UploadVolumeScene(*g->context, s.meshes);
-    if (!surfaces || !volumes) {
-        state.SkipWithError("upload failed");
-        return;
-    }
+// A GL benchmark's grid scene uploaded (its surfaces, and its volume scene when asked for) and
+// the view of it; empty, with the benchmark skipped, where there is no GL or an upload fails.
+struct GlGrid {
+    Gl* g = nullptr;
+    const GridScene* s = nullptr;
+    std::optional<render::GpuScene> surfaces;
+    std::optional<gl::VolumeScene> volumes;
     gl::VolumeRequest request;
-    request.viewer = s.viewer;
-    request.viewport = {kViewSize, kViewSize};
-    request.light = s.light;
     render::ViewImages images;
-    gl::VolumeRenderInfo info;
+};
+
+std::unique_ptr<GlGrid> SetUpGlGrid(benchmark::State& state, bool volumes) {
+    auto grid = std::make_unique<GlGrid>();
+    grid->g = TheGl();
+    if (grid->g == nullptr) {
+        state.SkipWithError("no GL 4.5 context");
+        return nullptr;
+    }
+    grid->s = &Grid(state.range(0));
+    auto surfaces = render::UploadScene(*grid->g->context, grid->s->meshes);
+    if (!surfaces) {
+        state.SkipWithError("upload failed");
+        return nullptr;
+    }
+    grid->surfaces.emplace(std::move(surfaces).value());
+    if (volumes) {
+        auto uploaded = gl::UploadVolumeScene(*grid->g->context, grid->s->meshes);
+        if (!uploaded) {
+            state.SkipWithError("upload failed");
+            return nullptr;
+        }
+        grid->volumes.emplace(std::move(uploaded).value());
+    }
+    grid->request.viewer = grid->s->viewer;
+    grid->request.viewport = {kViewSize, kViewSize};
+    grid->request.light = grid->s->light;
+    return grid;
+}
+
+// Times `draw` once per iteration, the GPU drained after each; false (the benchmark stopped with
+// the error) at the first that fails.
+template <class Draw>
+bool TimeDraws(benchmark::State& state, const GlGrid& grid, Draw&& draw) {
     for (auto _ : state) {
-        auto r = g->pass->Render(*surfaces, *volumes, request, images);
-        g->context->gl().Finish();
+        auto r = draw();
+        grid.g->context->gl().Finish();
         if (!r) {
             state.SkipWithError(r.error().Message().c_str());
-            return;
+            return false;
         }
-        info = *r;
     }
-    request.measure_overdraw = true;
-    info = *g->pass->Render(*surfaces, *volumes, request, images);
-    state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+    return true;
+}
+
+// The volumes of every mesh, each made by `extrude(mesh index)`, in one volume mesh.
+template <class Extrude>
+VolumeMesh MergedVolumes(std::size_t meshes, Extrude&& extrude) {
+    VolumeMesh all;
+    for (std::size_t m = 0; m < meshes; ++m) {
+        const VolumeMesh v = extrude(m);
+        const auto base = static_cast<std::uint32_t>(all.vertices.size());
+        all.vertices.insert(all.vertices.end(), v.vertices.begin(), v.vertices.end());
+        for (std::uint32_t i : v.sides) all.sides.push_back(base + i);
+        for (std::uint32_t i : v.caps) all.caps.push_back(base + i);
+    }
+    return all;
+}
+
+// Overdraw O and the counting of one more view, outside the timing.
+void CountOverdraw(benchmark::State& state, const gl::VolumeRenderInfo& info) {
     state.counters["overdraw_O"] = info.overdraw;
     state.counters["zfail"] = info.mode == CountingMode::kZFail ? 1 : 0;
+}
+
+void BM_VolumeView(benchmark::State& state) {
+    const std::unique_ptr<GlGrid> grid = SetUpGlGrid(state, /*volumes=*/true);
+    if (!grid) return;
+    GlGrid& v = *grid;
+    const auto draw = [&] { return v.g->pass->Render(*v.surfaces, *v.volumes, v.request, v.images); };
+    if (!TimeDraws(state, v, draw)) return;
+    v.request.measure_overdraw = true;
+    const gl::VolumeRenderInfo info = *draw();
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(v.s->triangles));
+    CountOverdraw(state, info);
     state.counters["patches"] = static_cast<double>(info.patches);
 }
 BENCHMARK(BM_VolumeView)->Apply(Sizes);
@@ -271,118 +322,63 @@ BENCHMARK(BM_VolumeView)->Apply(Sizes);
 // The baseline of the volume views: the bare view pass (render::ViewVariant::kBare, no shadow
 // test) of the same surfaces at the same viewport.
 void BM_BareView(benchmark::State& state) {
-    Gl* g = TheGl();
-    if (g == nullptr) {
-        state.SkipWithError("no GL 4.5 context");
-        return;
-    }
-    const GridScene& s = Grid(state.range(0));
-    auto surfaces = render::UploadScene(*g->context, s.meshes);
-    if (!surfaces) {
-        state.SkipWithError("upload failed");
-        return;
-    }
+    const std::unique_ptr<GlGrid> grid = SetUpGlGrid(state, /*volumes=*/false);
+    if (!grid) return;
+    GlGrid& v = *grid;
     render::ViewRequest request;
-    request.viewer = s.viewer;
-    request.viewport = {kViewSize, kViewSize};
-    request.light = s.light;
-    render::ViewImages images;
-    for (auto _ : state) {
-        auto r = g->bare->Render(*surfaces, request, images);
-        g->context->gl().Finish();
-        if (!r) {
-            state.SkipWithError(r.error().Message().c_str());
-            return;
-        }
+    request.viewer = v.request.viewer;
+    request.viewport = v.request.viewport;
+    request.light = v.request.light;
+    if (!TimeDraws(state, v, [&] { return v.g->bare->Render(*v.surfaces, request, v.images); })) {
+        return;
     }
-    state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
+    state.SetItemsProcessed(state.iterations() * static_cast<long>(v.s->triangles));
 }
 BENCHMARK(BM_BareView)->Apply(Sizes);
 
 // Paper 001's volumes extruded on the CPU instead (ExtrudeSilhouetteVolume, uploaded per frame):
 // what the tessellation path saves or costs on this GL implementation.
 void BM_CpuExtrudedVolumeView(benchmark::State& state) {
-    Gl* g = TheGl();
-    if (g == nullptr) {
-        state.SkipWithError("no GL 4.5 context");
-        return;
-    }
-    const GridScene& s = Grid(state.range(0));
-    auto surfaces = render::UploadScene(*g->context, s.meshes);
-    auto volumes = gl::UploadVolumeScene(*g->context, s.meshes);
-    gl::VolumeRequest request;
-    request.viewer = s.viewer;
-    request.viewport = {kViewSize, kViewSize};
-    request.light = s.light;
-    render::ViewImages images;
-    for (auto _ : state) {
-        VolumeMesh all;
-        for (const EdgeAdjacency& a : s.adjacency) {
-            const VolumeMesh v = ExtrudeSilhouetteVolume(a, ComputeMultiplicities(a, s.light),
-                                                         s.light, Caps::kLightAndDark);
-            const auto base = static_cast<std::uint32_t>(all.vertices.size());
-            all.vertices.insert(all.vertices.end(), v.vertices.begin(), v.vertices.end());
-            for (std::uint32_t i : v.sides) all.sides.push_back(base + i);
-            for (std::uint32_t i : v.caps) all.caps.push_back(base + i);
-        }
-        auto mesh = gl::UploadVolumeMesh(*g->context, all);
-        auto r = g->pass->Render(*surfaces, *volumes, *mesh, request, images);
-        g->context->gl().Finish();
-        if (!r) {
-            state.SkipWithError(r.error().Message().c_str());
-            return;
-        }
-    }
+    const std::unique_ptr<GlGrid> grid = SetUpGlGrid(state, /*volumes=*/true);
+    if (!grid) return;
+    GlGrid& v = *grid;
+    const GridScene& s = *v.s;
+    const auto draw = [&] {
+        const VolumeMesh all = MergedVolumes(s.adjacency.size(), [&](std::size_t m) {
+            const EdgeAdjacency& a = s.adjacency[m];
+            return ExtrudeSilhouetteVolume(a, ComputeMultiplicities(a, s.light), s.light,
+                                           Caps::kLightAndDark);
+        });
+        auto mesh = gl::UploadVolumeMesh(*v.g->context, all);
+        return v.g->pass->Render(*v.surfaces, *v.volumes, *mesh, v.request, v.images);
+    };
+    if (!TimeDraws(state, v, draw)) return;
     state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
 }
 BENCHMARK(BM_CpuExtrudedVolumeView)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 
 // Smooth silhouettes per frame: loops on the CPU, volume upload, the same view.
 void BM_SmoothVolumeView(benchmark::State& state) {
-    Gl* g = TheGl();
-    if (g == nullptr) {
-        state.SkipWithError("no GL 4.5 context");
-        return;
-    }
-    const GridScene& s = Grid(state.range(0));
-    auto surfaces = render::UploadScene(*g->context, s.meshes);
-    auto volumes = gl::UploadVolumeScene(*g->context, s.meshes);
+    const std::unique_ptr<GlGrid> grid = SetUpGlGrid(state, /*volumes=*/true);
+    if (!grid) return;
+    GlGrid& v = *grid;
+    const GridScene& s = *v.s;
     SmoothOptions options;
     options.epsilon = 0.01 * s.radius;
-    gl::VolumeRequest request;
-    request.viewer = s.viewer;
-    request.viewport = {kViewSize, kViewSize};
-    request.light = s.light;
-    render::ViewImages images;
-    auto build = [&]() {
-        VolumeMesh all;
-        for (std::size_t m = 0; m < s.meshes.size(); ++m) {
+    const auto draw = [&] {
+        const VolumeMesh all = MergedVolumes(s.meshes.size(), [&](std::size_t m) {
             auto smooth = ComputeSmoothSilhouette(s.meshes[m], s.adjacency[m], s.light, options);
-            const VolumeMesh v = ExtrudeSmoothVolume(s.meshes[m], s.adjacency[m], *smooth, s.light,
-                                                     Caps::kLightAndDark);
-            const auto base = static_cast<std::uint32_t>(all.vertices.size());
-            all.vertices.insert(all.vertices.end(), v.vertices.begin(), v.vertices.end());
-            for (std::uint32_t i : v.sides) all.sides.push_back(base + i);
-            for (std::uint32_t i : v.caps) all.caps.push_back(base + i);
-        }
-        return gl::UploadVolumeMesh(*g->context, all);
+            return ExtrudeSmoothVolume(s.meshes[m], s.adjacency[m], *smooth, s.light,
+                                       Caps::kLightAndDark);
+        });
+        auto mesh = gl::UploadVolumeMesh(*v.g->context, all);
+        return v.g->pass->Render(*v.surfaces, *v.volumes, *mesh, v.request, v.images);
     };
-    gl::VolumeRenderInfo info;
-    for (auto _ : state) {
-        auto mesh = build();
-        auto r = g->pass->Render(*surfaces, *volumes, *mesh, request, images);
-        g->context->gl().Finish();
-        if (!r) {
-            state.SkipWithError(r.error().Message().c_str());
-            return;
-        }
-    }
-    request.measure_overdraw = true;
-    auto mesh = build();
-    info = *g->pass->Render(*surfaces, *volumes, *mesh, request, images);
+    if (!TimeDraws(state, v, draw)) return;
+    v.request.measure_overdraw = true;
+    const gl::VolumeRenderInfo info = *draw();
     state.SetItemsProcessed(state.iterations() * static_cast<long>(s.triangles));
-    state.counters["overdraw_O"] = info.overdraw;
-    state.counters["zfail"] = info.mode == CountingMode::kZFail ? 1 : 0;
+    CountOverdraw(state, info);
 }
 BENCHMARK(BM_SmoothVolumeView)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 

@@ -14,6 +14,8 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -154,13 +156,29 @@ client::KitFrame SyntheticFrame(int w, int h) {
     return frame;
 }
 
-TEST(KitUploader, KeepsItsObjectsAndReallocatesOnlyWhenTheAtlasSizeChanges) {
-    auto context = EglContext::Create();
-    ASSERT_TRUE(context.ok()) << context.error().Message();
-    auto gl = client::GlFunctions::Load(&EglContext::Loader);
-    ASSERT_TRUE(gl.ok()) << gl.error().Message();
-    auto uploader = client::KitUploader::Create(&EglContext::Loader);
-    ASSERT_TRUE(uploader.ok()) << uploader.error().Message();
+// An EGL context current on this thread, its GL entry points and a kit uploader on it.
+class KitUploader : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        auto context = EglContext::Create();
+        ASSERT_TRUE(context.ok()) << context.error().Message();
+        context_ = std::move(context).value();
+        auto gl = client::GlFunctions::Load(&EglContext::Loader);
+        ASSERT_TRUE(gl.ok()) << gl.error().Message();
+        gl_.emplace(std::move(gl).value());
+        auto uploader = client::KitUploader::Create(&EglContext::Loader);
+        ASSERT_TRUE(uploader.ok()) << uploader.error().Message();
+        uploader_.emplace(std::move(uploader).value());
+    }
+
+    std::unique_ptr<EglContext> context_;
+    std::optional<client::GlFunctions> gl_;
+    std::optional<client::KitUploader> uploader_;
+};
+
+TEST_F(KitUploader, KeepsItsObjectsAndReallocatesOnlyWhenTheAtlasSizeChanges) {
+    auto& gl = gl_;
+    auto& uploader = uploader_;
     // A caller's unpack state that would scramble a tightly packed upload: restored afterwards.
     gl->PixelStorei(GL_UNPACK_ALIGNMENT, 8);
     gl->PixelStorei(GL_UNPACK_ROW_LENGTH, 50);
@@ -203,13 +221,9 @@ TEST(KitUploader, KeepsItsObjectsAndReallocatesOnlyWhenTheAtlasSizeChanges) {
     EXPECT_EQ(uploader->uploads(), 4);
 }
 
-TEST(KitUploader, UploadsTheSilhouettePointsAsAnRgAtlas) {
-    auto context = EglContext::Create();
-    ASSERT_TRUE(context.ok()) << context.error().Message();
-    auto gl = client::GlFunctions::Load(&EglContext::Loader);
-    ASSERT_TRUE(gl.ok()) << gl.error().Message();
-    auto uploader = client::KitUploader::Create(&EglContext::Loader);
-    ASSERT_TRUE(uploader.ok()) << uploader.error().Message();
+TEST_F(KitUploader, UploadsTheSilhouettePointsAsAnRgAtlas) {
+    auto& gl = gl_;
+    auto& uploader = uploader_;
     client::KitFrame frame = SyntheticFrame(9, 5);
     frame.atlas_b.width = 7;
     frame.atlas_b.height = 3;
@@ -231,11 +245,8 @@ TEST(KitUploader, UploadsTheSilhouettePointsAsAnRgAtlas) {
     EXPECT_FALSE(uploader->has_atlas_b());  // a depth frame: "b" is not bound
 }
 
-TEST(KitUploader, RefusesFramesItCannotUploadByName) {
-    auto context = EglContext::Create();
-    ASSERT_TRUE(context.ok()) << context.error().Message();
-    auto uploader = client::KitUploader::Create(&EglContext::Loader);
-    ASSERT_TRUE(uploader.ok()) << uploader.error().Message();
+TEST_F(KitUploader, RefusesFramesItCannotUploadByName) {
+    auto& uploader = uploader_;
     client::KitFrame short_block = SyntheticFrame(8, 8);
     short_block.block.resize(16);
     EXPECT_EQ(uploader->Upload(short_block).error().field, "block");
@@ -243,8 +254,7 @@ TEST(KitUploader, RefusesFramesItCannotUploadByName) {
     torn.atlas.texels.pop_back();
     EXPECT_EQ(uploader->Upload(torn).error().field, "atlas.texels");
     GLint max_side = 0;
-    auto gl = client::GlFunctions::Load(&EglContext::Loader);
-    ASSERT_TRUE(gl.ok());
+    auto& gl = gl_;
     gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_side);
     client::KitFrame wide = SyntheticFrame(1, 1);
     wide.atlas.width = max_side + 1;  // refused before any texel is read

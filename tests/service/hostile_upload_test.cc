@@ -16,12 +16,7 @@
 namespace lixel {
 namespace {
 
-using testing::Connect;
-using testing::RawStub;
-using testing::SmallServerOptions;
-using testing::StartServer;
-using testing::Target;
-using testing::WithDeadline;
+using namespace testing;  // service_fixture.h: servers, clients and stubs on loopback
 
 // Resident memory of this process (the server runs in it), from /proc/self/statm.
 double ResidentMiB() {

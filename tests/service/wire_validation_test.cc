@@ -11,12 +11,7 @@
 namespace lixel {
 namespace {
 
-using testing::Connect;
-using testing::RawStub;
-using testing::SmallServerOptions;
-using testing::StartServer;
-using testing::Target;
-using testing::WithDeadline;
+using namespace testing;  // service_fixture.h: servers, clients and stubs on loopback
 
 class WireValidation : public ::testing::Test {
 protected:
@@ -91,35 +86,34 @@ TEST_F(WireValidation, UnknownEnumValuesAreRefused) {
     solve.set_twist(static_cast<v1::Twist>(7));
     ExpectRefused(Solve(solve), "twist");
 
+    // Each undefined method and filter value on `view`, sent alone, its status to `check`.
+    const auto each_undefined_enum = [&](v1::ViewRequest view, const auto& check) {
+        for (const auto& [method, filter, field] :
+             {std::tuple{9, 0, "method"}, std::tuple{0, 42, "filter"}}) {
+            view.set_method(static_cast<v1::Method>(method));
+            view.set_filter(static_cast<v1::Filter>(filter));
+            grpc::ClientContext context;
+            WithDeadline(context, 30.0);
+            v1::ViewResponse response;
+            check(stub_->View(&context, view, &response), field);
+        }
+    };
     v1::ViewRequest view;
     view.mutable_plan()->set_scene_id("sha256:00");
-    for (const auto& [method, filter, field] :
-         {std::tuple{9, 0, "method"}, std::tuple{0, 42, "filter"}}) {
-        view.set_method(static_cast<v1::Method>(method));
-        view.set_filter(static_cast<v1::Filter>(filter));
-        grpc::ClientContext context;
-        WithDeadline(context, 30.0);
-        v1::ViewResponse response;
-        // The scene is unknown too: an enum is refused before the scene is looked up, or the
-        // answer is NOT_FOUND; never a default method silently chosen.
-        const grpc::Status s = stub_->View(&context, view, &response);
+    // The scene is unknown too: an enum is refused before the scene is looked up, or the answer
+    // is NOT_FOUND; never a default method silently chosen.
+    each_undefined_enum(view, [](const grpc::Status& s, const char*) {
         EXPECT_NE(s.error_code(), grpc::StatusCode::OK);
-    }
+    });
 
     auto client = Connect(Target(*server_));
     v1::Scene scene = testing::SmallScene();
     auto uploaded = client->UploadScene(scene);
     ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
     view.mutable_plan()->set_scene_id(uploaded->scene_id());
-    for (const auto& [method, filter, field] :
-         {std::tuple{9, 0, "method"}, std::tuple{0, 42, "filter"}}) {
-        view.set_method(static_cast<v1::Method>(method));
-        view.set_filter(static_cast<v1::Filter>(filter));
-        grpc::ClientContext context;
-        WithDeadline(context, 30.0);
-        v1::ViewResponse response;
-        ExpectRefused(stub_->View(&context, view, &response), field);
-    }
+    each_undefined_enum(view, [](const grpc::Status& s, const char* field) {
+        ExpectRefused(s, field);
+    });
 
     view.set_method(v1::Method{});
     view.set_filter(v1::Filter{});
