@@ -16,6 +16,7 @@
 
 #include <Eigen/LU>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "ratio_reporter.h"
@@ -245,6 +246,35 @@ void BM_PlanWholePlaneMaps(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanWholePlaneMaps)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMicrosecond);
 
+// The floor/wall room (RoomWithPlanes(2): floor and back wall) with `count` objects: its floor,
+// cube and ball, then seeded boxes 5 cm to 1 m across standing on the floor over the whole room,
+// most of them out of view or behind others, as an engine's scene is. The first boxes are the
+// same for every count, so the counts differ only in what is added.
+PlanRequest RoomWithObjects(int count) {
+    PlanRequest r = RoomWithPlanes(2);
+    std::mt19937_64 rng(29);
+    std::uniform_real_distribution<double> x(-9.5, 9.5), z(-4.5, 9.5), side(0.05, 1.0);
+    while (static_cast<int>(r.objects.size()) < count) {
+        const double cx = x(rng), cz = z(rng), w = side(rng), h = side(rng), d = side(rng);
+        r.objects.push_back({"box" + std::to_string(r.objects.size()),
+                             Aabb{Vec3(cx - w / 2, 0, cz - d / 2), Vec3(cx + w / 2, h, cz + d / 2)}});
+    }
+    return r;
+}
+
+// Planning cost against the number of objects, each count against the 10-object plan of the
+// same view in the same run (issue 29: at 10 k objects at most 20 times).
+void BM_PlanObjects(benchmark::State& state) {
+    RunPlans(state, RoomWithObjects(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_PlanObjects)
+    ->Arg(10)
+    ->Arg(100)
+    ->Arg(1'000)
+    ->Arg(10'000)
+    ->Arg(100'000)
+    ->Unit(benchmark::kMillisecond);
+
 // What any planner of the same room does at least: one extent hull, and for every plane in view
 // and lit, one plane-optimal solve and a crop to its visible part. No coverage tests between
 // planes, no fallback, no depth refit, no pass or pixel statistics: BM_Plan's baseline.
@@ -299,5 +329,6 @@ int main(int argc, char** argv) {
                                            {"BM_SolvePlaneMapWithDiagnostics", "BM_DenseSolve11x11"},
                                            {"BM_Baseline", "BM_BaselineHull"},
                                            {"BM_Plan", "BM_PlanSolvesOnly"},
-                                           {"BM_PlanWholePlaneMaps", "BM_PlanSolvesOnly"}});
+                                           {"BM_PlanWholePlaneMaps", "BM_PlanSolvesOnly"},
+                                           {"BM_PlanObjects", "BM_PlanObjects/10"}});
 }

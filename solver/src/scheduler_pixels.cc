@@ -3,8 +3,10 @@
 #include "scheduler_context.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 
 namespace lixel::scheduling {
 
@@ -68,6 +70,7 @@ bool SegmentMisses(const RaySegment& s, const Aabb& box, double box_magnitude) {
 struct RaySample {
     Vec3 origin = Vec3::Zero();
     Vec3 hit = Vec3::Zero();
+    int sx = 0, sy = 0;  // its sample of the grid
     double ndc_x = 0.0, ndc_y = 0.0;
     double near_w = 0.0, far_w = 0.0;  // w of the ray's points on the near and far planes
     int surface = -1;  // candidate whose plane the ray ends on (not a box), else -1
@@ -121,10 +124,83 @@ bool Disjoint(const ScreenRect& rect, double x0, double y0, double x1, double y1
                           y1 < rect.y0 - kScreenMargin || y0 > rect.y1 + kScreenMargin);
 }
 
+// The NDC of sample k of the estimate's grid along either axis, as TraceSample computes it.
+double SampleNdc(int k) { return 2.0 * (k + 0.5) / kPixelSamplesPerSide - 1.0; }
+
+// The boxes by screen cell (issue 29): cell (cx, cy) is the closed NDC square between samples
+// cx, cx + 1 and cy, cy + 1, and holds every box whose screen rectangle Disjoint does not keep
+// off it. A sample is a corner of its cell, and a tile the union of its cells, so the boxes of
+// the cells a sample or a tile touches are a superset of those Disjoint keeps for it: a ray or a
+// tile visits only them, with the same tests, and finds what the scan of every box finds (a
+// ray's nearest box does not depend on the order boxes are tried; a tile's proof is a
+// conjunction). Boxes without a rectangle are never culled and are in `everywhere`.
+class ScreenCells {
+  public:
+    static constexpr int kCells = kPixelSamplesPerSide - 1;
+
+    ScreenCells() = default;
+    explicit ScreenCells(const std::vector<ScreenRect>& boxes) {
+        std::vector<std::array<int, 4>> spans(boxes.size(), {0, -1, 0, -1});
+        std::vector<std::uint32_t> count(kCells * kCells + 1, 0);
+        for (std::size_t b = 0; b < boxes.size(); ++b) {
+            if (!boxes[b].valid) {
+                everywhere_.push_back(static_cast<std::uint32_t>(b));
+                continue;
+            }
+            spans[b] = SpanOf(boxes[b]);
+            for (int cy = spans[b][2]; cy <= spans[b][3]; ++cy) {
+                for (int cx = spans[b][0]; cx <= spans[b][1]; ++cx) ++count[cy * kCells + cx + 1];
+            }
+        }
+        for (int k = 0; k < kCells * kCells; ++k) count[k + 1] += count[k];
+        offsets_ = count;
+        boxes_.resize(offsets_.back());
+        for (std::size_t b = 0; b < boxes.size(); ++b) {
+            for (int cy = spans[b][2]; cy <= spans[b][3]; ++cy) {
+                for (int cx = spans[b][0]; cx <= spans[b][1]; ++cx) {
+                    boxes_[count[cy * kCells + cx]++] = static_cast<std::uint32_t>(b);
+                }
+            }
+        }
+    }
+
+    // The boxes of cell (cx, cy), in index order; the cell of sample (sx, sy) is
+    // (min(sx, kCells - 1), min(sy, kCells - 1)).
+    std::span<const std::uint32_t> Cell(int cx, int cy) const {
+        const int k = cy * kCells + cx;
+        return {boxes_.data() + offsets_[k], boxes_.data() + offsets_[k + 1]};
+    }
+    const std::vector<std::uint32_t>& everywhere() const { return everywhere_; }
+
+  private:
+    // The cells whose closed squares the rectangle, widened by kScreenMargin, meets: the same
+    // comparisons Disjoint makes, at the cells' edges. {cx0, cx1, cy0, cy1}, empty when cx1 < cx0.
+    static std::array<int, 4> SpanOf(const ScreenRect& r) {
+        const auto range = [](double lo, double hi) {
+            // The first cell whose right edge is not left of lo, the last whose left edge is not
+            // right of hi, both as Disjoint would compare them.
+            int first = 0;
+            while (first < kCells && SampleNdc(first + 1) < lo - kScreenMargin) ++first;
+            int last = kCells - 1;
+            while (last >= 0 && SampleNdc(last) > hi + kScreenMargin) --last;
+            return std::pair{first, last};
+        };
+        const auto [x0, x1] = range(r.x0, r.x1);
+        const auto [y0, y1] = range(r.y0, r.y1);
+        if (x1 < x0 || y1 < y0) return {0, -1, 0, -1};
+        return {x0, x1, y0, y1};
+    }
+
+    std::vector<std::uint32_t> offsets_;
+    std::vector<std::uint32_t> boxes_;
+    std::vector<std::uint32_t> everywhere_;
+};
+
 // The tile proofs' per-estimate data: screen rectangles of every box and bounded polygon.
 struct TileProofs {
     bool enabled = false;
     std::vector<ScreenRect> boxes;
+    ScreenCells cells;  // the boxes by screen cell
     std::vector<ScreenRect> polygons;  // per candidate; invalid for an infinite plane
     std::vector<Eigen::Matrix<double, 8, 3>> box_corners;
     std::vector<Vec4> map_sizes;  // per map, |row 0| + |row 1| + |row 3| of its matrix
@@ -139,15 +215,20 @@ struct PixelEstimate {
     std::vector<std::vector<Vec3>> edges;  // each bounded candidate's polygon edges
     std::vector<double> box_magnitudes;
     TileProofs proofs;
+    // Per box, the last tile that visited it (TileSeesNothingNearer visits a box once per tile
+    // however many of the tile's cells hold it).
+    mutable std::vector<std::uint32_t> visited;
+    mutable std::uint32_t tile = 0;
 };
 
 RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
     const Context& c = e.c;
     const PlanRequest& r = c.request;
-    const int n = kPixelSamplesPerSide;
     RaySample s;
-    s.ndc_x = 2.0 * (sx + 0.5) / n - 1.0;
-    s.ndc_y = 2.0 * (sy + 0.5) / n - 1.0;
+    s.sx = sx;
+    s.sy = sy;
+    s.ndc_x = SampleNdc(sx);
+    s.ndc_y = SampleNdc(sy);
     const Vec4 near = e.inverse * Vec4(s.ndc_x, s.ndc_y, 0.0, 1.0);
     const Vec4 far = e.inverse * Vec4(s.ndc_x, s.ndc_y, 1.0, 1.0);
     s.near_w = near.w();
@@ -196,10 +277,10 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
     // Boxes the ray cannot enter before `best` (the nearest plane hit, or infinity): a later,
     // nearer box hit only shortens the segment, so the cull stays safe.
     const RaySegment segment = SegmentOf(origin, direction, best);
-    for (size_t i = 0; i < r.objects.size(); ++i) {
+    const auto try_box = [&](std::size_t i) {
         const SceneObject& o = r.objects[i];
-        if (off_screen(e.proofs.boxes, i)) continue;
-        if (SegmentMisses(segment, o.bounds, e.box_magnitudes[i])) continue;
+        if (off_screen(e.proofs.boxes, i)) return;
+        if (SegmentMisses(segment, o.bounds, e.box_magnitudes[i])) return;
         double t0 = 0.0, t1 = best;
         for (int a = 0; a < 3 && t0 <= t1; ++a) {
             if (direction(a) == 0.0) {
@@ -216,6 +297,16 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
             best = t0;
             surface = -1;
         }
+    };
+    if (screen_culls) {
+        // Only the boxes whose screen rectangles can hold this ray (ScreenCells).
+        for (const std::uint32_t i : e.proofs.cells.everywhere()) try_box(i);
+        const int last = ScreenCells::kCells - 1;
+        for (const std::uint32_t i : e.proofs.cells.Cell(std::min(sx, last), std::min(sy, last))) {
+            try_box(i);
+        }
+    } else {
+        for (size_t i = 0; i < r.objects.size(); ++i) try_box(i);
     }
     if (!std::isfinite(best)) return s;
     const Vec3 hit = origin + best * direction;
@@ -254,6 +345,7 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
         // A flat or emptied box keeps no rectangle: it is then tested as a whole below.
         t.boxes.push_back(part.empty() ? ScreenRect{} : ScreenRectOf(r.viewer, part.vertices()));
     }
+    t.cells = ScreenCells(t.boxes);
     for (const Candidate& cand : e.c.candidates) {
         const auto& poly = r.planes[cand.index].polygon;
         const std::vector<Vec3> part = poly.empty() ? poly : ClipPolygon(poly, beyond_near);
@@ -313,11 +405,16 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
     const Candidate& cand = c.candidates[i];
     const Vec3 normal = cand.plane.head<3>();
     double x0 = corner[0]->ndc_x, x1 = x0, y0 = corner[0]->ndc_y, y1 = y0;
+    int first_x = corner[0]->sx, last_x = first_x, first_y = corner[0]->sy, last_y = first_y;
     for (int k = 1; k < 4; ++k) {
         x0 = std::min(x0, corner[k]->ndc_x);
         x1 = std::max(x1, corner[k]->ndc_x);
         y0 = std::min(y0, corner[k]->ndc_y);
         y1 = std::max(y1, corner[k]->ndc_y);
+        first_x = std::min(first_x, corner[k]->sx);
+        last_x = std::max(last_x, corner[k]->sx);
+        first_y = std::min(first_y, corner[k]->sy);
+        last_y = std::max(last_y, corner[k]->sy);
     }
     // The eight points whose hull holds every segment from a ray's origin to its end point.
     Vec3 points[8];
@@ -353,8 +450,9 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
             if (normal((a + 1) % 3) == 0.0 && normal((a + 2) % 3) == 0.0) axis = a;
         }
     }
-    for (size_t b = 0; b < r.objects.size(); ++b) {
-        if (Disjoint(proofs.boxes[b], x0, y0, x1, y1)) continue;
+    // The boxes of the tile's screen cells (ScreenCells), each once.
+    const auto not_nearer = [&](std::size_t b) {
+        if (Disjoint(proofs.boxes[b], x0, y0, x1, y1)) return true;
         const Aabb& box = r.objects[b].bounds;
         if (axis >= 0) {
             // The plane is sigma x_a + w = 0 and a ray's parameter on it is computed as
@@ -364,7 +462,7 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
             const double sigma = normal(axis);
             const double level = -sigma * cand.plane.w();  // x_a on the plane
             const bool toward_lower = side * sigma > 0.0;  // rays run toward smaller x_a
-            if (toward_lower ? box.max(axis) <= level : box.min(axis) >= level) continue;
+            if (toward_lower ? box.max(axis) <= level : box.min(axis) >= level) return true;
         }
         bool behind = true;
         for (int k = 0; k < 8 && behind; ++k) {
@@ -372,7 +470,20 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
             const double v = normal.dot(x) + cand.plane.w();
             behind = -side * v > Slack(normal, cand.plane.w(), x);
         }
-        if (!behind) return false;
+        return behind;
+    };
+    for (const std::uint32_t b : proofs.cells.everywhere()) {
+        if (!not_nearer(b)) return false;
+    }
+    const std::uint32_t tile = ++e.tile;
+    for (int cy = first_y; cy < last_y; ++cy) {
+        for (int cx = first_x; cx < last_x; ++cx) {
+            for (const std::uint32_t b : proofs.cells.Cell(cx, cy)) {
+                if (e.visited[b] == tile) continue;
+                e.visited[b] = tile;
+                if (!not_nearer(b)) return false;
+            }
+        }
     }
     return true;
 }
@@ -464,7 +575,7 @@ bool TileUniform(const PixelEstimate& e, const TileProofs& proofs, const RaySamp
 // tracing its other samples, which gives the same counts as tracing every one.
 void EstimatePixels(const Context& c, Plan& plan) {
     const PlanRequest& r = c.request;
-    PixelEstimate e{c, plan, r.viewer.inverse(), PixelMatrix(r.viewer, r.viewport), {}, {}, {}};
+    PixelEstimate e{c, plan, r.viewer.inverse(), PixelMatrix(r.viewer, r.viewport), {}, {}, {}, {}, 0};
     e.edges.resize(c.candidates.size());
     for (size_t i = 0; i < c.candidates.size(); ++i) {
         const auto& poly = r.planes[c.candidates[i].index].polygon;
@@ -478,6 +589,7 @@ void EstimatePixels(const Context& c, Plan& plan) {
             std::max(o.bounds.min.cwiseAbs().maxCoeff(), o.bounds.max.cwiseAbs().maxCoeff()));
     }
     e.proofs = PrepareTileProofs(e);
+    e.visited.assign(r.objects.size(), 0);
     const TileProofs& proofs = e.proofs;
     const int n = kPixelSamplesPerSide;
     constexpr int kTile = kPixelTileSamples;

@@ -165,10 +165,9 @@ void DumpBaselines(const PlanRequest& r, const std::string& name, int& count) {
     }
 }
 
-// floor_wall with `boxes` seeded boxes on its floor as the objects (the scheduler's visibility,
-// cone and plane tests over many objects).
-PlanRequest BoxField(int round, int boxes, Random& rng) {
-    scene::Scene s = Perturbed("floor_wall", round, rng);
+// floor_wall (`s`, which the request's objects point into) with `boxes` seeded boxes on its
+// floor as the objects (the scheduler's visibility, cone and plane tests over many objects).
+PlanRequest BoxField(const scene::Scene& s, int boxes, Random& rng) {
     PlanRequest r = s.MakePlanRequest(std::int64_t(512) * 512);
     const Aabb room = r.scene_bounds;
     for (int i = 0; i < boxes; ++i) {
@@ -198,8 +197,9 @@ int Run(int rounds, bool plans, bool baselines, bool fields) {
             if (baselines) DumpBaselines(r, name, count);
         }
         if (fields) {
+            const scene::Scene floor_wall = Perturbed("floor_wall", round, rng);
             const int boxes = static_cast<int>(Uniform(rng, 0, 400));
-            PlanRequest r = BoxField(round, boxes, rng);
+            PlanRequest r = BoxField(floor_wall, boxes, rng);
             Vary(r, round);
             DumpFrames(r, round, "boxes " + std::to_string(boxes), rng, count);
         }
