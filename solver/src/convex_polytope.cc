@@ -129,6 +129,44 @@ ConvexPolytope ConvexPolytope::Clipped(const Vec4& plane) const {
     return out;
 }
 
+PolytopeBounds ConvexPolytope::Bounds() const {
+    PolytopeBounds b;
+    if (empty()) return b;
+    const Extent& e = extent();
+    b.lo = e.lo;
+    b.hi = e.hi;
+    b.magnitude = e.magnitude;
+    b.size = e.size;
+    return b;
+}
+
+void PolytopeBounds::Merge(const PolytopeBounds& other) {
+    if (other.empty()) return;
+    lo = lo.cwiseMin(other.lo);
+    hi = hi.cwiseMax(other.hi);
+    magnitude = std::max(magnitude, other.magnitude);
+    // Each component of hi - lo is at least the other's, so the rounded norm is too: the group's
+    // tolerance bounds each member's from above.
+    size = (hi - lo).norm();
+}
+
+bool PolytopeBounds::KeepsNothingOf(const Vec4& plane) const {
+    if (empty()) return true;
+    if (!plane.allFinite()) return true;  // Effect: kKeepsNothing for every polytope
+    const double n_length = plane.head<3>().norm();
+    if (!(n_length > 1e-12 * plane.norm())) return !(plane.w() >= 0.0);
+    // Effect's fast test, term by term: over bounds that hold a polytope's, `highest`, the
+    // slack and the tolerance each come out at least the polytope's own (rounding is monotone).
+    const Vec4 p = plane / n_length;
+    const Vec3 n = p.head<3>();
+    double highest = p.w();
+    for (int a = 0; a < 3; ++a) highest += n(a) * (n(a) > 0.0 ? hi(a) : lo(a));
+    const double slack = 16.0 * std::numeric_limits<double>::epsilon() *
+                         (n.cwiseAbs().sum() * magnitude + std::abs(p.w()));
+    const double tol = kRelativeTolerance * size + kMagnitudeUlps * magnitude;
+    return highest + 8.0 * slack < -tol;
+}
+
 ClipEffect ConvexPolytope::Effect(const Vec4& plane) const {
     if (empty() || !plane.allFinite()) return ClipEffect::kKeepsNothing;
     const double n_length = plane.head<3>().norm();

@@ -15,6 +15,8 @@
 #include <lixel/solver/ray_cone.h>
 #include <lixel/solver/scheduler.h>
 
+#include "object_tree.h"
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -56,6 +58,7 @@ struct Context {
     // Every object's box, thickened (request order), and its part inside the extent hull (the
     // hull itself when there are no objects): the same for every map and every budget attempt.
     std::vector<ConvexPolytope> object_boxes;
+    ObjectTree object_tree;  // over object_boxes
     std::vector<ConvexPolytope> held_regions;
     std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i].vertices()
     std::vector<ViewRegion> view_regions;          // visible part of every object

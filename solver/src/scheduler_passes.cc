@@ -13,7 +13,11 @@ namespace {
 std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m) {
     std::vector<const SceneObject*> casters;
     const RayCone cone = AcceptedCone(m.map, m.lookup.half_planes);
+    // Only the objects the cone may keep some of (ObjectTree), in index order.
+    thread_local std::vector<char> maybe_in_cone;
+    c.object_tree.MarkPossible(cone.planes, maybe_in_cone);
     for (size_t i = 0; i < c.request.objects.size(); ++i) {
+        if (!maybe_in_cone[i]) continue;
         const SceneObject& o = c.request.objects[i];
         const Aabb box = Thickened(o.bounds, c.thickness);
         if (m.role == MapRole::kPlane) {

@@ -244,14 +244,17 @@ void FindViewRegions(Context& c) {
         c.view_regions.push_back(
             {ClippedByAll(ConvexPolytope::FromBox(c.bounds), c.frustum), -1, -1});
     }
+    // The objects some hull face or view plane provably leaves nothing of (ObjectTree) get the
+    // empty part the clips would give them, without the clips.
+    std::vector<Vec4> inside_hull;
+    for (const PolytopeFace& f : c.hull.hull.faces()) inside_hull.push_back(-f.outward_plane);
+    std::vector<char> maybe_held, maybe_seen;
+    c.object_tree.MarkPossible(inside_hull, maybe_held);
+    c.object_tree.MarkPossible(c.frustum, maybe_seen);
     for (size_t i = 0; i < c.object_boxes.size(); ++i) {
         const ConvexPolytope& box = c.object_boxes[i];
-        ConvexPolytope held = box;
-        for (const PolytopeFace& f : c.hull.hull.faces()) {
-            if (held.empty()) break;
-            held.Clip(-f.outward_plane);
-        }
-        c.held_regions.push_back(std::move(held));
+        c.held_regions.push_back(maybe_held[i] ? ClippedByAll(box, inside_hull) : ConvexPolytope());
+        if (!maybe_seen[i]) continue;
         ViewRegion v{ClippedByAll(box, c.frustum), static_cast<int>(i), -1};
         if (v.region.empty()) continue;
         // A slab standing for the plane itself (a floor mesh at y = 0): its box, unthickened,
@@ -283,11 +286,12 @@ void FindViewRegions(Context& c) {
 
 Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& hull) {
     Context c{r, bounds, hull, hull.light, FrustumPlanes(r.viewer),
-              1e-6 * bounds.Diagonal(), {}, {}, {}, {}, {}, {}};
+              1e-6 * bounds.Diagonal(), {}, {}, {}, {}, {}, {}, {}};
     FindCandidates(c);
     for (const SceneObject& o : r.objects) {
         c.object_boxes.push_back(ConvexPolytope::FromBox(Thickened(o.bounds, c.thickness)));
     }
+    c.object_tree = ObjectTree(c.object_boxes);
     FindViewRegions(c);
     return c;
 }

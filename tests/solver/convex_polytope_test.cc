@@ -233,5 +233,75 @@ TEST(ConvexPolytope, ClipByAPlaneAtInfinityOrNotFiniteKeepsAllOrNothing) {
     EXPECT_TRUE(outside.faces().empty());
 }
 
+// PolytopeBounds::KeepsNothingOf (the object tree's group test, issue 29) never rejects a
+// polytope some clip keeps part of: over seeded groups of boxes at scales from 1e-3 to 1e5 and
+// seeded planes, whenever the group's bounds keep nothing of a plane, each member keeps nothing
+// of it, as it is and after up to eight earlier seeded clips. And the test is not vacuous: it
+// rejects groups.
+TEST(PolytopeBounds, AGroupRejectedForAPlaneHasNoMemberAnyClipLeavesPartOf) {
+    std::mt19937_64 rng(2929);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0), positive(0.05, 1.0);
+    int rejected = 0, members_checked = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const double scale = std::pow(10.0, -3.0 + 8.0 * (trial % 9) / 8.0);
+        const Vec3 centre = scale * Vec3(unit(rng), unit(rng), unit(rng)) * 4.0;
+        std::vector<ConvexPolytope> boxes;
+        PolytopeBounds group;
+        for (int k = 0; k < 1 + trial % 6; ++k) {
+            const Vec3 c = centre + scale * Vec3(unit(rng), unit(rng), unit(rng));
+            const Vec3 half = scale * Vec3(positive(rng), positive(rng), positive(rng)) * 0.5;
+            boxes.push_back(ConvexPolytope::FromBox(Aabb{c - half, c + half}));
+            group.Merge(boxes.back().Bounds());
+        }
+        for (int q = 0; q < 20; ++q) {
+            const Vec3 n = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+            // Planes near the group, so that some reject it by little.
+            const double w = -n.dot(centre) + scale * 6.0 * unit(rng);
+            const Vec4 plane(n.x(), n.y(), n.z(), w);
+            if (!group.KeepsNothingOf(plane)) continue;
+            ++rejected;
+            for (const ConvexPolytope& box : boxes) {
+                EXPECT_TRUE(box.Bounds().KeepsNothingOf(plane));
+                EXPECT_EQ(box.Effect(plane), ClipEffect::kKeepsNothing);
+                ConvexPolytope part = box;
+                for (int cut = 0; cut < 8 && !part.empty(); ++cut) {
+                    const Vec3 m = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+                    const Vec3 through = box.Bounds().lo + (box.Bounds().hi - box.Bounds().lo)
+                                                               .cwiseProduct(Vec3(positive(rng),
+                                                                                  positive(rng),
+                                                                                  positive(rng)));
+                    part.Clip(Vec4(m.x(), m.y(), m.z(), -m.dot(through)));
+                }
+                part.Clip(plane);
+                EXPECT_TRUE(part.empty());
+                ++members_checked;
+            }
+        }
+    }
+    EXPECT_GT(rejected, 500);
+    EXPECT_GT(members_checked, 1000);
+}
+
+// The bounds are the ones Effect tests: a plane past a box's face by less than its tolerance is
+// not taken as keeping nothing; planes at infinity and non-finite planes follow Effect; empty
+// bounds keep nothing.
+TEST(PolytopeBounds, FollowsEffectAtInfinityAndHoldsBackNearTheBox) {
+    const ConvexPolytope box = ConvexPolytope::FromBox(Aabb{Vec3(0, 0, 0), Vec3(1, 1, 1)});
+    const PolytopeBounds b = box.Bounds();
+    EXPECT_FALSE(b.KeepsNothingOf(Vec4(0, 0, 0, 1)));
+    EXPECT_TRUE(b.KeepsNothingOf(Vec4(0, 0, 0, -1)));
+    EXPECT_TRUE(b.KeepsNothingOf(Vec4(1, 0, 0, std::numeric_limits<double>::quiet_NaN())));
+    EXPECT_TRUE(b.KeepsNothingOf(Vec4(-1, 0, 0, -2)));           // x <= -2: far from the box
+    EXPECT_FALSE(b.KeepsNothingOf(Vec4(-1, 0, 0, 0.5)));         // x <= 0.5 cuts it
+    EXPECT_TRUE(b.KeepsNothingOf(Vec4(1, 0, 0, -1.001)));        // x >= 1.001
+    // x >= 1 + 1e-12: the face x = 1 lies within the tolerance of the plane, so Effect finds
+    // nothing kept only by its vertex test; the group test, which sees the bounds alone, holds
+    // back there (it may miss a rejection, never make a false one).
+    EXPECT_EQ(box.Effect(Vec4(1, 0, 0, -1.0 - 1e-12)), ClipEffect::kKeepsNothing);
+    EXPECT_FALSE(b.KeepsNothingOf(Vec4(1, 0, 0, -1.0 - 1e-12)));
+    EXPECT_TRUE(PolytopeBounds{}.KeepsNothingOf(Vec4(1, 0, 0, 0)));  // empty bounds
+    EXPECT_TRUE(ConvexPolytope().Bounds().empty());
+}
+
 }  // namespace
 }  // namespace lixel

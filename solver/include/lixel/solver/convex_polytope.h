@@ -6,6 +6,7 @@
 
 #include <lixel/solver/types.h>
 
+#include <limits>
 #include <vector>
 
 namespace lixel {
@@ -17,6 +18,27 @@ struct PolytopeFace {
 
 // What one Clip does to a polytope.
 enum class ClipEffect { kKeepsAll, kKeepsNothing, kCuts };
+
+class ConvexPolytope;
+
+// Bounds of one polytope or of a group of them, as Effect's tests see them (their vertices'
+// axis-aligned bounds, largest |coordinate| and diagonal): what a hierarchy over polytopes needs
+// to reject a whole group for a plane (the scheduler's object tree, issue 29).
+struct PolytopeBounds {
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+    Vec3 hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
+    double magnitude = 0.0;
+    double size = 0.0;
+
+    bool empty() const { return !(lo.array() <= hi.array()).all(); }
+    // Grows to hold `other` too; the diagonal is recomputed over the new bounds.
+    void Merge(const PolytopeBounds& other);
+    // True only when every polytope these bounds hold, and every part of one left by earlier
+    // clips, keeps nothing of `plane`: Effect's fast test over the bounds with eight times its
+    // rounding margin (the margin also covers the few ulps by which the cut points of up to a
+    // dozen earlier clips may stray outside a polytope's bounds).
+    bool KeepsNothingOf(const Vec4& plane) const;
+};
 
 class ConvexPolytope {
   public:
@@ -49,6 +71,9 @@ class ConvexPolytope {
 
     // Diagonal of the vertices' axis-aligned bounds, world units; 0 when empty.
     double Size() const;
+
+    // The bounds Effect tests against; empty bounds for the empty polytope.
+    PolytopeBounds Bounds() const;
 
     // Distance below which two points or a point and a plane are taken to coincide: a fixed
     // fraction of Size(), widened by the rounding of the coordinates' magnitude.

@@ -1,0 +1,40 @@
+// A bounding-volume hierarchy over the objects' thickened boxes (issue 29): what lets the
+// scheduler's clips against many planes (the extent hull, the view, a map's cone) skip at once the
+// objects that provably keep nothing, and run its own per-object tests, unchanged, on the rest.
+// Built once per plan; a group is rejected only where PolytopeBounds::KeepsNothingOf proves every
+// member's clip empty, so every result is what the scan over every object gives.
+#pragma once
+
+#include <lixel/solver/convex_polytope.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace lixel::scheduling {
+
+class ObjectTree {
+  public:
+    ObjectTree() = default;
+    explicit ObjectTree(const std::vector<ConvexPolytope>& boxes);
+
+    // possible[i] = 1 for every box that some clip by all of `planes` may leave non-empty, 0 for
+    // those it provably empties (and for empty boxes); `possible` is resized to the boxes.
+    void MarkPossible(const std::vector<Vec4>& planes, std::vector<char>& possible) const;
+
+  private:
+    struct Node {
+        PolytopeBounds bounds;
+        std::uint32_t first = 0;  // into order_: a leaf's boxes, or a branch's whole range
+        std::uint32_t count = 0;
+        std::int32_t left = -1;   // children; -1 for a leaf
+        std::int32_t right = -1;
+    };
+    std::int32_t Build(std::uint32_t first, std::uint32_t count, std::vector<Vec3>& centres);
+
+    std::vector<Node> nodes_;
+    std::vector<std::uint32_t> order_;  // box indices, grouped by node
+    std::vector<PolytopeBounds> boxes_;
+    std::size_t total_ = 0;
+};
+
+}  // namespace lixel::scheduling
