@@ -256,8 +256,9 @@ PlanRequest RoomWithObjects(int count) {
     std::uniform_real_distribution<double> x(-9.5, 9.5), z(-4.5, 9.5), side(0.05, 1.0);
     while (static_cast<int>(r.objects.size()) < count) {
         const double cx = x(rng), cz = z(rng), w = side(rng), h = side(rng), d = side(rng);
-        r.objects.push_back({"box" + std::to_string(r.objects.size()),
-                             Aabb{Vec3(cx - w / 2, 0, cz - d / 2), Vec3(cx + w / 2, h, cz + d / 2)}});
+        r.objects.push_back(
+            {"box" + std::to_string(r.objects.size()),
+             Aabb{Vec3(cx - w / 2, 0, cz - d / 2), Vec3(cx + w / 2, h, cz + d / 2)}});
     }
     return r;
 }

@@ -309,7 +309,9 @@ void BM_VolumeView(benchmark::State& state) {
     const std::unique_ptr<GlGrid> grid = SetUpGlGrid(state, /*volumes=*/true);
     if (!grid) return;
     GlGrid& v = *grid;
-    const auto draw = [&] { return v.g->pass->Render(*v.surfaces, *v.volumes, v.request, v.images); };
+    const auto draw = [&] {
+        return v.g->pass->Render(*v.surfaces, *v.volumes, v.request, v.images);
+    };
     if (!TimeDraws(state, v, draw)) return;
     v.request.measure_overdraw = true;
     const gl::VolumeRenderInfo info = *draw();

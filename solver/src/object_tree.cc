@@ -3,6 +3,7 @@
 #include "object_tree.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace lixel::scheduling {
 namespace {
@@ -43,7 +44,8 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     const std::uint32_t half = count / 2;
     const auto begin = order_.begin() + first;
     std::nth_element(begin, begin + half, begin + count, [&](std::uint32_t a, std::uint32_t b) {
-        return centres[a](axis) < centres[b](axis) || (centres[a](axis) == centres[b](axis) && a < b);
+        return centres[a](axis) < centres[b](axis) ||
+               (centres[a](axis) == centres[b](axis) && a < b);
     });
     const std::int32_t left = Build(first, half, centres);
     const std::int32_t right = Build(first + half, count - half, centres);
@@ -66,9 +68,9 @@ void ObjectTree::MarkPossible(const std::vector<Vec4>& planes, std::vector<char>
         if (node.left < 0) {
             for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
                 const PolytopeBounds& box = boxes_[order_[k]];
-                possible[order_[k]] = std::none_of(planes.begin(), planes.end(), [&](const Vec4& p) {
-                    return box.KeepsNothingOf(p);
-                });
+                possible[order_[k]] =
+                    std::none_of(planes.begin(), planes.end(),
+                                 [&](const Vec4& p) { return box.KeepsNothingOf(p); });
             }
             continue;
         }

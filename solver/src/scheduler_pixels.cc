@@ -575,7 +575,8 @@ bool TileUniform(const PixelEstimate& e, const TileProofs& proofs, const RaySamp
 // tracing its other samples, which gives the same counts as tracing every one.
 void EstimatePixels(const Context& c, Plan& plan) {
     const PlanRequest& r = c.request;
-    PixelEstimate e{c, plan, r.viewer.inverse(), PixelMatrix(r.viewer, r.viewport), {}, {}, {}, {}, 0};
+    PixelEstimate e{
+        c, plan, r.viewer.inverse(), PixelMatrix(r.viewer, r.viewport), {}, {}, {}, {}, 0};
     e.edges.resize(c.candidates.size());
     for (size_t i = 0; i < c.candidates.size(); ++i) {
         const auto& poly = r.planes[c.candidates[i].index].polygon;
