@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Every field of the seeded plans of tools/plan_dump, this working tree against a revision
 # (default HEAD), bit for bit: the check a change that must not move a plan passes (a refactor of
-# the scheduler, an index over the objects). Builds the dump here (build/) and, in a worktree of
-# the revision, the solver and scene libraries it links, then compiles this tree's dump against
-# them; a revision whose plan fields differ from this tree's will not compile, and says so.
+# the scheduler, an index over the objects). Builds the solver and scene libraries here (build/,
+# configured by scripts/build.sh) and in a worktree of the revision, and compiles this tree's
+# dump the same way against each; a revision whose plan fields differ from this tree's will not
+# compile, and says so.
 #   scripts/compare_plans.sh [REV] [--rounds=N]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -19,24 +20,33 @@ done
 work=$(mktemp -d /tmp/lixel_compare_plans.XXXXXX)
 trap 'git -C "$root" worktree remove --force "$work/old" >/dev/null 2>&1 || true; rm -rf "$work"' EXIT
 
+# Both dumps are compiled the same way, each against its own tree's solver and scene libraries
+# (built by CMake, Release), so only the libraries differ.
+dump_of() {  # dump_of SOURCE_ROOT BUILD_DIR OUTPUT
+    cmake --build "$2" --target lixel_solver lixel_scene --parallel "$(nproc)" \
+        > "$work/build.log" 2>&1 || { tail -40 "$work/build.log" >&2; return 1; }
+    c++ -std=gnu++20 -O2 -I "$1/solver/include" -I "$1/server/scene/include" \
+        -I /usr/include/eigen3 "$root/tools/plan_dump/plan_dump.cc" \
+        "$2/server/scene/liblixel_scene.a" "$2/solver/liblixel_solver.a" -o "$work/dump" \
+        > "$work/build.log" 2>&1 || { tail -20 "$work/build.log" >&2; return 1; }
+    "$work/dump" "$rounds" > "$3"
+}
+
 echo "compare_plans: this tree" >&2
-cmake --build "$root/build" --target lixel_plan_dump --parallel "$(nproc)" > "$work/build.log" 2>&1 ||
-    { tail -40 "$work/build.log" >&2; exit 1; }
-"$root/build/tools/plan_dump/lixel_plan_dump" "$rounds" > "$work/new.txt"
+if [[ ! -f "$root/build/build.ninja" ]]; then
+    cmake -S "$root" -B "$root/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+fi
+dump_of "$root" "$root/build" "$work/new.txt"
 
 echo "compare_plans: $rev" >&2
 git -C "$root" worktree add --detach "$work/old" "$rev" >/dev/null
 cmake -S "$work/old" -B "$work/old/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
     -DLIXEL_BUILD_TESTS=OFF -DLIXEL_BUILD_BENCH=OFF -DLIXEL_BUILD_EXAMPLES=OFF >/dev/null
-cmake --build "$work/old/build" --target lixel_solver lixel_scene --parallel "$(nproc)" \
-    > "$work/old_build.log" 2>&1 || { tail -40 "$work/old_build.log" >&2; exit 1; }
-c++ -std=c++20 -O2 -I "$work/old/solver/include" -I "$work/old/server/scene/include" \
-    -I /usr/include/eigen3 "$root/tools/plan_dump/plan_dump.cc" \
-    "$work/old/build/server/scene/liblixel_scene.a" "$work/old/build/solver/liblixel_solver.a" \
-    -o "$work/old_dump" || { echo "compare_plans: the dump does not build against $rev" >&2; exit 1; }
-"$work/old_dump" "$rounds" > "$work/old.txt"
+dump_of "$work/old" "$work/old/build" "$work/old.txt" ||
+    { echo "compare_plans: the dump does not build or link against $rev (its plan fields or" \
+           "libraries differ from this tree's)" >&2; exit 1; }
 
-plans=$(grep -c '^== ' "$work/new.txt")
+plans=$(grep -c '^== ' "$work/new.txt" || true)
 if cmp -s "$work/old.txt" "$work/new.txt"; then
     echo "compare_plans: $plans plans, every field the same as at $rev ($(md5sum < "$work/new.txt" | cut -c1-32))"
 else

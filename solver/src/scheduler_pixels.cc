@@ -133,21 +133,28 @@ double SampleNdc(int k) { return 2.0 * (k + 0.5) / kPixelSamplesPerSide - 1.0; }
 // the cells a sample or a tile touches are a superset of those Disjoint keeps for it: a ray or a
 // tile visits only them, with the same tests, and finds what the scan of every box finds (a
 // ray's nearest box does not depend on the order boxes are tried; a tile's proof is a
-// conjunction). Boxes without a rectangle are never culled and are in `everywhere`.
+// conjunction). Boxes without a rectangle are never culled and are in `everywhere`, and so are
+// boxes over more than kMaxCellsPerBox cells (tried by every ray and tile, with Disjoint's test
+// as before), which bounds the cells' lists to that many entries per box.
 class ScreenCells {
   public:
     static constexpr int kCells = kPixelSamplesPerSide - 1;
+    static constexpr int kMaxCellsPerBox = 64;
 
     ScreenCells() = default;
     explicit ScreenCells(const std::vector<ScreenRect>& boxes) {
         std::vector<std::array<int, 4>> spans(boxes.size(), {0, -1, 0, -1});
-        std::vector<std::uint32_t> count(kCells * kCells + 1, 0);
+        std::vector<std::size_t> count(kCells * kCells + 1, 0);
         for (std::size_t b = 0; b < boxes.size(); ++b) {
-            if (!boxes[b].valid) {
+            const std::array<int, 4> span = boxes[b].valid ? SpanOf(boxes[b])
+                                                           : std::array<int, 4>{0, -1, 0, -1};
+            const int cells =
+                std::max(0, span[1] - span[0] + 1) * std::max(0, span[3] - span[2] + 1);
+            if (!boxes[b].valid || cells > kMaxCellsPerBox) {
                 everywhere_.push_back(static_cast<std::uint32_t>(b));
                 continue;
             }
-            spans[b] = SpanOf(boxes[b]);
+            spans[b] = span;
             for (int cy = spans[b][2]; cy <= spans[b][3]; ++cy) {
                 for (int cx = spans[b][0]; cx <= spans[b][1]; ++cx) ++count[cy * kCells + cx + 1];
             }
@@ -191,7 +198,7 @@ class ScreenCells {
         return {x0, x1, y0, y1};
     }
 
-    std::vector<std::uint32_t> offsets_;
+    std::vector<std::size_t> offsets_;
     std::vector<std::uint32_t> boxes_;
     std::vector<std::uint32_t> everywhere_;
 };

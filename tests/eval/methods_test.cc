@@ -47,7 +47,9 @@ TEST(Methods, EveryFittingPlansWithinBudgetOnEveryScene) {
                     if (!m.lookup.unshadowed) sum += std::int64_t(m.map.width) * m.map.height;
                 }
                 // Plane maps only where a shadow can fall may leave much of the budget unused.
-                if (!unshadowed) EXPECT_GT(plan->total_lixels, budget / 4);
+                if (!unshadowed) {
+                    EXPECT_GT(plan->total_lixels, budget / 4);
+                }
                 EXPECT_EQ(sum, plan->total_lixels);
                 if (method.fitting == Fitting::kCsm) {
                     // The default 4 cascades, less slices that hold no receiver.

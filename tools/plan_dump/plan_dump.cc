@@ -3,7 +3,7 @@
 // not move a plan (a refactor, an index over the objects) diffs clean; one that should, says
 // where. The scenes are the built-in ones with seeded eyes, lights, budgets, scale policies and
 // passes, three coherent frames each, the baselines' fittings on the same views, and seeded
-// fields of boxes (0 to 400 objects) on a floor.
+// fields of boxes (0 to 400 objects), most on the floor, some floating anywhere in the room.
 #include <lixel/scene/builtin_scenes.h>
 #include <lixel/solver/baseline_plan.h>
 #include <lixel/solver/extent_hull.h>
@@ -11,6 +11,7 @@
 #include <lixel/solver/scheduler.h>
 
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
 #include <optional>
 #include <random>
@@ -174,9 +175,15 @@ PlanRequest BoxField(const scene::Scene& s, int boxes, Random& rng) {
         const double x = Uniform(rng, room.min.x(), room.max.x());
         const double z = Uniform(rng, room.min.z(), room.max.z());
         const double w = Uniform(rng, 0.02, 0.3), h = Uniform(rng, 0.02, 0.6);
+        // One box in four floats anywhere in the room (behind the eye, near the light, out of the
+        // extent hull), the rest stand on the floor.
+        const double base =
+            i % 4 == 3 ? Uniform(rng, room.min.y(), room.max.y() - h) : room.min.y();
         SceneObject box;
         box.name = "box " + std::to_string(i);
-        box.bounds = Aabb{Vec3(x - w, room.min.y(), z - w), Vec3(x + w, room.min.y() + h, z + w)};
+        box.bounds =
+            Aabb{Vec3(std::max(x - w, room.min.x()), base, std::max(z - w, room.min.z())),
+                 Vec3(std::min(x + w, room.max.x()), base + h, std::min(z + w, room.max.z()))};
         box.closed = i % 5 != 0;
         r.objects.push_back(box);
     }

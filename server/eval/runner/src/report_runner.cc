@@ -262,8 +262,10 @@ Result<bool> SweepScene(Sweep& sweep, const Scene& scene, bool volumes) {
     return true;
 }
 
-// report.csv, error_vs_time.png and report.md from the summary's rows and notes.
+// report.csv, error_vs_time.png and report.md from the summary's rows and notes; the sweep's
+// time, from `start`, counts all but writing report.md.
 Result<bool> WriteReportFiles(const ReportOptions& options, const ReportInfo& info,
+                              std::chrono::steady_clock::time_point start,
                               ReportSummary& summary) {
     const fs::path out(options.output);
     if (auto ok = WriteReportCsv((out / "report.csv").string(), summary.rows); !ok) {
@@ -276,6 +278,8 @@ Result<bool> WriteReportFiles(const ReportOptions& options, const ReportInfo& in
     } else {
         summary.notes.push_back("error_vs_time.png not drawn: gnuplot not available or off");
     }
+    summary.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     char took[128];
     std::snprintf(took, sizeof(took),
                   "sweep took %.1f s, %d timed repeats per run after one untimed warm-up",
@@ -332,9 +336,7 @@ Result<ReportSummary> RunReport(const ReportOptions& options) {
         if (auto ok = SweepScene(sweep, scene, volumes); !ok) return ok.error();
     }
     if (sweep.bar) sweep.bar->Finish();
-    sweep.summary.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (auto ok = WriteReportFiles(options, info, sweep.summary); !ok) return ok.error();
+    if (auto ok = WriteReportFiles(options, info, start, sweep.summary); !ok) return ok.error();
     return std::move(sweep.summary);
 }
 
