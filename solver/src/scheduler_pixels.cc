@@ -1,25 +1,19 @@
 // How many viewer pixels read each map (PlannedMap::expected_pixels): a grid of view rays traced
 // through the lookup rule, whole tiles proved to go to one map from their corners.
 #include "scheduler_context.h"
+#include "scheduler_screen.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
-#include <span>
 
 namespace lixel::scheduling {
 
 namespace {
 
-// Viewer pixels sampled per side to estimate how many pixels read each map.
-constexpr int kPixelSamplesPerSide = 48;
 // Samples per side of the tiles whose corners EstimatePixels traces first.
 constexpr int kPixelTileSamples = 4;
 
-// Relative margin of SegmentMisses: far above the few ulps by which the slab test below can
-// differ from exact arithmetic, so the cull never drops a box that test would hit.
-constexpr double kCullMargin = 1e-9;
 
 // The points origin + t direction, t in [0, reach] (reach may be infinite), as per-axis bounds,
 // and the rounding margin a box test against them needs.
@@ -83,125 +77,8 @@ double Slack(const Vec3& a, double d, const Vec3& x) {
     return kCullMargin * (a.cwiseAbs().dot(x.cwiseAbs()) + std::abs(d));
 }
 
-// An NDC rectangle holding the viewer image of a set of world points, valid when every point
-// lies strictly in front of the viewer (clip w > 0): a ray of the viewer meets their convex hull
-// only where its NDC lies in the rectangle, whatever its parameter (every point of the ray
-// projects to the ray's own NDC).
-struct ScreenRect {
-    bool valid = false;
-    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-};
-
-template <class Points>
-ScreenRect ScreenRectOf(const Mat4& viewer, const Points& points) {
-    ScreenRect rect{true, std::numeric_limits<double>::infinity(),
-                    std::numeric_limits<double>::infinity(),
-                    -std::numeric_limits<double>::infinity(),
-                    -std::numeric_limits<double>::infinity()};
-    for (const Vec3& p : points) {
-        const Vec4 clip = viewer * Point(p);
-        if (!(clip.w() > kCullMargin * clip.cwiseAbs().maxCoeff()) || !clip.allFinite()) {
-            return ScreenRect{};
-        }
-        const double x = clip.x() / clip.w();
-        const double y = clip.y() / clip.w();
-        rect.x0 = std::min(rect.x0, x);
-        rect.x1 = std::max(rect.x1, x);
-        rect.y0 = std::min(rect.y0, y);
-        rect.y1 = std::max(rect.y1, y);
-    }
-    return rect;
-}
-
-// NDC distance a tile must keep from a screen rectangle: far above the NDC error of a computed
-// ray when the viewer is conditioned as PrepareTileProofs requires.
-constexpr double kScreenMargin = 1e-6;
 // Largest ||Mv|| ||Mv^-1|| (infinity norms) for which the tile proofs run.
 constexpr double kMaxViewerCondition = 1e6;
-
-bool Disjoint(const ScreenRect& rect, double x0, double y0, double x1, double y1) {
-    return rect.valid && (x1 < rect.x0 - kScreenMargin || x0 > rect.x1 + kScreenMargin ||
-                          y1 < rect.y0 - kScreenMargin || y0 > rect.y1 + kScreenMargin);
-}
-
-// The NDC of sample k of the estimate's grid along either axis, as TraceSample computes it.
-double SampleNdc(int k) { return 2.0 * (k + 0.5) / kPixelSamplesPerSide - 1.0; }
-
-// The boxes by screen cell (issue 29): cell (cx, cy) is the closed NDC square between samples
-// cx, cx + 1 and cy, cy + 1, and holds every box whose screen rectangle Disjoint does not keep
-// off it. A sample is a corner of its cell, and a tile the union of its cells, so the boxes of
-// the cells a sample or a tile touches are a superset of those Disjoint keeps for it: a ray or a
-// tile visits only them, with the same tests, and finds what the scan of every box finds (a
-// ray's nearest box does not depend on the order boxes are tried; a tile's proof is a
-// conjunction). Boxes without a rectangle are never culled and are in `everywhere`, and so are
-// boxes over more than kMaxCellsPerBox cells (tried by every ray and tile, with Disjoint's test
-// as before), which bounds the cells' lists to that many entries per box.
-class ScreenCells {
-  public:
-    static constexpr int kCells = kPixelSamplesPerSide - 1;
-    static constexpr int kMaxCellsPerBox = 64;
-
-    ScreenCells() = default;
-    explicit ScreenCells(const std::vector<ScreenRect>& boxes) {
-        std::vector<std::array<int, 4>> spans(boxes.size(), {0, -1, 0, -1});
-        std::vector<std::size_t> count(kCells * kCells + 1, 0);
-        for (std::size_t b = 0; b < boxes.size(); ++b) {
-            const std::array<int, 4> span = boxes[b].valid ? SpanOf(boxes[b])
-                                                           : std::array<int, 4>{0, -1, 0, -1};
-            const int cells =
-                std::max(0, span[1] - span[0] + 1) * std::max(0, span[3] - span[2] + 1);
-            if (!boxes[b].valid || cells > kMaxCellsPerBox) {
-                everywhere_.push_back(static_cast<std::uint32_t>(b));
-                continue;
-            }
-            spans[b] = span;
-            for (int cy = spans[b][2]; cy <= spans[b][3]; ++cy) {
-                for (int cx = spans[b][0]; cx <= spans[b][1]; ++cx) ++count[cy * kCells + cx + 1];
-            }
-        }
-        for (int k = 0; k < kCells * kCells; ++k) count[k + 1] += count[k];
-        offsets_ = count;
-        boxes_.resize(offsets_.back());
-        for (std::size_t b = 0; b < boxes.size(); ++b) {
-            for (int cy = spans[b][2]; cy <= spans[b][3]; ++cy) {
-                for (int cx = spans[b][0]; cx <= spans[b][1]; ++cx) {
-                    boxes_[count[cy * kCells + cx]++] = static_cast<std::uint32_t>(b);
-                }
-            }
-        }
-    }
-
-    // The boxes of cell (cx, cy), in index order; the cell of sample (sx, sy) is
-    // (min(sx, kCells - 1), min(sy, kCells - 1)).
-    std::span<const std::uint32_t> Cell(int cx, int cy) const {
-        const int k = cy * kCells + cx;
-        return {boxes_.data() + offsets_[k], boxes_.data() + offsets_[k + 1]};
-    }
-    const std::vector<std::uint32_t>& everywhere() const { return everywhere_; }
-
-  private:
-    // The cells whose closed squares the rectangle, widened by kScreenMargin, meets: the same
-    // comparisons Disjoint makes, at the cells' edges. {cx0, cx1, cy0, cy1}, empty when cx1 < cx0.
-    static std::array<int, 4> SpanOf(const ScreenRect& r) {
-        const auto range = [](double lo, double hi) {
-            // The first cell whose right edge is not left of lo, the last whose left edge is not
-            // right of hi, both as Disjoint would compare them.
-            int first = 0;
-            while (first < kCells && SampleNdc(first + 1) < lo - kScreenMargin) ++first;
-            int last = kCells - 1;
-            while (last >= 0 && SampleNdc(last) > hi + kScreenMargin) --last;
-            return std::pair{first, last};
-        };
-        const auto [x0, x1] = range(r.x0, r.x1);
-        const auto [y0, y1] = range(r.y0, r.y1);
-        if (x1 < x0 || y1 < y0) return {0, -1, 0, -1};
-        return {x0, x1, y0, y1};
-    }
-
-    std::vector<std::size_t> offsets_;
-    std::vector<std::uint32_t> boxes_;
-    std::vector<std::uint32_t> everywhere_;
-};
 
 // The tile proofs' per-estimate data: screen rectangles of every box and bounded polygon.
 struct TileProofs {

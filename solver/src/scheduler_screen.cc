@@ -1,0 +1,54 @@
+// Boxes by screen cell (scheduler_screen.h).
+#include "scheduler_screen.h"
+
+#include <algorithm>
+#include <utility>
+
+namespace lixel::scheduling {
+
+ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes) {
+    std::vector<std::array<int, 4>> spans(boxes.size(), {0, -1, 0, -1});
+    std::vector<std::size_t> count(kCells * kCells + 1, 0);
+    for (std::size_t b = 0; b < boxes.size(); ++b) {
+        const std::array<int, 4> span = boxes[b].valid ? SpanOf(boxes[b])
+                                                       : std::array<int, 4>{0, -1, 0, -1};
+        const int cells =
+            std::max(0, span[1] - span[0] + 1) * std::max(0, span[3] - span[2] + 1);
+        if (!boxes[b].valid || cells > kMaxCellsPerBox) {
+            everywhere_.push_back(static_cast<std::uint32_t>(b));
+            continue;
+        }
+        spans[b] = span;
+        for (int cy = spans[b][2]; cy <= spans[b][3]; ++cy) {
+            for (int cx = spans[b][0]; cx <= spans[b][1]; ++cx) ++count[cy * kCells + cx + 1];
+        }
+    }
+    for (int k = 0; k < kCells * kCells; ++k) count[k + 1] += count[k];
+    offsets_ = count;
+    boxes_.resize(offsets_.back());
+    for (std::size_t b = 0; b < boxes.size(); ++b) {
+        for (int cy = spans[b][2]; cy <= spans[b][3]; ++cy) {
+            for (int cx = spans[b][0]; cx <= spans[b][1]; ++cx) {
+                boxes_[count[cy * kCells + cx]++] = static_cast<std::uint32_t>(b);
+            }
+        }
+    }
+}
+
+std::array<int, 4> ScreenCells::SpanOf(const ScreenRect& r) {
+    const auto range = [](double lo, double hi) {
+        // The first cell whose right edge is not left of lo, the last whose left edge is not
+        // right of hi, both as Disjoint would compare them.
+        int first = 0;
+        while (first < kCells && SampleNdc(first + 1) < lo - kScreenMargin) ++first;
+        int last = kCells - 1;
+        while (last >= 0 && SampleNdc(last) > hi + kScreenMargin) --last;
+        return std::pair{first, last};
+    };
+    const auto [x0, x1] = range(r.x0, r.x1);
+    const auto [y0, y1] = range(r.y0, r.y1);
+    if (x1 < x0 || y1 < y0) return {0, -1, 0, -1};
+    return {x0, x1, y0, y1};
+}
+
+}  // namespace lixel::scheduling
