@@ -15,8 +15,9 @@ Result<bool> Read(GlContext& context, const GlTexture& texture, GLenum format, G
 
 // A float image of `channels` channels read from `texture` in `format`.
 Result<FloatImage> ReadFloats(GlContext& context, const GlTexture& texture, int width, int height,
-                              int channels, GLenum format, const char* what) {
-    FloatImage image{width, height, channels, {}};
+                              int channels, GLenum format, const char* what,
+                              std::vector<float> storage = {}) {
+    FloatImage image{width, height, channels, std::move(storage)};
     image.pixels.resize(static_cast<std::size_t>(width) * height * channels);
     if (auto ok = Read(context, texture, format, GL_FLOAT, image.pixels.size() * sizeof(float),
                        image.pixels.data(), what);
@@ -28,14 +29,16 @@ Result<FloatImage> ReadFloats(GlContext& context, const GlTexture& texture, int 
 
 }  // namespace
 
-Result<FloatImage> ReadDepth(GlContext& context, const DepthMap& map) {
+Result<FloatImage> ReadDepth(GlContext& context, const DepthMap& map,
+                             std::vector<float> storage) {
     return ReadFloats(context, map.texture, map.map.width, map.map.height, 1, GL_DEPTH_COMPONENT,
-                      "depth map");
+                      "depth map", std::move(storage));
 }
 
-Result<FloatImage> ReadSilhouettePoints(GlContext& context, const SilhouetteMap& map) {
+Result<FloatImage> ReadSilhouettePoints(GlContext& context, const SilhouetteMap& map,
+                                        std::vector<float> storage) {
     return ReadFloats(context, map.points, map.map.width, map.map.height, 2, GL_RG,
-                      "silhouette map");
+                      "silhouette map", std::move(storage));
 }
 
 Result<FloatImage> ReadMask(GlContext& context, const ViewImages& view) {

@@ -107,7 +107,7 @@ std::vector<ImageShape> PlannedImages(const Plan& plan) {
 }
 
 Result<bool> RenderPlanImages(GpuWorker& worker, const render::GpuScene& scene, const Plan& plan,
-                              const CancelCheck& cancelled, const std::function<bool()>& room,
+                              const CancelCheck& cancelled, const RoomCheck& room,
                               const std::function<bool(RenderedImage)>& take) {
     for (std::size_t i = 0; i < plan.maps.size(); ++i) {
         if (cancelled()) return Cancelled();
@@ -116,8 +116,9 @@ Result<bool> RenderPlanImages(GpuWorker& worker, const render::GpuScene& scene, 
         if (!rendered) return rendered.error();
         render::RenderedMap& m = rendered->front();
         auto hand_over = [&](Pass pass, auto read, bool corner_depth = false) -> Result<bool> {
-            if (!room()) return Cancelled();
-            auto image = read();
+            std::vector<float> storage;
+            if (!room(&storage)) return Cancelled();
+            auto image = read(std::move(storage));
             if (!image) return image.error();
             if (!take({static_cast<int>(i), pass, corner_depth, std::move(*image)})) {
                 return Cancelled();
@@ -126,22 +127,28 @@ Result<bool> RenderPlanImages(GpuWorker& worker, const render::GpuScene& scene, 
         };
         if (m.depth) {
             auto ok = hand_over(Pass::kDepth,
-                                [&] { return render::ReadDepth(*worker.context, *m.depth); });
+                                [&](std::vector<float> storage) {
+                return render::ReadDepth(*worker.context, *m.depth, std::move(storage));
+            });
             if (!ok) return ok;
         }
         if (m.second_depth) {
-            auto ok = hand_over(Pass::kSecondDepth, [&] {
-                return render::ReadDepth(*worker.context, *m.second_depth);
+            auto ok = hand_over(Pass::kSecondDepth, [&](std::vector<float> storage) {
+                return render::ReadDepth(*worker.context, *m.second_depth, std::move(storage));
             });
             if (!ok) return ok;
         }
         if (m.silhouette) {
             auto corners = hand_over(
                 Pass::kSilhouetteMap,
-                [&] { return render::ReadDepth(*worker.context, m.silhouette->corners); }, true);
+                [&](std::vector<float> storage) {
+                    return render::ReadDepth(*worker.context, m.silhouette->corners,
+                                             std::move(storage));
+                }, true);
             if (!corners) return corners;
-            auto ok = hand_over(Pass::kSilhouetteMap, [&] {
-                return render::ReadSilhouettePoints(*worker.context, *m.silhouette);
+            auto ok = hand_over(Pass::kSilhouetteMap, [&](std::vector<float> storage) {
+                return render::ReadSilhouettePoints(*worker.context, *m.silhouette,
+                                                    std::move(storage));
             });
             if (!ok) return ok;
         }

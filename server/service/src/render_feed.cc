@@ -3,20 +3,22 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 namespace lixel::service {
 
-v1::RenderChunk MapChunkAt(std::uint32_t image_index, const render::FloatImage& image,
-                           std::uint64_t offset, std::uint64_t chunk_bytes) {
+void FillMapChunk(std::uint32_t image_index, const render::FloatImage& image,
+                  std::uint64_t offset, std::uint64_t chunk_bytes, v1::RenderChunk* message) {
     const auto* data = reinterpret_cast<const char*>(image.pixels.data());
     const std::uint64_t size = image.pixels.size() * sizeof(float);
-    v1::RenderChunk c;
-    v1::MapChunk* mc = c.mutable_chunk();
+    v1::MapChunk* mc = message->mutable_chunk();
     mc->set_image_index(image_index);
     mc->set_offset(offset);
-    mc->set_data(data + offset, std::min(chunk_bytes, size - offset));
-    return c;
+    // assign, not set_data: the string keeps its capacity from the last chunk, so a stream of
+    // 1 MiB chunks allocates (and page-faults in) one buffer, not one per chunk.
+    mc->mutable_data()->assign(data + offset, std::min(chunk_bytes, size - offset));
 }
+
 
 bool RenderFeed::PutHeader(v1::RenderChunk header) {
     std::unique_lock lock(mutex_);
@@ -36,6 +38,11 @@ RenderFeed::Room RenderFeed::WaitForRoom(const std::function<bool()>& cancelled,
         room_.wait_for(lock, std::chrono::milliseconds(20));
     }
     return closed_ ? Room::kEnded : Room::kRoom;
+}
+
+std::vector<float> RenderFeed::TakeSpare() {
+    std::lock_guard lock(mutex_);
+    return std::exchange(spare_, {});
 }
 
 bool RenderFeed::PutImage(std::uint32_t image_index, render::FloatImage image) {
@@ -84,9 +91,10 @@ RenderFeed::Step RenderFeed::Next(v1::RenderChunk* message, grpc::Status* status
         return Step::kWrite;
     }
     if (image_) {
-        *message = MapChunkAt(image_index_, *image_, offset_, chunk_bytes_);
+        FillMapChunk(image_index_, *image_, offset_, chunk_bytes_, message);
         offset_ += message->chunk().data().size();
         if (offset_ >= image_->pixels.size() * sizeof(float)) {
+            spare_ = std::move(image_->pixels);
             image_.reset();  // its last chunk is a message of its own now
             room_.notify_all();
         }
@@ -105,6 +113,7 @@ void RenderFeed::Close() {
     std::lock_guard lock(mutex_);
     closed_ = true;
     image_.reset();
+    spare_ = {};
     header_.reset();
     room_.notify_all();
 }

@@ -73,10 +73,12 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     bool mismatch = false;
     bool stalled = false;
     const double idle_seconds = state.options.stream_idle_seconds;
-    const auto room = [&] {
+    const auto room = [&](std::vector<float>* storage) {
         const RenderFeed::Room r = feed.WaitForRoom(cancelled, idle_seconds);
         stalled = r == RenderFeed::Room::kStalled;
-        return r == RenderFeed::Room::kRoom;
+        if (r != RenderFeed::Room::kRoom) return false;
+        *storage = feed.TakeSpare();
+        return true;
     };
     auto rendered = RenderPlanImages(
         worker, **gpu_scene, *plan, cancelled, room,

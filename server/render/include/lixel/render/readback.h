@@ -13,9 +13,13 @@
 
 namespace lixel::render {
 
-Result<FloatImage> ReadDepth(GlContext& context, const DepthMap& map);
+// `storage`, when given, becomes the image's pixels: a caller that reads map after map passes
+// the last image's array back, so its pages are neither zeroed nor faulted in again.
+Result<FloatImage> ReadDepth(GlContext& context, const DepthMap& map,
+                             std::vector<float> storage = {});
 // Two channels: texel-local (x, y), kNoSilhouettePoint where empty.
-Result<FloatImage> ReadSilhouettePoints(GlContext& context, const SilhouetteMap& map);
+Result<FloatImage> ReadSilhouettePoints(GlContext& context, const SilhouetteMap& map,
+                                        std::vector<float> storage = {});
 Result<FloatImage> ReadMask(GlContext& context, const ViewImages& view);
 Result<Rgb8Image> ReadPreview(GlContext& context, const ViewImages& view);
 // Per pixel, the index of the map the lookup rule chose, or kNoMap.

@@ -88,11 +88,13 @@ struct ImageShape {
 std::vector<ImageShape> PlannedImages(const Plan& plan);
 
 // Every pass of every planned map in PlannedImages order, checking `cancelled` between passes.
-// Each image is read back only once `room()` returns true (so the caller decides how many sit
-// on the host at once; a map's GPU passes run meanwhile) and is then handed to `take`. A false
-// from `room` or `take` stops the job: the call ended.
+// Each image is read back only once `room(&storage)` returns true (so the caller decides how
+// many sit on the host at once; a map's GPU passes run meanwhile), into `storage` if room put an
+// array there (a spent image's, to be reused), and is then handed to `take`. A false from `room`
+// or `take` stops the job: the call ended.
+using RoomCheck = std::function<bool(std::vector<float>* storage)>;
 Result<bool> RenderPlanImages(GpuWorker& worker, const render::GpuScene& scene, const Plan& plan,
-                              const CancelCheck& cancelled, const std::function<bool()>& room,
+                              const CancelCheck& cancelled, const RoomCheck& room,
                               const std::function<bool(RenderedImage)>& take);
 
 // The view pass's lit-fraction mask over the given maps (rendered here, in lookup order).

@@ -18,9 +18,10 @@
 
 namespace lixel::service {
 
-// Lays out chunk `offset` of image `image_index`: at most `chunk_bytes` of its bytes.
-v1::RenderChunk MapChunkAt(std::uint32_t image_index, const render::FloatImage& image,
-                           std::uint64_t offset, std::uint64_t chunk_bytes);
+// Writes chunk `offset` of image `image_index` (at most `chunk_bytes` of its bytes) into
+// `message`, reusing the chunk's buffer when `message` already holds a chunk.
+void FillMapChunk(std::uint32_t image_index, const render::FloatImage& image,
+                  std::uint64_t offset, std::uint64_t chunk_bytes, v1::RenderChunk* message);
 
 class RenderFeed {
   public:
@@ -36,6 +37,8 @@ class RenderFeed {
     // writer took no message for `idle_seconds`.
     enum class Room { kRoom, kEnded, kStalled };
     Room WaitForRoom(const std::function<bool()>& cancelled, double idle_seconds);
+    // The pixels of the image written last, to read the next one into (empty when none).
+    std::vector<float> TakeSpare();
     bool PutImage(std::uint32_t image_index, render::FloatImage image);
     // The job's end; the writer finishes the call with `status` once everything before it is
     // written (an error ends the call at once).
@@ -61,6 +64,7 @@ class RenderFeed {
     std::condition_variable room_;
     std::optional<v1::RenderChunk> header_;
     std::optional<render::FloatImage> image_;  // the image being written
+    std::vector<float> spare_;                 // the last written image's pixels, kept for reuse
     std::uint32_t image_index_ = 0;
     std::uint64_t offset_ = 0;  // next byte of image_ to write
     std::optional<grpc::Status> finish_;
