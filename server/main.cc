@@ -72,6 +72,9 @@ ABSL_FLAG(std::uint64_t, cache_mb, Mib(Defaults().service.scene_cache_bytes),
           "MiB of decoded scenes kept, least recently used evicted first, [1, 1048576]");
 ABSL_FLAG(std::uint64_t, memory_cap_mb, Mib(Defaults().service.memory_cap_bytes),
           "MiB of maps one request may need (width x height x 4 x passes), [1, 1048576]");
+ABSL_FLAG(std::uint64_t, max_plan_objects, Defaults().service.max_plan_objects,
+          "objects one plan may hold (a request's objects, an uploaded scene's meshes), "
+          "[0, 2^32]; 0: memory_cap_mb at 8 KiB an object");
 ABSL_FLAG(std::uint64_t, max_response_mb, Mib(Defaults().service.max_response_bytes),
           "MiB one Render or View may return, [1, 1048576]");
 ABSL_FLAG(std::uint64_t, max_calls_per_client, Defaults().service.max_calls_per_client,
@@ -169,6 +172,7 @@ constexpr Bounds kBounds[] = {
     {"stream_idle_seconds", 0, 3600, true},
     {"cache_mb", 1, kMaxMib, false},
     {"memory_cap_mb", 1, kMaxMib, false},
+    {"max_plan_objects", 0, kMaxCount, false},
     {"max_response_mb", 1, kMaxMib, false},
     {"max_calls_per_client", 0, 1 << 20, false},
     {"max_inflight_mb_per_client", 0, kMaxMib, false},
@@ -290,6 +294,7 @@ int main(int argc, char** argv) {
     options.service.log_requests = absl::GetFlag(FLAGS_log_requests);
     options.service.scene_cache_bytes = absl::GetFlag(FLAGS_cache_mb) << 20;
     options.service.memory_cap_bytes = absl::GetFlag(FLAGS_memory_cap_mb) << 20;
+    options.service.max_plan_objects = absl::GetFlag(FLAGS_max_plan_objects);
     options.service.max_response_bytes = absl::GetFlag(FLAGS_max_response_mb) << 20;
     options.service.max_calls_per_client = absl::GetFlag(FLAGS_max_calls_per_client);
     options.service.max_bytes_in_flight_per_client =

@@ -73,7 +73,8 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
                                           std::span<const ConvexPolytope* const> casters,
                                           const std::vector<Vec3>& needed_polygon,
                                           double thickness, int max_rects,
-                                          double size_ratio) {
+                                          double size_ratio,
+                                          const std::function<void()>& poll) {
     const int g = whole.lookup.guard;
     const LixelRect interior{g, g, whole.map.width - g, whole.map.height - g};
     // Footprints over all the unshadowed entry will accept, its lookup rectangle, not just the
@@ -84,6 +85,7 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
                                       Vec2(accepted[2], accepted[3]), Vec2(accepted[0], accepted[3])};
     std::vector<LixelRect> rects;
     for (const ConvexPolytope* caster : casters) {
+        if (poll) poll();  // a cancelled request's poll throws
         const std::vector<Vec2> image =
             FootprintImage(whole.map.matrix, plane, light, *caster, region);
         if (image.empty()) continue;

@@ -24,6 +24,7 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
                                           std::span<const ConvexPolytope* const> casters,
                                           const std::vector<Vec3>& needed_polygon,
                                           double thickness, int max_rects,
-                                          double size_ratio = 0.0);
+                                          double size_ratio = 0.0,
+                                          const std::function<void()>& poll = {});
 
 }  // namespace lixel

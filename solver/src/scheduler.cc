@@ -40,6 +40,7 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     auto hull = ComputeExtentHull(r.viewer, r.light, *bounds);
     if (!hull) return hull.error();
     const Context c = MakeContext(r, *bounds, *hull);
+    c.poll.Now();
     auto planes = FitPlaneMapsToBudget(c);
     if (!planes) return planes.error();
 
@@ -54,12 +55,14 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
         plan.left_out.push_back({"fallback", "not needed: the plane maps accept every ray "
                                              "through the visible scene (C_tot)"});
     } else {
+        c.poll.Now();
         const std::int64_t rest = r.lixel_budget - TotalLixels(plan.maps);
         if (rest < 1) return Error{"lixel_budget", "too small: nothing left for the fallback"};
         auto added = AddFallback(c, uncovered, rest, plan);
         if (!added) return added.error();
     }
     plan.total_lixels = TotalLixels(plan.maps);
+    c.poll.Now();
     PlanPasses(c, plan);
     EstimatePixels(c, plan);
     if (auto finite = CheckFinite(r, plan); !finite) return finite.error();
@@ -73,6 +76,8 @@ Result<Plan> PlanShadowMaps(const PlanRequest& request) noexcept {
         return PlanChecked(request);
     } catch (const std::bad_alloc&) {
         return Error{"request", "out of memory while planning"};
+    } catch (const PlanCancelled&) {
+        return Error{"request", kPlanCancelled};
     }
 }
 

@@ -18,6 +18,7 @@
 #include "object_tree.h"
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,6 +47,31 @@ struct ViewRegion {
     int on_plane = -1;
 };
 
+// Thrown by a poll that finds the request cancelled; PlanShadowMaps returns it as an error.
+struct PlanCancelled {};
+
+// PlanRequest::cancelled, called on every kEvery-th poll: a poll sits in loops over objects,
+// receivers and rays, some of which take under a microsecond an iteration, and a deadline
+// needs milliseconds, not nanoseconds.
+class CancelPoll {
+  public:
+    explicit CancelPoll(const std::function<bool()>* cancelled = nullptr)
+        : cancelled_(cancelled != nullptr && *cancelled ? cancelled : nullptr) {}
+    void operator()() const {
+        if (cancelled_ != nullptr && ++calls_ % kEvery == 0 && (*cancelled_)()) {
+            throw PlanCancelled{};
+        }
+    }
+    void Now() const {
+        if (cancelled_ != nullptr && (*cancelled_)()) throw PlanCancelled{};
+    }
+
+  private:
+    static constexpr unsigned kEvery = 64;
+    const std::function<bool()>* cancelled_;
+    mutable unsigned calls_ = 0;
+};
+
 // Everything the planning passes share.
 struct Context {
     const PlanRequest& request;
@@ -63,6 +89,7 @@ struct Context {
     std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i].vertices()
     std::vector<ViewRegion> view_regions;          // visible part of every object
     std::vector<LeftOut> plane_left_out;           // from the candidate stage
+    CancelPoll poll;                               // request.cancelled
 };
 
 // --- scheduler_validation.cc
@@ -113,7 +140,6 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, double scale,
 
 std::int64_t TotalLixels(const std::vector<PlannedMap>& maps);
 
-// A visible region's part that no map accepts, with the object it belongs to.
 // A visible region's part that no map accepts, with the object it belongs to.
 struct UncoveredPiece {
     ConvexPolytope piece;

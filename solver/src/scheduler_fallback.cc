@@ -36,6 +36,7 @@ std::vector<UncoveredPiece> Uncovered(const Context& c, const std::vector<Planne
     std::vector<int> plane_held(c.request.planes.size(), -1);  // -1 unknown, 0 no, 1 yes
     std::vector<UncoveredPiece> out;
     for (const ViewRegion& v : c.view_regions) {
+        c.poll();
         if (v.on_plane >= 0) {
             int& held = plane_held[v.on_plane];
             if (held < 0) held = PlaneHeld(c, cones, v.on_plane) ? 1 : 0;
@@ -169,6 +170,7 @@ SolveDiagnostics DiagnoseHeld(const Context& c, const PlannedMap& m,
                               std::span<const Receiver> receivers) {
     std::vector<Receiver> held;
     for (const Receiver& r : receivers) {
+        c.poll();
         if (LookupAccepts(m, Point(r.point))) held.push_back(r);
     }
     return DiagnoseMap(m.map, c.light, c.request.viewer, c.request.viewport, held);

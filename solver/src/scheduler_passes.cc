@@ -17,6 +17,7 @@ std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m)
     thread_local std::vector<char> maybe_in_cone;
     c.object_tree.MarkPossible(cone.planes, maybe_in_cone);
     for (size_t i = 0; i < c.request.objects.size(); ++i) {
+        c.poll();
         if (!maybe_in_cone[i]) continue;
         const SceneObject& o = c.request.objects[i];
         const Aabb box = Thickened(o.bounds, c.thickness);

@@ -217,6 +217,7 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
     // of a box or polygon can meet it; there clip w > 0 for the viewers TileUniform accepts.
     const Vec4 beyond_near = r.viewer.row(2).transpose();
     for (const SceneObject& o : r.objects) {
+        e.c.poll();
         Eigen::Matrix<double, 8, 3> m;
         for (int k = 0; k < 8; ++k) {
             m.row(k) << ((k & 1) ? o.bounds.max.x() : o.bounds.min.x()),
@@ -532,6 +533,7 @@ void EstimatePixels(const Context& c, Plan& plan) {
     int run_map = -1;
     std::int64_t run = 0;
     for (int sy = 0; sy < n; ++sy) {
+        c.poll.Now();  // a row of traced rays can take a millisecond at 100 k objects
         for (int sx = 0; sx < n; ++sx) {
             int index = maps[sy * n + sx];
             if (index == kUntraced) index = TraceSample(e, sx, sy).map;

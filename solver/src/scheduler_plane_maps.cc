@@ -20,6 +20,7 @@ std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
     std::vector<Vec4> points;
     thread_local ConvexPolytope scratch;
     for (size_t i = 0; i < c.held_regions.size(); ++i) {
+        c.poll();
         const ConvexPolytope& held = c.held_regions[i];
         if (held.empty()) continue;
         const ConvexPolytope& region = ClipInto(scratch, held, cone.planes);
@@ -85,6 +86,7 @@ std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate
     }
     std::vector<const ConvexPolytope*> casters;
     for (size_t i = 0; i < r.objects.size(); ++i) {
+        c.poll();
         if (c.object_boxes[i].empty()) continue;
         const std::vector<Vec4> corners = BoxCorners(r.objects[i].bounds);
         const bool shielded = std::any_of(shields.begin(), shields.end(), [&](const Vec4& s) {
@@ -219,7 +221,8 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, const std::vect
              SplitByFootprints(m, cand.plane, c.light, CastersOnto(c, cand), cand.polygon,
                                c.thickness, std::min(r.footprints.max_per_plane, rects_left),
                                r.coherence ? 1.0 / std::sqrt(1.0 - r.coherence->waste_bound)
-                                           : 0.0)) {
+                                           : 0.0,
+                               [&c] { c.poll(); })) {
             if (piece.footprint) --rects_left;
             maps.push_back(std::move(piece));
         }

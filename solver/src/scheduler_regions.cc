@@ -252,6 +252,7 @@ void FindViewRegions(Context& c) {
     c.object_tree.MarkPossible(inside_hull, maybe_held);
     c.object_tree.MarkPossible(c.frustum, maybe_seen);
     for (size_t i = 0; i < c.object_boxes.size(); ++i) {
+        c.poll();
         const ConvexPolytope& box = c.object_boxes[i];
         c.held_regions.push_back(maybe_held[i] ? ClippedByAll(box, inside_hull) : ConvexPolytope());
         if (!maybe_seen[i]) continue;
@@ -285,10 +286,11 @@ void FindViewRegions(Context& c) {
 }  // namespace
 
 Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& hull) {
-    Context c{r, bounds, hull, hull.light, FrustumPlanes(r.viewer),
-              1e-6 * bounds.Diagonal(), {}, {}, {}, {}, {}, {}, {}};
+    Context c{r, bounds, hull, hull.light, FrustumPlanes(r.viewer), 1e-6 * bounds.Diagonal(),
+              {}, {}, {}, {}, {}, {}, {}, CancelPoll(&r.cancelled)};
     FindCandidates(c);
     for (const SceneObject& o : r.objects) {
+        c.poll();
         c.object_boxes.push_back(ConvexPolytope::FromBox(Thickened(o.bounds, c.thickness)));
     }
     c.object_tree = ObjectTree(c.object_boxes);

@@ -56,6 +56,28 @@ Error InPlan(const Error& error) {
     return Error{"plan." + field, error.reason};
 }
 
+grpc::Status CheckPlanObjects(const ServiceState& state, const v1::PlanRequest& plan,
+                              const SceneRecord* scene, const std::string& field) {
+    const std::uint64_t limit = PlanObjectLimit(state.options);
+    const std::uint64_t count = scene != nullptr ? scene->scene.meshes.size()
+                                                 : static_cast<std::uint64_t>(plan.objects_size());
+    if (count <= limit) return grpc::Status::OK;
+    return Exhausted(field + (scene != nullptr ? ".scene_id: the scene's " : ".objects: ") +
+                     std::to_string(count) + (scene != nullptr ? " meshes" : " objects") +
+                     ", over the limit max_plan_objects = " + std::to_string(limit) +
+                     (state.options.max_plan_objects == 0 ? " (memory_cap_bytes / 8 KiB)" : ""));
+}
+
+Result<Plan> PlanPolling(PlanRequest& request, const CancelCheck& cancelled) {
+    request.cancelled = cancelled;
+    return PlanShadowMaps(request);
+}
+
+grpc::Status PlanFailed(const Error& error) {
+    if (error.field == "request" && error.reason == kPlanCancelled) return CancelledStatus();
+    return InvalidArgument(InPlan(error));
+}
+
 grpc::Status GpuUnavailable(GpuWorker& worker) {
     if (worker.fault.exchange(false)) {
         worker.scenes.clear();

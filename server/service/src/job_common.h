@@ -25,6 +25,11 @@ grpc::Status CancelledStatus();                        // CANCELLED: cancelled o
 grpc::Status FindScene(ServiceState& state, const v1::PlanRequest& plan, bool required,
                        const std::string& field, std::shared_ptr<const SceneRecord>* out);
 
+// RESOURCE_EXHAUSTED when the plan would hold more objects than PlanObjectLimit: the request's
+// objects, or the scene's meshes, named by field.
+grpc::Status CheckPlanObjects(const ServiceState& state, const v1::PlanRequest& plan,
+                              const SceneRecord* scene, const std::string& field);
+
 // Bytes of every image a plan renders and Render streams, as float32 (the memory cap of DESIGN
 // §8): PlannedImages' shapes, the silhouette map's corner depth included.
 std::uint64_t PlanBytes(const Plan& plan);
@@ -33,6 +38,12 @@ std::uint64_t PlanBytes(const Plan& plan);
 // solver's "viewer" and "viewport" are the request's plan.camera, its "planes[i]" and "light"
 // sit under plan.
 Error InPlan(const Error& error);
+
+// The scheduler's plan, polling `cancelled` while it plans (so a deadline ends a plan over
+// many objects on time); its failure as the call's status: CANCELLED when the poll ended it,
+// else INVALID_ARGUMENT naming the field (InPlan).
+Result<Plan> PlanPolling(PlanRequest& request, const CancelCheck& cancelled);
+grpc::Status PlanFailed(const Error& error);
 
 // OK when the worker has a GL context, rebuilding a lost one first; else UNAVAILABLE.
 grpc::Status GpuUnavailable(GpuWorker& worker);

@@ -9,11 +9,12 @@ grpc::Status PlanJob(ServiceState& state, const v1::PlanRequest& request,
                      v1::PlanResponse* response, const CancelCheck& cancelled) {
     std::shared_ptr<const SceneRecord> scene;
     if (auto s = FindScene(state, request, false, "plan", &scene); !s.ok()) return s;
+    if (auto s = CheckPlanObjects(state, request, scene.get(), "plan"); !s.ok()) return s;
     auto decoded = DecodePlanRequest(request, scene.get(), "plan");
     if (!decoded) return InvalidArgument(decoded.error());
     if (cancelled && cancelled()) return CancelledStatus();
-    auto plan = PlanShadowMaps(*decoded);
-    if (!plan) return InvalidArgument(InPlan(plan.error()));
+    auto plan = PlanPolling(decoded.value(), cancelled);
+    if (!plan) return PlanFailed(plan.error());
     EncodePlan(*plan, response);
     response->set_instance(state.options.instance);
     return grpc::Status::OK;

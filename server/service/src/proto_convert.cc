@@ -297,9 +297,6 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
     if (scene != nullptr) {
         out.objects = scene->Objects();
     } else {
-        if (static_cast<std::size_t>(message.objects_size()) > kMaxObjects) {
-            return Error{field + ".objects", "more than " + std::to_string(kMaxObjects)};
-        }
         for (int i = 0; i < message.objects_size(); ++i) {
             const auto& o = message.objects(i);
             const std::string path = Index(field + ".objects", i);

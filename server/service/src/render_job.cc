@@ -27,10 +27,11 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
                        RenderFeed& feed) {
     std::shared_ptr<const SceneRecord> scene;
     if (auto s = FindScene(state, request.plan(), true, "plan", &scene); !s.ok()) return s;
+    if (auto s = CheckPlanObjects(state, request.plan(), scene.get(), "plan"); !s.ok()) return s;
     auto decoded = DecodePlanRequest(request.plan(), scene.get(), "plan");
     if (!decoded) return InvalidArgument(decoded.error());
-    auto plan = PlanShadowMaps(*decoded);
-    if (!plan) return InvalidArgument(InPlan(plan.error()));
+    auto plan = PlanPolling(decoded.value(), cancelled);
+    if (!plan) return PlanFailed(plan.error());
     const std::uint64_t bytes = PlanBytes(*plan);
     if (bytes > state.options.memory_cap_bytes) {
         return Exhausted("plan: its maps need " + std::to_string(bytes) + " bytes, over the " +

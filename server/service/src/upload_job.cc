@@ -9,6 +9,19 @@ namespace lixel::service {
 
 using namespace jobs;
 
+namespace {
+
+// Every mesh is an object of the scene's plans: a scene no plan could hold is refused here, not
+// at its first Plan.
+grpc::Status CheckSceneObjects(const ServiceState& state, std::uint64_t meshes) {
+    const std::uint64_t limit = PlanObjectLimit(state.options);
+    if (meshes <= limit) return grpc::Status::OK;
+    return Exhausted("content: " + std::to_string(meshes) + " meshes, over the " +
+                     std::to_string(limit) + " objects a plan may hold (max_plan_objects)");
+}
+
+}  // namespace
+
 grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
                        const std::string& content, v1::UploadSceneResponse* response,
                        const CancelCheck& cancelled) {
@@ -47,6 +60,7 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
                              "limit max_upload_triangles = " +
                              std::to_string(state.options.max_upload_triangles));
         }
+        if (auto s = CheckSceneObjects(state, message.meshes_size()); !s.ok()) return s;
         if (cancelled && cancelled()) return CancelledStatus();
         record = DecodeScene(message, "scene");
     } else if (header.format() == v1::SCENE_FORMAT_OBJ ||
@@ -83,6 +97,7 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
                                                           std::to_string(header.format())});
     }
     if (!record) return InvalidArgument(record.error());
+    if (auto s = CheckSceneObjects(state, record->scene.meshes.size()); !s.ok()) return s;
     std::uint64_t triangles = 0;
     for (const Mesh& m : record->scene.meshes) triangles += m.TriangleCount();
     response->set_triangles(triangles);

@@ -267,6 +267,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     if (auto s = ShadowMethodOf(request, &method); !s.ok()) return s;
     const bool volumes = request.filter() == v1::FILTER_VOLUMES ||
                          request.filter() == v1::FILTER_SMOOTH_VOLUMES;
+    if (auto s = CheckPlanObjects(state, plan_message, scene.get(), "plan"); !s.ok()) return s;
     auto decoded = DecodePlanRequest(plan_message, scene.get(), "plan");
     if (!decoded) return InvalidArgument(decoded.error());
     // The view pass reads every map from one atlas, each inside a border (view_pass.h).
@@ -281,8 +282,8 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
 
     std::vector<std::pair<std::string, double>> times;
     auto start = Clock::now();
-    auto plan = PlanShadowMaps(*decoded);
-    if (!plan) return InvalidArgument(InPlan(plan.error()));
+    auto plan = PlanPolling(decoded.value(), cancelled);
+    if (!plan) return PlanFailed(plan.error());
     MaskJob job;
     // What ViewResponse.plan reports: the maps the method renders, with the scheduler's
     // explanations for the plane-optimal ones.

@@ -11,6 +11,7 @@
 #include <lixel/solver/types.h>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -135,7 +136,13 @@ struct PlanRequest {
     ScalePolicy scale_policy = ScalePolicy::kPriority;
     // Unset: every frame planned on its own (the tightest maps).
     std::optional<FrameCoherence> coherence;
+    // Polled while planning (every few dozen objects, receivers or rays, and between steps):
+    // true ends the plan with Error{"request", kPlanCancelled}, so a caller's deadline bounds a
+    // plan over hundreds of thousands of objects. Empty: never.
+    std::function<bool()> cancelled;
 };
+
+inline constexpr const char* kPlanCancelled = "cancelled or past its deadline while planning";
 
 // Lixels of border every planned map renders around its needed rays: the farthest tap of the
 // widest filter past a needed point (PCF and second depth read r <= 4 texels past the lixel they

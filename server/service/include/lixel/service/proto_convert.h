@@ -26,7 +26,6 @@ namespace lixel::service {
 inline constexpr std::size_t kMaxBatchAxis = 1024;         // views, planes or lights per Solve
 inline constexpr std::size_t kMaxBatchTriples = 65536;     // views x planes x lights
 inline constexpr std::size_t kMaxPolygonVertices = 1024;
-inline constexpr std::size_t kMaxObjects = 65536;
 inline constexpr std::uint64_t kMaxLixelBudget = 1ull << 28;
 // Smooth silhouettes' defaults when a request leaves them out (Silhouettes, View): volumes'
 // kDefaultSmoothEpsilon and kPaperOffsetPerEpsilon.
@@ -86,7 +85,8 @@ struct SceneRecord {
 SceneRecord MakeSceneRecord(scene::Scene scene);
 
 // A PlanRequest for the solver. With a scene, objects point into `scene`'s meshes (which must
-// outlive the result) and its planes, camera and light fill what the message leaves out.
+// outlive the result) and its planes, camera and light fill what the message leaves out. The
+// number of objects is the caller's to bound first (the service: PlanObjectLimit).
 Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const SceneRecord* scene,
                                       const std::string& field);
 

@@ -3,6 +3,7 @@
 
 #include <lixel/render/context.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -28,6 +29,9 @@ struct ServiceOptions {
     double stream_idle_seconds = 10.0;
     std::uint64_t scene_cache_bytes = 1ull << 30;     // decoded scenes held (LRU)
     std::uint64_t memory_cap_bytes = 2ull << 30;      // maps of one request (w * h * 4 * passes)
+    // Objects one plan may hold (a request's objects, or an uploaded scene's meshes); 0: what
+    // memory_cap_bytes holds at kPlanBytesPerObject (PlanObjectLimit).
+    std::uint64_t max_plan_objects = 0;
     std::uint64_t max_response_bytes = 1ull << 30;    // bytes one Render or View may return
     std::uint64_t max_view_pixels = 4096ull * 4096ull;  // View's viewport
     // Tokens (access.h). With either set, every call needs "authorization: Bearer <token>" naming
@@ -44,5 +48,18 @@ struct ServiceOptions {
     std::uint64_t chunk_bytes = 1ull << 20;  // Render's map chunks
     bool log_requests = true;  // one stderr line per call (ShadowService::Record)
 };
+
+// The most a plan holds per object, bytes: its clipped boxes, held and visible regions, object
+// tree, screen cells and footprints came to 4.4 to 5.0 KiB an object at 10 k to 1 M objects
+// (peak resident size over PlanShadowMaps, docs/service.md, "Object limit"), and a plan's other
+// allocations grow with them.
+inline constexpr std::uint64_t kPlanBytesPerObject = 8ull << 10;
+
+// Objects one plan may hold: max_plan_objects when set, else memory_cap_bytes at
+// kPlanBytesPerObject (262 144 at the default 2 GiB).
+inline std::uint64_t PlanObjectLimit(const ServiceOptions& options) {
+    if (options.max_plan_objects != 0) return options.max_plan_objects;
+    return std::max<std::uint64_t>(1, options.memory_cap_bytes / kPlanBytesPerObject);
+}
 
 }  // namespace lixel::service

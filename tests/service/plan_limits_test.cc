@@ -1,0 +1,133 @@
+// The objects a plan may hold (PlanObjectLimit: from memory_cap_bytes, or max_plan_objects) and
+// a deadline that ends a plan over many objects while it plans, through a real server.
+#include <lixel/service/proto_convert.h>
+#include <lixel/service/service_options.h>
+#include <lixel/solver/camera.h>
+
+#include <chrono>
+#include <random>
+
+#include "floor_solve.h"
+#include "service_fixture.h"
+
+namespace lixel {
+namespace {
+
+using testing::FloorSolve;
+using testing::RawStub;
+using testing::SmallServerOptions;
+using testing::StartServer;
+using testing::Target;
+using testing::WithDeadline;
+
+// The floor/wall room's view over `count` seeded boxes standing on the floor, bounds only.
+v1::PlanRequest PlanOverBoxes(int count) {
+    v1::PlanRequest plan;
+    const v1::SolveRequest s = FloorSolve(1024, Vec3(0, 3, 8), Vec3(4, 9, 3), "floor");
+    *plan.mutable_camera() = s.views(0);
+    *plan.mutable_light() = s.lights(0);
+    *plan.add_planes() = s.planes(0);
+    std::mt19937_64 rng(29);
+    std::uniform_real_distribution<double> x(-9.5, 9.5), z(-4.5, 9.5), side(0.05, 1.0);
+    for (int i = 0; i < count; ++i) {
+        const Vec3 c(x(rng), 0.0, z(rng));
+        const Vec3 half(side(rng) / 2, side(rng), side(rng) / 2);
+        v1::ObjectBounds* box = plan.add_objects();
+        service::EncodeVec3(c - Vec3(half.x(), 0, half.z()), box->mutable_bounds()->mutable_min());
+        service::EncodeVec3(c + half, box->mutable_bounds()->mutable_max());
+    }
+    return plan;
+}
+
+// A scene of `count` one-triangle meshes.
+v1::Scene ManyMeshes(int count) {
+    v1::Scene scene;
+    for (int i = 0; i < count; ++i) {
+        v1::Mesh* m = scene.add_meshes();
+        m->set_name(std::to_string(i));
+        for (float v : {0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f}) {
+            m->add_positions(v + static_cast<float>(i));
+        }
+        for (int k : {0, 1, 2}) m->add_indices(k);
+    }
+    return scene;
+}
+
+TEST(PlanObjectLimit, FollowsTheMemoryCapUnlessSetItself) {
+    service::ServiceOptions options;
+    EXPECT_EQ(service::PlanObjectLimit(options), (2ull << 30) / service::kPlanBytesPerObject);
+    EXPECT_EQ(service::PlanObjectLimit(options), 262144u);
+    options.memory_cap_bytes = 1 << 20;
+    EXPECT_EQ(service::PlanObjectLimit(options), 128u);
+    options.memory_cap_bytes = 1;
+    EXPECT_EQ(service::PlanObjectLimit(options), 1u);
+    options.max_plan_objects = 5000;
+    EXPECT_EQ(service::PlanObjectLimit(options), 5000u);
+}
+
+// One object over the limit is refused naming the field and the limit, in a request's objects
+// and in an uploaded scene's meshes (at upload); at the limit the plan is served.
+TEST(PlanObjectLimit, ObjectsOrMeshesOverTheLimitAreRefusedNamingIt) {
+    service::ServerOptions options = SmallServerOptions("test-objects");
+    options.service.memory_cap_bytes = 1 << 20;  // 128 objects
+    auto server = StartServer(options);
+    auto stub = RawStub(Target(*server));
+
+    for (const int count : {128, 129}) {
+        grpc::ClientContext context;
+        WithDeadline(context);
+        v1::PlanResponse response;
+        const grpc::Status status = stub->Plan(&context, PlanOverBoxes(count), &response);
+        if (count == 128) {
+            EXPECT_TRUE(status.ok()) << status.error_message();
+            continue;
+        }
+        EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+        EXPECT_EQ(status.error_message(),
+                  "plan.objects: 129 objects, over the limit max_plan_objects = 128 "
+                  "(memory_cap_bytes / 8 KiB)");
+    }
+
+    auto client = testing::Connect(Target(*server));
+    auto refused = client->UploadScene(ManyMeshes(129));
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().Message(),
+              "RESOURCE_EXHAUSTED: content: 129 meshes, over the 128 objects a plan may hold "
+              "(max_plan_objects)");
+    auto held = client->UploadScene(ManyMeshes(128));
+    EXPECT_TRUE(held.ok()) << held.error().Message();
+    EXPECT_TRUE(client->Plan(PlanOverBoxes(3)).ok());  // the server serves on
+}
+
+// A deadline ends a plan over 20 000 objects while it plans: with one worker, a small plan sent
+// right after a long one whose deadline is 50 ms is served well before the long plan could
+// have finished (its time measured in this process first, on the same request).
+TEST(PlanObjectLimit, ADeadlineEndsALongPlanAndFreesTheWorker) {
+    const v1::PlanRequest big = PlanOverBoxes(20000);
+    auto decoded = service::DecodePlanRequest(big, nullptr, "plan");
+    ASSERT_TRUE(decoded.ok()) << decoded.error().Message();
+    auto start = std::chrono::steady_clock::now();
+    ASSERT_TRUE(PlanShadowMaps(*decoded).ok());
+    const auto whole = std::chrono::steady_clock::now() - start;
+
+    service::ServerOptions options = SmallServerOptions("test-plan-deadline");
+    options.service.workers = 1;
+    auto server = StartServer(options);
+    auto stub = RawStub(Target(*server));
+    grpc::ClientContext context;
+    WithDeadline(context, 0.05);
+    v1::PlanResponse response;
+    start = std::chrono::steady_clock::now();
+    EXPECT_EQ(stub->Plan(&context, big, &response).error_code(),
+              grpc::StatusCode::DEADLINE_EXCEEDED);
+    grpc::ClientContext next;
+    WithDeadline(next);
+    v1::PlanResponse small;
+    const grpc::Status served = stub->Plan(&next, PlanOverBoxes(3), &small);
+    const auto waited = std::chrono::steady_clock::now() - start;
+    EXPECT_TRUE(served.ok()) << served.error_message();
+    EXPECT_LT(waited, whole / 2) << "the long plan held the worker";
+}
+
+}  // namespace
+}  // namespace lixel
