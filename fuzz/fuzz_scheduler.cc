@@ -1,7 +1,9 @@
 // fuzz_scheduler: PlanShadowMaps on structured random requests (FuzzedDataProvider): a viewer,
-// a light, up to 8 objects (some with a box mesh), up to 4 planes (some bounded), budgets,
-// texture limits and passes. No crash; an ok() plan is finite, within its budget, and its
-// lookup answers an index into its maps. The same request's baselines (uniform, PSM, LiSPSM,
+// a light, up to 8 objects (some with a box mesh) and a seeded field of up to 64 boxes around one
+// point (the object tree's groups, the pixel estimate's screen cells), up to 4 planes (some
+// bounded), budgets, texture limits and passes. No crash; an ok() plan is finite, within its
+// budget, and its lookup answers an index into its maps. Cancelled at a fuzzed poll, the plan
+// ends there with the cancel error, or finishes before it. The same request's baselines (uniform, PSM, LiSPSM,
 // cascades with random settings) from the plan's hull keep the same promises, and so does the
 // next frame planned frame-coherently from this one's maps (sizes, twists and settings
 // perturbed).
@@ -14,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <random>
 #include <string>
 
 namespace lixel::fuzz {
@@ -59,6 +62,21 @@ PlanRequest PickRequest(FuzzedDataProvider& in) {
         r.objects.push_back(o);
     }
     if (in.ConsumeBool()) {
+        const int field = in.ConsumeIntegralInRange<int>(1, 64);
+        const Vec3 centre = PickVec3(in);
+        const double spread = PickDouble(in);
+        std::mt19937_64 rng(in.ConsumeIntegral<std::uint32_t>());
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        for (int i = 0; i < field; ++i) {
+            SceneObject o;
+            o.name = "box " + std::to_string(i);
+            o.bounds.min = centre + spread * Vec3(unit(rng), unit(rng), unit(rng));
+            o.bounds.max = o.bounds.min + 0.2 * spread * Vec3(unit(rng), unit(rng), unit(rng));
+            o.closed = true;
+            r.objects.push_back(o);
+        }
+    }
+    if (in.ConsumeBool()) {
         r.scene_bounds.min = PickVec3(in);
         r.scene_bounds.max = PickVec3(in);
     }
@@ -96,6 +114,17 @@ PlanRequest PickRequest(FuzzedDataProvider& in) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     FuzzedDataProvider in(data, size);
     const lixel::PlanRequest request = lixel::fuzz::PickRequest(in);
+    if (const int cancel_at = in.ConsumeIntegralInRange<int>(0, 64); cancel_at > 0) {
+        lixel::PlanRequest stopped = request;
+        int polls = 0;
+        stopped.cancelled = [&] { return ++polls == cancel_at; };
+        const auto result = lixel::PlanShadowMaps(stopped);
+        const bool cancelled = !result && result.error().field == "request" &&
+                               result.error().reason == lixel::kPlanCancelled;
+        if (cancelled ? polls != cancel_at : polls >= cancel_at) {
+            lixel::fuzz::Fail("a cancelled plan went on past its first true poll");
+        }
+    }
     const auto plan = lixel::PlanShadowMaps(request);
     if (!plan) return 0;
     lixel::fuzz::CheckPlan(request, *plan, in);
