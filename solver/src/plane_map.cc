@@ -103,11 +103,12 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
         worst_reach = std::max(worst_reach, (s - l.head<3>()).norm());
         const double step = DepthStepAt(map, gl, l, s);
         if (step > 0.0) steps.Add(d, l, s, step);
-        if (auto scale =
-                FootprintAt(unproject, solved.plane, map, Vec2(v.x() / v.w(), v.y() / v.w()));
-            scale) {
-            d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
-            d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());
+        if (request.footprint_diagnostics) {
+            const Vec2 at(v.x() / v.w(), v.y() / v.w());
+            if (auto scale = FootprintAt(unproject, solved.plane, map, at); scale) {
+                d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
+                d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());
+            }
         }
         ++d.samples;
     }

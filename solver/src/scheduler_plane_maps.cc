@@ -165,11 +165,15 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, const std::vect
                 }
             }
         }
+        // The first solve fixes the crop; the second's figures replace its diagnostics, so it
+        // skips their footprints (its own checks read none of them).
+        pr.footprint_diagnostics = false;
         auto solved = SolvePlaneMap(pr);
         if (!solved) {
             left_out.push_back({cand.name, "refused by the solver: " + solved.error().Message()});
             continue;
         }
+        pr.footprint_diagnostics = true;
         std::vector<Eigen::Vector3d> half_planes;
         const Vec3 inside = PolygonCentroid(cand.polygon);
         for (size_t j : cand.cut_by) {

@@ -154,6 +154,45 @@ TEST(PlaneMap, FootprintScaleIsMeasuredApartFromTheCropOverRandomViews) {
     EXPECT_GT(solved, 400);
 }
 
+// footprint_diagnostics = false (the scheduler's first solve of a plane, whose figures the
+// second replaces) leaves out the lixels per pixel and nothing else: the same matrix, crop,
+// residuals, depth steps and samples, and the same refusals, over random configurations.
+TEST(PlaneMap, WithoutFootprintDiagnosticsOnlyTheLixelsPerPixelAreLeftOut) {
+    std::mt19937_64 rng(4418);
+    int solved = 0;
+    for (int i = 0; i < 300; ++i) {
+        const Configuration c = testing::RandomConfiguration(rng);
+        PlaneMapRequest request;
+        request.input = c.Input();
+        request.bounds = c.bounds;
+        const auto full = SolvePlaneMap(request);
+        request.footprint_diagnostics = false;
+        const auto bare = SolvePlaneMap(request);
+        ASSERT_EQ(full.ok(), bare.ok()) << "configuration " << i;
+        if (!full.ok()) {
+            EXPECT_EQ(full.error().Message(), bare.error().Message());
+            continue;
+        }
+        ++solved;
+        EXPECT_EQ(full->crop.map.matrix, bare->crop.map.matrix) << "configuration " << i;
+        EXPECT_EQ(full->crop.map.width, bare->crop.map.width);
+        EXPECT_EQ(full->crop.map.height, bare->crop.map.height);
+        const SolveDiagnostics& f = full->diagnostics;
+        const SolveDiagnostics& b = bare->diagnostics;
+        EXPECT_EQ(f.residual_lixels, b.residual_lixels);
+        EXPECT_EQ(f.residual_lixels_float, b.residual_lixels_float);
+        EXPECT_EQ(f.conditioning, b.conditioning);
+        EXPECT_EQ(f.depth_resolution, b.depth_resolution);
+        EXPECT_EQ(f.depth_step_nearest, b.depth_step_nearest);
+        EXPECT_EQ(f.depth_step_farthest, b.depth_step_farthest);
+        EXPECT_EQ(f.samples, b.samples);
+        EXPECT_GT(f.lixels_per_pixel_max, 0.0);
+        EXPECT_EQ(b.lixels_per_pixel_min, 0.0);
+        EXPECT_EQ(b.lixels_per_pixel_max, 0.0);
+    }
+    EXPECT_GT(solved, 200);
+}
+
 TEST(PlaneMap, AWrongScaleIsSeenByTheFootprint) {
     const Configuration c = FloorWallConfiguration();
     PlaneMapRequest request = RequestOf(c);

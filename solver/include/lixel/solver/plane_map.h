@@ -51,6 +51,10 @@ struct PlaneMapRequest {
     // range is fitted to (bounds ∩ the map's rays) when input.depth_points is empty.
     Aabb bounds;
     CropOptions crop;
+    // false: diagnostics leave lixels_per_pixel_min and _max at 0 (no footprint per sample, a
+    // third of the solve), for a solve whose figures are replaced by a later one's; every
+    // figure the solve's own checks read is still taken.
+    bool footprint_diagnostics = true;
 };
 
 struct PlaneMap {
