@@ -65,7 +65,10 @@ grpc::Status CheckPlanObjects(const ServiceState& state, const v1::PlanRequest& 
     return Exhausted(field + (scene != nullptr ? ".scene_id: the scene's " : ".objects: ") +
                      std::to_string(count) + (scene != nullptr ? " meshes" : " objects") +
                      ", over the limit max_plan_objects = " + std::to_string(limit) +
-                     (state.options.max_plan_objects == 0 ? " (memory_cap_bytes / 8 KiB)" : ""));
+                     (state.options.max_plan_objects == 0
+                          ? " (memory_cap_bytes / " + std::to_string(kPlanBytesPerObject >> 10) +
+                                " KiB)"
+                          : std::string()));
 }
 
 Result<Plan> PlanPolling(PlanRequest& request, const CancelCheck& cancelled) {
