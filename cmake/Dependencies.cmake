@@ -45,6 +45,12 @@ find_program(LIXEL_PROTOC protoc REQUIRED)                # protobuf-compiler
 find_program(LIXEL_GRPC_CPP_PLUGIN grpc_cpp_plugin REQUIRED)        # protobuf-compiler-grpc
 find_program(LIXEL_GRPC_PYTHON_PLUGIN grpc_python_plugin)           # protobuf-compiler-grpc
 
+# --- codec: coded maps on the wire -------------------------------------------------------------
+# Linked by name (-lzstd -lz), so the installed lixel::codec needs no imported target of ours.
+find_path(LIXEL_ZSTD_INCLUDE_DIR zstd.h REQUIRED)         # libzstd-dev
+find_library(LIXEL_ZSTD_LIBRARY zstd REQUIRED)            # libzstd-dev
+find_path(LIXEL_ZLIB_INCLUDE_DIR zlib.h REQUIRED)         # zlib1g-dev (gRPC's): CRC-32
+
 # --- server/volumes: shadow volumes ---------------------------------------------------------
 # lixel::volumes (adjacency, multiplicity, smooth silhouettes) needs Eigen only. lixel::volumes_gl
 # loads its extra GL entry points through the EGL and OSMesa libraries found for server/render

@@ -1,6 +1,6 @@
 # What `cmake --install` puts under the prefix for other projects (docs/package.md):
-#   include/lixel/{solver,kit,client,v1}                           public headers
-#   lib/liblixel_{solver,kit,proto,client,client_gl}.a               the libraries
+#   include/lixel/{solver,kit,codec,client,v1}                     public headers
+#   lib/liblixel_{solver,kit,codec,proto,client,client_gl}.a         the libraries (codec: -lzstd -lz)
 #   share/lixel/glsl/lixel_shadows.glsl                              the client shader kit
 #   lib/cmake/lixel/lixelConfig.cmake (+ Version, Targets)           find_package(lixel CONFIG)
 #   lib/pkgconfig/lixel.pc                                           pkg-config --cflags --libs lixel
@@ -18,16 +18,18 @@ set(LIXEL_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/lixel)
 set_target_properties(lixel_warnings PROPERTIES EXPORT_NAME warnings)
 set_target_properties(lixel_solver PROPERTIES EXPORT_NAME solver)
 set_target_properties(lixel_kit PROPERTIES EXPORT_NAME kit)
+set_target_properties(lixel_codec PROPERTIES EXPORT_NAME codec)
 set_target_properties(lixel_proto PROPERTIES EXPORT_NAME proto)
 set_target_properties(lixel_client PROPERTIES EXPORT_NAME client)
 set_target_properties(lixel_client_gl PROPERTIES EXPORT_NAME client_gl)
-install(TARGETS lixel_warnings lixel_solver lixel_kit lixel_proto lixel_client lixel_client_gl
+install(TARGETS lixel_warnings lixel_solver lixel_kit lixel_codec lixel_proto lixel_client lixel_client_gl
         EXPORT lixelTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/solver/include/lixel/solver
                   ${PROJECT_SOURCE_DIR}/kit/include/lixel/kit
+                  ${PROJECT_SOURCE_DIR}/codec/include/lixel/codec
                   ${PROJECT_SOURCE_DIR}/client/include/lixel/client
                   ${PROJECT_SOURCE_DIR}/client/gl/include/lixel/client
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/lixel

@@ -15,6 +15,8 @@ packages=(
     glslang-tools  # tests/kit: the client shader kit compiled as GLSL 4.50 and ES 3.00
     libgrpc++-dev protobuf-compiler-grpc protobuf-compiler libprotobuf-dev
     prometheus-cpp-dev libssl-dev openssl python3-grpcio python3-protobuf
+    libzstd-dev zlib1g-dev  # lixel::codec: coded maps (zstd), the header's CRC-32
+    python3-numpy python3-zstandard  # client/python: the coded-map decoder
     clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer harnesses in fuzz/
 )
 

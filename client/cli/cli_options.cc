@@ -92,6 +92,11 @@ ABSL_FLAG(double, twist_saving, 0.1,
 ABSL_FLAG(bool, coherent, false,
           "frames: frame-coherent planning, each request carrying the previous frame's maps "
           "(FrameCoherence, server defaults)");
+ABSL_FLAG(std::string, encoding, "raw",
+          "render, frames: how maps travel: raw (float32), quantised (depth to N bits with a "
+          "stated bound, coded) or exact (float32 bits, coded); docs/service.md, \"Coded maps\"");
+ABSL_FLAG(std::uint32_t, bits, 0,
+          "render, frames --encoding=quantised: N in [16, 24]; 0 chooses per map");
 ABSL_FLAG(bool, check, false,
           "frames: also call View for each frame and compare the engine's mask with the server's");
 ABSL_FLAG(std::int64_t, max_differing, 8,
@@ -308,6 +313,24 @@ Result<v1::Filter> ViewFilter() {
                                  "smooth_volumes"};
     }
     return filter;
+}
+
+Result<v1::MapEncoding> EncodingFromFlags() {
+    v1::MapEncoding encoding;
+    const std::string name = absl::GetFlag(FLAGS_encoding);
+    if (name == "quantised") {
+        encoding.set_codec(v1::MAP_CODEC_QUANTISED);
+    } else if (name == "exact") {
+        encoding.set_codec(v1::MAP_CODEC_EXACT);
+    } else if (name != "raw") {
+        return Error{"--encoding", "must be raw, quantised or exact, not '" + name + "'"};
+    }
+    const std::uint32_t bits = absl::GetFlag(FLAGS_bits);
+    if (bits != 0 && (name != "quantised" || bits < 16 || bits > 24)) {
+        return Error{"--bits", "is N in [16, 24] with --encoding=quantised (0: chosen per map)"};
+    }
+    encoding.set_bits(bits);
+    return encoding;
 }
 
 std::string OutFolder(const Flags& flags, const std::string& fallback) {

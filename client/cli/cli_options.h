@@ -19,6 +19,8 @@
 // Connection, every command: --target, --token, --token_file, --tls_ca, --tls_cert, --tls_key,
 // --tls_server_name, --deadline (seconds per call, (0, 86400]).
 ABSL_DECLARE_FLAG(std::string, target);
+ABSL_DECLARE_FLAG(std::string, encoding);
+ABSL_DECLARE_FLAG(std::uint32_t, bits);
 ABSL_DECLARE_FLAG(int, cascades);
 ABSL_DECLARE_FLAG(double, split_lambda);
 ABSL_DECLARE_FLAG(bool, stable_cascades);
@@ -112,6 +114,9 @@ Result<v1::Method> ViewMethod();
 Result<v1::Filter> ViewFilter();
 
 // --out when given, else the command's own folder.
+// --encoding and --bits as a RenderRequest's encoding; errors name the flag.
+Result<v1::MapEncoding> EncodingFromFlags();
+
 std::string OutFolder(const Flags& flags, const std::string& fallback);
 
 // report's --budgets (a comma-separated list of positive lixel counts), else `fallback`.

@@ -88,7 +88,7 @@ const std::set<std::string>* CommandFlags(const std::string& command) {
           "volumes"}},
         {"render",
          {"scene", "scene_file", "budget", "fallback_floor", "second_depth", "silhouette_map",
-          "volumes", "out", "pfm"}},
+          "volumes", "out", "pfm", "encoding", "bits"}},
         {"view",
          {"scene", "scene_file", "budget", "fallback_floor", "method", "filter", "evaluate",
           "timings", "out", "cascades", "split_lambda", "stable_cascades", "smooth_epsilon",
@@ -97,7 +97,7 @@ const std::set<std::string>* CommandFlags(const std::string& command) {
          {"scene", "scene_file", "all", "full", "repeats", "out", "budgets", "depth_only"}},
         {"frames",
          {"scene", "frames", "size", "budget", "filter", "out", "check", "max_differing",
-          "coherent"}},
+          "coherent", "encoding", "bits"}},
         {"sequence",
          {"scene", "frames", "size", "budget", "fallback_floor", "out", "waste_bound",
           "scale_steps", "twist_saving"}},
@@ -192,6 +192,9 @@ int RenderCommand(client::Client& client, const Flags& flags) {
     if (!plan) return Fail(plan.error());
     v1::RenderRequest request;
     *request.mutable_plan() = *plan;
+    auto encoding = EncodingFromFlags();
+    if (!encoding) return UsageError(encoding.error());
+    *request.mutable_encoding() = *encoding;
     eval::ProgressBar bar(1000, "render");
     std::int64_t shown = 0;
     auto maps = client.Render(request, [&](std::uint64_t done, std::uint64_t total) {
@@ -234,6 +237,18 @@ int RenderCommand(client::Client& client, const Flags& flags) {
         }
         std::printf("%s: %d x %d (%s)\n", path.c_str(), image.width, image.height,
                     pfm ? "pfm" : "exr");
+    }
+    std::uint64_t raw = 0;
+    for (const auto& image : maps->images) raw += image.size() * sizeof(float);
+    std::printf("streamed %llu bytes of maps, %.2fx smaller than raw float32 (%llu bytes)\n",
+                static_cast<unsigned long long>(maps->streamed_bytes),
+                maps->streamed_bytes ? static_cast<double>(raw) / static_cast<double>(maps->streamed_bytes) : 0.0,
+                static_cast<unsigned long long>(raw));
+    for (const codec::CodedHeader& h : maps->coded) {
+        std::printf("  coded %u x %u: %s, N = %d, error bound %.3g, frame %016llx%s\n", h.width,
+                    h.height, h.codec == codec::Codec::kExact ? "exact" : "quantised", h.bits,
+                    h.error_bound, static_cast<unsigned long long>(h.frame_id),
+                    h.reference_id != 0 ? " (temporal)" : " (keyframe)");
     }
     return 0;
 }

@@ -39,6 +39,9 @@ int FramesCommand(client::Client& client, const Flags& flags) {
     options.filter = *filter;
     options.check = absl::GetFlag(FLAGS_check);
     options.coherent = absl::GetFlag(FLAGS_coherent);
+    auto encoding = EncodingFromFlags();
+    if (!encoding) return UsageError(encoding.error());
+    options.encoding = *encoding;
     auto loop = engine::FrameLoop::Create(client, options);
     if (!loop) return Fail(loop.error());
     const std::string out = OutFolder(flags, "out/frames");

@@ -189,13 +189,30 @@ Result<v1::PlanResponse> Client::Plan(const v1::PlanRequest& request) {
     return response;
 }
 
+namespace {
+
+// The most bytes a coded image of `image`'s shape may take: its raw size, zstd's bound on
+// incompressible input and the header (the server's own reservation, render_job.cc).
+std::uint64_t CodedLimit(const v1::MapImage& image) {
+    const std::uint64_t raw = std::uint64_t{image.width()} * image.height() *
+                              (image.pass() == v1::PASS_SILHOUETTE_MAP ? 8 : 4);
+    return raw + raw / 64 + 4096;
+}
+
+}  // namespace
+
 Result<RenderedMaps> Client::Render(
     const v1::RenderRequest& request,
-    const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
+    const std::function<void(std::uint64_t, std::uint64_t)>& progress, CodedFrames* frames) {
     RenderedMaps out;
+    std::vector<std::string> coded;
+    v1::RenderRequest sent = request;
+    const bool coding = request.encoding().codec() != v1::MAP_CODEC_RAW;
+    if (coding && frames != nullptr) frames->NameIn(sent.mutable_encoding());
     const grpc::Status s = WithRetries(request.plan().scene_id(), [&](grpc::ClientContext& c) {
         out = RenderedMaps{};
-        auto reader = stub_->Render(&c, request);
+        coded.clear();
+        auto reader = stub_->Render(&c, sent);
         v1::RenderChunk chunk;
         std::uint64_t total = 0;
         std::uint64_t received = 0;
@@ -203,15 +220,29 @@ Result<RenderedMaps> Client::Render(
             if (chunk.has_header()) {
                 out.header = chunk.header();
                 for (const v1::MapImage& image : out.header.images()) {
-                    out.images.emplace_back(image.bytes() / sizeof(float));
+                    out.images.emplace_back(image.coded() ? 0 : image.bytes() / sizeof(float));
                     total += image.bytes();
                 }
+                coded.resize(out.images.size());
                 continue;
             }
             const v1::MapChunk& piece = chunk.chunk();
             if (piece.image_index() >= out.images.size()) {
                 c.TryCancel();
                 break;
+            }
+            received += piece.data().size();
+            const v1::MapImage& announced = out.header.images(static_cast<int>(piece.image_index()));
+            if (announced.coded()) {
+                // Coded bytes arrive in order, each image within its bound.
+                std::string& bytes = coded[piece.image_index()];
+                if (piece.offset() != bytes.size() ||
+                    bytes.size() + piece.data().size() > CodedLimit(announced)) {
+                    c.TryCancel();
+                    break;
+                }
+                bytes += piece.data();
+                continue;
             }
             auto& image = out.images[piece.image_index()];
             const std::size_t bytes = image.size() * sizeof(float);
@@ -221,12 +252,25 @@ Result<RenderedMaps> Client::Render(
             }
             std::memcpy(reinterpret_cast<char*>(image.data()) + piece.offset(),
                         piece.data().data(), piece.data().size());
-            received += piece.data().size();
             if (progress) progress(received, total);
         }
+        out.streamed_bytes = received;
         return reader->Finish();
     });
     if (!s.ok()) return StatusError(s);
+    if (!coding) return out;
+    CodedFrames own;
+    CodedFrames& decoder = frames != nullptr ? *frames : own;
+    std::vector<codec::IntegerImage> held;
+    for (int i = 0; i < out.header.images_size(); ++i) {
+        if (!out.header.images(i).coded()) continue;
+        auto decoded = decoder.Decode(out.header, i, coded[i]);
+        if (!decoded) return decoded.error();
+        out.images[i] = std::move(decoded->texels);
+        out.coded.push_back(decoded->header);
+        held.push_back(std::move(decoded->values));
+    }
+    decoder.Hold(std::move(held));
     return out;
 }
 

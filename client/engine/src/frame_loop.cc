@@ -181,13 +181,15 @@ Result<EngineFrame> FrameLoop::Run(int frame_index) {
     start = Clock::now();
     v1::RenderRequest render_request;
     *render_request.mutable_plan() = plan;
-    auto rendered = client_->Render(render_request);
+    *render_request.mutable_encoding() = options_.encoding;
+    auto rendered = client_->Render(render_request, {}, &coded_frames_);
     if (!rendered) return Step("render", rendered.error());
     out.times.render = Since(start);
     previous_plan_ = rendered->header.plan();
     out.maps = rendered->header.plan().maps_size();
     out.lixels = rendered->header.plan().total_lixels();
-    for (const auto& image : rendered->images) out.streamed_bytes += image.size() * sizeof(float);
+    for (const auto& image : rendered->images) out.raw_bytes += image.size() * sizeof(float);
+    out.streamed_bytes = rendered->streamed_bytes;
 
     // lixel's GPU scene is relative to its bounds' centre; the same origin makes the engine's
     // float positions and matrices the server's, bit for bit.
@@ -308,10 +310,12 @@ FramesSummary Summarise(std::span<const EngineFrame> frames) {
 std::string FrameLine(const EngineFrame& f) {
     const EngineFrameTimes& t = f.times;
     std::string line = Format(
-        "frame %3d: %d maps, %llu lixels, %.0f KiB streamed; ms: upload %.2f, render %.2f, kit "
-        "%.2f, gl upload %.2f, draw+readback %.2f, total %.2f; atlas allocations %lld",
+        "frame %3d: %d maps, %llu lixels, %.0f KiB streamed (raw %.0f KiB); ms: upload %.2f, "
+        "render %.2f, kit %.2f, gl upload %.2f, draw+readback %.2f, total %.2f; atlas "
+        "allocations %lld",
         f.frame, f.maps, static_cast<unsigned long long>(f.lixels),
-        static_cast<double>(f.streamed_bytes) / 1024.0, 1e3 * t.upload_scene, 1e3 * t.render,
+        static_cast<double>(f.streamed_bytes) / 1024.0,
+        static_cast<double>(f.raw_bytes) / 1024.0, 1e3 * t.upload_scene, 1e3 * t.render,
         1e3 * t.kit_frame, 1e3 * t.gl_upload, 1e3 * t.draw_readback, 1e3 * t.Total(),
         static_cast<long long>(f.atlas_reallocations));
     if (f.check) {

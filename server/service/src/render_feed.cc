@@ -19,6 +19,14 @@ void FillMapChunk(std::uint32_t image_index, const render::FloatImage& image,
     mc->mutable_data()->assign(data + offset, std::min(chunk_bytes, size - offset));
 }
 
+void FillMapChunk(std::uint32_t image_index, std::string_view coded, std::uint64_t offset,
+                  std::uint64_t chunk_bytes, v1::RenderChunk* message) {
+    v1::MapChunk* mc = message->mutable_chunk();
+    mc->set_image_index(image_index);
+    mc->set_offset(offset);
+    mc->mutable_data()->assign(coded.substr(offset, chunk_bytes));
+}
+
 
 bool RenderFeed::PutHeader(v1::RenderChunk header) {
     std::unique_lock lock(mutex_);
@@ -32,7 +40,7 @@ RenderFeed::Room RenderFeed::WaitForRoom(const std::function<bool()>& cancelled,
                                          double idle_seconds) {
     std::unique_lock lock(mutex_);
     const auto idle = std::chrono::duration<double>(idle_seconds);
-    while (!closed_ && image_.has_value()) {
+    while (!closed_ && (image_.has_value() || coded_.has_value())) {
         if (cancelled && cancelled()) return Room::kEnded;
         if (std::chrono::steady_clock::now() - last_taken_ > idle) return Room::kStalled;
         room_.wait_for(lock, std::chrono::milliseconds(20));
@@ -47,12 +55,24 @@ std::vector<float> RenderFeed::TakeSpare() {
 
 bool RenderFeed::PutImage(std::uint32_t image_index, render::FloatImage image) {
     std::unique_lock lock(mutex_);
-    room_.wait(lock, [&] { return closed_ || !image_.has_value(); });
+    room_.wait(lock, [&] { return closed_ || (!image_.has_value() && !coded_.has_value()); });
     if (closed_) return false;
     image_ = std::move(image);
     image_index_ = image_index;
     offset_ = 0;
     if (image_->pixels.empty()) image_.reset();  // nothing to write: the header says 0 bytes
+    WakeIfIdle(lock);
+    return true;
+}
+
+bool RenderFeed::PutCoded(std::uint32_t image_index, std::string coded) {
+    std::unique_lock lock(mutex_);
+    room_.wait(lock, [&] { return closed_ || (!image_.has_value() && !coded_.has_value()); });
+    if (closed_) return false;
+    coded_ = std::move(coded);
+    image_index_ = image_index;
+    offset_ = 0;
+    if (coded_->empty()) coded_.reset();
     WakeIfIdle(lock);
     return true;
 }
@@ -64,13 +84,14 @@ void RenderFeed::Finish(const grpc::Status& status) {
     if (!status.ok()) {  // an error ends the call now: drop what was not written
         header_.reset();
         image_.reset();
+        coded_.reset();
         room_.notify_all();
     }
     WakeIfIdle(lock);
 }
 
 bool RenderFeed::ReadyLocked() const {
-    return header_.has_value() || image_.has_value() || finish_.has_value();
+    return header_.has_value() || image_.has_value() || coded_.has_value() || finish_.has_value();
 }
 
 void RenderFeed::WakeIfIdle(std::unique_lock<std::mutex>& lock) {
@@ -101,6 +122,16 @@ RenderFeed::Step RenderFeed::Next(v1::RenderChunk* message, grpc::Status* status
         ++messages_;
         return Step::kWrite;
     }
+    if (coded_) {
+        FillMapChunk(image_index_, *coded_, offset_, chunk_bytes_, message);
+        offset_ += message->chunk().data().size();
+        if (offset_ >= coded_->size()) {
+            coded_.reset();
+            room_.notify_all();
+        }
+        ++messages_;
+        return Step::kWrite;
+    }
     if (finish_) {
         *status = *finish_;
         return Step::kFinish;
@@ -113,6 +144,7 @@ void RenderFeed::Close() {
     std::lock_guard lock(mutex_);
     closed_ = true;
     image_.reset();
+    coded_.reset();
     spare_ = {};
     header_.reset();
     room_.notify_all();

@@ -1,6 +1,8 @@
 // Render: the plan, then each map's images streamed as they are read back.
 #include "job_common.h"
 
+#include <lixel/service/map_coding.h>
+
 #include <cstdio>
 
 namespace lixel::service {
@@ -30,6 +32,8 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     if (auto s = CheckPlanObjects(state, request.plan(), scene.get(), "plan"); !s.ok()) return s;
     auto decoded = DecodePlanRequest(request.plan(), scene.get(), "plan");
     if (!decoded) return InvalidArgument(decoded.error());
+    auto coding = DecodeMapEncoding(request.encoding(), "encoding");
+    if (!coding) return InvalidArgument(coding.error());
     auto plan = PlanPolling(decoded.value(), cancelled);
     if (!plan) return PlanFailed(plan.error());
     const std::uint64_t bytes = PlanBytes(*plan);
@@ -55,12 +59,17 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
         m->set_pass(PassKindOf(shape.pass, shape.corner_depth));
         m->set_width(static_cast<std::uint32_t>(shape.width));
         m->set_height(static_cast<std::uint32_t>(shape.height));
-        m->set_bytes(shape.bytes());
+        m->set_bytes(coding->has_value() ? 0 : shape.bytes());
+        m->set_coded(coding->has_value());
         largest = std::max(largest, shape.bytes());
         total += static_cast<double>(shape.bytes());
     }
     const std::uint64_t chunk = std::max<std::uint64_t>(1, state.options.chunk_bytes);
-    if (grpc::Status held = reserve(header.ByteSizeLong() + largest + std::min(chunk, largest));
+    // A coded image is held beside its float32 pixels while it is written: at most the raw size
+    // and zstd's bound on incompressible input (under 1 %), plus the header.
+    const std::uint64_t coded_room = coding->has_value() ? largest + largest / 64 + 4096 : 0;
+    if (grpc::Status held =
+            reserve(header.ByteSizeLong() + largest + coded_room + std::min(chunk, largest));
         !held.ok()) {
         return held;
     }
@@ -73,12 +82,16 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     std::size_t next = 0;
     bool mismatch = false;
     bool stalled = false;
+    std::optional<MapCoder> coder;
+    if (coding->has_value()) coder.emplace(**coding, state.coded_references, (**gpu_scene).origin());
+    std::optional<Error> coding_failed;
+    std::vector<float> coded_spare;  // a coded image's pixels, for the next read-back
     const double idle_seconds = state.options.stream_idle_seconds;
     const auto room = [&](std::vector<float>* storage) {
         const RenderFeed::Room r = feed.WaitForRoom(cancelled, idle_seconds);
         stalled = r == RenderFeed::Room::kStalled;
         if (r != RenderFeed::Room::kRoom) return false;
-        *storage = feed.TakeSpare();
+        *storage = coder ? std::exchange(coded_spare, {}) : feed.TakeSpare();
         return true;
     };
     auto rendered = RenderPlanImages(
@@ -91,13 +104,24 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
                 mismatch = true;
                 return false;
             }
-            return feed.PutImage(static_cast<std::uint32_t>(next++), std::move(image.image));
+            if (!coder) return feed.PutImage(static_cast<std::uint32_t>(next++), std::move(image.image));
+            auto coded = coder->Code(plan->maps.at(shape.map_index).map,
+                                     PassKindOf(shape.pass, shape.corner_depth), image.image);
+            if (!coded) {
+                coding_failed = coded.error();
+                return false;
+            }
+            coded_spare = std::move(image.image.pixels);
+            return feed.PutCoded(static_cast<std::uint32_t>(next++), std::move(coded).value());
         });
     if (stalled) {
         char limit[32];
         std::snprintf(limit, sizeof limit, "%g", idle_seconds);
         return Exhausted(std::string("stream: the client took nothing for over ") + limit +
                          " s, the limit stream_idle_seconds = " + limit);
+    }
+    if (coding_failed) {
+        return grpc::Status(grpc::StatusCode::INTERNAL, "render: " + coding_failed->Message());
     }
     if (mismatch) {
         return grpc::Status(grpc::StatusCode::INTERNAL,

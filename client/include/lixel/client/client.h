@@ -4,6 +4,7 @@
 #pragma once
 
 #include <grpcpp/grpcpp.h>
+#include <lixel/client/coded_frames.h>
 #include <lixel/solver/result.h>
 #include <lixel/v1/lixel.grpc.pb.h>
 
@@ -38,6 +39,10 @@ Error StatusError(const grpc::Status& status);
 struct RenderedMaps {
     v1::RenderHeader header;
     std::vector<std::vector<float>> images;  // one per header.images(), float32 row 0 at bottom
+    // Coded images (RenderRequest.encoding): each one's coded header (codec, N, error bound,
+    // frame, reference and keyframe ids, sizes); empty when the maps came raw.
+    std::vector<codec::CodedHeader> coded;
+    std::uint64_t streamed_bytes = 0;  // image bytes as they came over the wire
 };
 
 class Client {
@@ -51,9 +56,13 @@ public:
     // Plan, Render and View carry a scene id; when an instance does not know it (evicted, or
     // another instance) the scene is uploaded again and the call retried.
     Result<v1::PlanResponse> Plan(const v1::PlanRequest& request);
+    // Coded maps (request.encoding) are decoded here. With `frames`, the frames it holds are
+    // named as references (so the server may code differences from them) and this call's
+    // frame is held in their place; without, every coded image is a keyframe.
     Result<RenderedMaps> Render(const v1::RenderRequest& request,
                                 const std::function<void(std::uint64_t, std::uint64_t)>& progress =
-                                    {});
+                                    {},
+                                CodedFrames* frames = nullptr);
     Result<v1::ViewResponse> View(const v1::ViewRequest& request);
     Result<v1::SilhouettesResponse> Silhouettes(const v1::SilhouettesRequest& request);
 

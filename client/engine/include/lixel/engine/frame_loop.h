@@ -30,6 +30,9 @@ struct FramesOptions {
     // Frame-coherent planning (FrameCoherence with the server's defaults): each frame's request
     // carries the previous frame's maps, so map sizes, and with them the atlas, stay put.
     bool coherent = false;
+    // How Render codes the maps (docs/service.md, "Coded maps"); unset: raw float32. With a
+    // codec, each frame names the previous frame's images, so unchanged maps cost little.
+    v1::MapEncoding encoding;
 };
 
 // Wall-clock seconds of the engine's own frame, on the client.
@@ -92,7 +95,8 @@ struct EngineFrame {
     EngineFrameTimes times;
     int maps = 0;                          // maps in the plan
     std::uint64_t lixels = 0;              // their total
-    std::uint64_t streamed_bytes = 0;      // map bytes Render streamed
+    std::uint64_t streamed_bytes = 0;      // map bytes Render streamed (coded, when coded)
+    std::uint64_t raw_bytes = 0;           // the same maps as float32
     std::int64_t atlas_reallocations = 0;  // KitUploader's, since the loop started
     std::optional<FrameCheck> check;
 };
@@ -128,6 +132,7 @@ class FrameLoop {
     client::Client* client_;
     FramesOptions options_;
     v1::PlanResponse previous_plan_;  // the last frame's, for FramesOptions::coherent
+    client::CodedFrames coded_frames_;  // the last frame's decoded images, for temporal coding
     std::unique_ptr<EglContext> context_;
     EngineView view_;
 };

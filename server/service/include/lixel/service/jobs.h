@@ -5,6 +5,7 @@
 
 #include <grpcpp/support/status.h>
 #include <lixel/service/client_limits.h>
+#include <lixel/service/coded_references.h>
 #include <lixel/service/gpu_worker.h>
 #include <lixel/service/metrics.h>
 #include <lixel/service/render_feed.h>
@@ -28,13 +29,15 @@ struct ServiceState {
     Metrics metrics;
     ClientLimits limits;
     SharedBytes uploads_in_flight;  // every upload stream's announced bytes, header to decode
+    CodedReferences coded_references;  // Render's coded frames, for temporal coding
 
     ServiceState(ServiceOptions o, const std::string& metrics_address)
         : options(std::move(o)),
           cache(options.scene_cache_bytes),
           metrics(metrics_address),
           limits(options.max_calls_per_client, options.max_bytes_in_flight_per_client),
-          uploads_in_flight(options.max_upload_bytes_in_flight) {}
+          uploads_in_flight(options.max_upload_bytes_in_flight),
+          coded_references(options.coded_reference_bytes) {}
 };
 
 grpc::Status InvalidArgument(const Error& error);

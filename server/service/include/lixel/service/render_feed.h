@@ -13,6 +13,8 @@
 #include <functional>
 #include <mutex>
 #include <optional>
+#include <string>
+#include <string_view>
 
 #include <lixel/v1/lixel.pb.h>
 
@@ -22,6 +24,9 @@ namespace lixel::service {
 // `message`, reusing the chunk's buffer when `message` already holds a chunk.
 void FillMapChunk(std::uint32_t image_index, const render::FloatImage& image,
                   std::uint64_t offset, std::uint64_t chunk_bytes, v1::RenderChunk* message);
+// The same for a coded image's bytes.
+void FillMapChunk(std::uint32_t image_index, std::string_view coded, std::uint64_t offset,
+                  std::uint64_t chunk_bytes, v1::RenderChunk* message);
 
 class RenderFeed {
   public:
@@ -40,6 +45,8 @@ class RenderFeed {
     // The pixels of the image written last, to read the next one into (empty when none).
     std::vector<float> TakeSpare();
     bool PutImage(std::uint32_t image_index, render::FloatImage image);
+    // A coded image (RenderRequest.encoding): its bytes are written as they are.
+    bool PutCoded(std::uint32_t image_index, std::string coded);
     // The job's end; the writer finishes the call with `status` once everything before it is
     // written (an error ends the call at once).
     void Finish(const grpc::Status& status);
@@ -64,6 +71,7 @@ class RenderFeed {
     std::condition_variable room_;
     std::optional<v1::RenderChunk> header_;
     std::optional<render::FloatImage> image_;  // the image being written
+    std::optional<std::string> coded_;         // or the coded image being written
     std::vector<float> spare_;                 // the last written image's pixels, kept for reuse
     std::uint32_t image_index_ = 0;
     std::uint64_t offset_ = 0;  // next byte of image_ to write

@@ -28,6 +28,9 @@ struct ServiceOptions {
     // so a reader that stalls never holds a GPU worker longer.
     double stream_idle_seconds = 10.0;
     std::uint64_t scene_cache_bytes = 1ull << 30;     // decoded scenes held (LRU)
+    // Coded frames held for temporal coding (coded_references.h, LRU); 0 holds none, and every
+    // coded image is then a keyframe.
+    std::uint64_t coded_reference_bytes = 256ull << 20;
     std::uint64_t memory_cap_bytes = 2ull << 30;      // maps of one request (w * h * 4 * passes)
     // Objects one plan may hold (a request's objects, or an uploaded scene's meshes); 0: what
     // memory_cap_bytes holds at kPlanBytesPerObject (PlanObjectLimit).

@@ -1,0 +1,198 @@
+// Decoding, every size checked before it is used: the header (ReadHeader), the caller's texel
+// budget, zstd's frame header (content size, checksum flag), then the payload's own layout.
+#include <lixel/codec/map_decoder.h>
+
+#include <zstd.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "tile_predictors.h"
+
+namespace lixel::codec {
+
+using detail::Grid;
+using detail::Predict;
+using detail::TileSpan;
+using detail::UnZigZag;
+
+struct MapDecoder::Context {
+    ZSTD_DCtx* zstd = ZSTD_createDCtx();
+    ~Context() { ZSTD_freeDCtx(zstd); }
+};
+
+MapDecoder::MapDecoder(std::uint64_t max_texels)
+    : context_(std::make_unique<Context>()), max_texels_(max_texels) {}
+MapDecoder::~MapDecoder() = default;
+
+namespace {
+
+Error Bad(const std::string& field, const std::string& reason) {
+    return Error{"coded_map." + field, reason};
+}
+
+std::uint32_t Le32(const unsigned char* p) {
+    return std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 |
+           std::uint32_t{p[3]} << 24;
+}
+
+Result<const IntegerImage*> ReferenceOf(const CodedHeader& h,
+                                        const std::map<std::uint64_t, const IntegerImage*>& held) {
+    if (h.reference_id == 0) return static_cast<const IntegerImage*>(nullptr);
+    const auto found = held.find(h.reference_id);
+    if (found == held.end() || found->second == nullptr) {
+        return Bad("reference_id", "frame " + std::to_string(h.reference_id) +
+                                       " is not held (its keyframe is " +
+                                       std::to_string(h.keyframe_id) + "): ask for a keyframe");
+    }
+    const IntegerImage& r = *found->second;
+    if (!r.Matches(h) || r.values.size() != h.texels() * h.channels()) {
+        return Bad("reference_id", "frame " + std::to_string(h.reference_id) +
+                                       " is not of this image's content, codec, N and size");
+    }
+    return &r;
+}
+
+// The zstd frame: one frame, its content size stated and equal to the header's, its checksum on
+// (RFC 8878 §3.1.1: the magic number, then the frame header descriptor, whose bit 2 is the
+// content checksum flag).
+Result<bool> CheckFrame(const CodedHeader& h, std::string_view payload) {
+    const auto* p = reinterpret_cast<const unsigned char*>(payload.data());
+    if (payload.size() < 5 || Le32(p) != 0xFD2FB528u) {
+        return Bad("payload", "not a zstd frame");
+    }
+    if ((p[4] & 0x04u) == 0) return Bad("payload", "its zstd frame carries no checksum");
+    const unsigned long long size = ZSTD_getFrameContentSize(payload.data(), payload.size());
+    if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN || size != h.raw_bytes) {
+        return Bad("payload", "its zstd frame does not state the header's raw_bytes");
+    }
+    const std::size_t frame = ZSTD_findFrameCompressedSize(payload.data(), payload.size());
+    if (ZSTD_isError(frame) || frame != payload.size()) {
+        return Bad("payload", "not exactly one zstd frame (truncated or followed by bytes)");
+    }
+    return true;
+}
+
+}  // namespace
+
+Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
+                                      const std::map<std::uint64_t, const IntegerImage*>& references) {
+    auto header = ReadHeader(bytes);
+    if (!header) return header.error();
+    const CodedHeader& h = *header;
+    const std::uint64_t count = h.texels() * h.channels();
+    if (count > max_texels_) {
+        return Bad("width", std::to_string(h.width) + " x " + std::to_string(h.height) + " x " +
+                                std::to_string(h.channels()) + " values, over the decoder's " +
+                                std::to_string(max_texels_));
+    }
+    auto reference = ReferenceOf(h, references);
+    if (!reference) return reference.error();
+    const std::string_view payload = bytes.substr(kHeaderBytes);
+    if (auto ok = CheckFrame(h, payload); !ok) return ok.error();
+
+    std::string raw(h.raw_bytes, '\0');
+    const std::size_t got = ZSTD_decompressDCtx(context_->zstd, raw.data(), raw.size(),
+                                                payload.data(), payload.size());
+    if (ZSTD_isError(got)) return Bad("payload", std::string("zstd: ") + ZSTD_getErrorName(got));
+    if (got != raw.size()) return Bad("payload", "decompressed size is not raw_bytes");
+
+    const std::uint32_t across = TilesAcross(h);
+    const std::uint32_t up = TilesUp(h);
+    const std::uint64_t tiles = std::uint64_t{across} * up;
+    const auto* p = reinterpret_cast<const unsigned char*>(raw.data());
+    const std::uint32_t* ref = *reference != nullptr ? (*reference)->values.data() : nullptr;
+    std::uint64_t residuals = 0;
+    bool temporal = false;
+    for (std::uint64_t t = 0; t < tiles; ++t) {
+        if (p[t] > 3) return Bad("tile_modes", "tile " + std::to_string(t) + " has mode " + std::to_string(p[t]));
+        const auto m = static_cast<TileMode>(p[t]);
+        if (m == TileMode::kTemporal || m == TileMode::kCopy) {
+            if (ref == nullptr) {
+                return Bad("tile_modes", "tile " + std::to_string(t) + " reads a reference frame, and none is named");
+            }
+            temporal = true;
+        }
+        if (m != TileMode::kCopy) {
+            const TileSpan s = detail::SpanOf(h, static_cast<std::uint32_t>(t % across),
+                                              static_cast<std::uint32_t>(t / across));
+            residuals += std::uint64_t(s.x1 - s.x0) * (s.y1 - s.y0) * h.channels();
+        }
+    }
+    if (!temporal && h.reference_id != 0) {
+        return Bad("reference_id", "named, but no tile reads it");
+    }
+    const int planes = BytePlanes(h.bits);
+    if (h.raw_bytes != tiles + 8ull * h.exceptions + planes * residuals) {
+        return Bad("raw_bytes", std::to_string(h.raw_bytes) + " is not what its tiles and " +
+                                    "exceptions need (" +
+                                    std::to_string(tiles + 8ull * h.exceptions + planes * residuals) + ")");
+    }
+
+    DecodedMap out;
+    out.header = h;
+    IntegerImage& values = out.values;
+    values.content = h.content;
+    values.codec = h.codec;
+    values.bits = h.bits;
+    values.width = h.width;
+    values.height = h.height;
+    values.frame_id = h.frame_id;
+    values.keyframe_id = h.keyframe_id;
+    values.values.assign(count, 0);
+    std::uint32_t* v = values.values.data();
+    const Grid g = detail::GridOf(h);
+    const unsigned char* exceptions = p + tiles;
+    const unsigned char* z = exceptions + 8ull * h.exceptions;
+    std::uint64_t k = 0;
+    for (std::uint32_t ty = 0; ty < up; ++ty) {
+        for (std::uint32_t tx = 0; tx < across; ++tx) {
+            const auto m = static_cast<TileMode>(p[std::uint64_t{ty} * across + tx]);
+            const TileSpan s = detail::SpanOf(h, tx, ty);
+            for (std::uint32_t y = s.y0; y < s.y1; ++y) {
+                const std::uint64_t row = (std::uint64_t{y} * h.width) * g.channels;
+                if (m == TileMode::kCopy) {
+                    std::memcpy(v + row + std::uint64_t{s.x0} * g.channels,
+                                ref + row + std::uint64_t{s.x0} * g.channels,
+                                std::size_t(s.x1 - s.x0) * g.channels * sizeof(std::uint32_t));
+                    continue;
+                }
+                for (std::uint32_t x = s.x0; x < s.x1; ++x) {
+                    for (int c = 0; c < g.channels; ++c) {
+                        std::uint32_t zz = 0;
+                        for (int b = 0; b < planes; ++b) zz |= std::uint32_t{z[b * residuals + k]} << (8 * b);
+                        ++k;
+                        v[row + std::uint64_t{x} * g.channels + c] =
+                            UnZigZag(zz, Predict(m, g, v, ref, x, y, c), g);
+                    }
+                }
+            }
+        }
+    }
+
+    out.texels.resize(count);
+    if (h.codec == Codec::kExact) {
+        std::memcpy(out.texels.data(), v, count * sizeof(float));
+        return out;
+    }
+    const double steps = std::ldexp(1.0, h.bits) - 1.0;
+    for (std::uint64_t i = 0; i < count; ++i) {
+        if (v[i] > g.mask) return Bad("payload", "a value outside N bits");
+        out.texels[i] = static_cast<float>(static_cast<double>(v[i]) / steps);
+    }
+    std::uint64_t previous = 0;
+    for (std::uint32_t e = 0; e < h.exceptions; ++e) {
+        const std::uint32_t index = Le32(exceptions + 8ull * e);
+        if (index >= count || (e > 0 && index <= previous)) {
+            return Bad("exceptions", "exception " + std::to_string(e) + " at texel " +
+                                         std::to_string(index) + " is out of range or order");
+        }
+        previous = index;
+        out.texels[index] = std::bit_cast<float>(Le32(exceptions + 8ull * e + 4));
+    }
+    return out;
+}
+
+}  // namespace lixel::codec

@@ -1,0 +1,134 @@
+// Render's coded maps.
+#include <lixel/service/map_coding.h>
+
+#include <lixel/kit/shadow_block.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lixel::service {
+
+namespace {
+
+Error Bad(const std::string& field, const std::string& reason) { return Error{field, reason}; }
+
+}  // namespace
+
+Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding& m,
+                                                          const std::string& field) {
+    if (!v1::MapCodec_IsValid(m.codec())) {
+        return Bad(field + ".codec", std::to_string(m.codec()) + " is not a MapCodec");
+    }
+    if (m.codec() == v1::MAP_CODEC_RAW) {
+        if (m.bits() != 0 || m.reference_frames_size() != 0 || m.keyframe()) {
+            return Bad(field + ".codec", "raw float32 takes no bits, references or keyframe");
+        }
+        return std::optional<MapCodingRequest>{};
+    }
+    MapCodingRequest r;
+    r.depth_codec = m.codec() == v1::MAP_CODEC_EXACT ? codec::Codec::kExact : codec::Codec::kQuantised;
+    if (m.bits() != 0) {
+        if (m.codec() == v1::MAP_CODEC_EXACT) {
+            return Bad(field + ".bits", "the exact codec keeps all 32 bits; leave it 0");
+        }
+        if (m.bits() < codec::kMinQuantisedBits || m.bits() > codec::kMaxQuantisedBits) {
+            return Bad(field + ".bits", std::to_string(m.bits()) +
+                                            " is outside [16, 24] (0: chosen per map)");
+        }
+        r.bits = static_cast<int>(m.bits());
+    }
+    if (m.zstd_level() != 0) {
+        if (m.zstd_level() < 1 || m.zstd_level() > 19) {
+            return Bad(field + ".zstd_level", std::to_string(m.zstd_level()) + " is outside [1, 19]");
+        }
+        r.zstd_level = m.zstd_level();
+    }
+    if (m.tile() != 0) {
+        if (m.tile() < codec::kMinTile || m.tile() > codec::kMaxTile) {
+            return Bad(field + ".tile", std::to_string(m.tile()) + " is outside [8, 1024]");
+        }
+        r.tile = static_cast<int>(m.tile());
+    }
+    if (m.reference_frames_size() > kMaxReferenceFrames) {
+        return Bad(field + ".reference_frames", std::to_string(m.reference_frames_size()) +
+                                                    " ids, at most 64");
+    }
+    r.references.assign(m.reference_frames().begin(), m.reference_frames().end());
+    r.keyframe = m.keyframe();
+    if (m.keyframe_interval() != 0) {
+        if (m.keyframe_interval() > 3600) {
+            return Bad(field + ".keyframe_interval", std::to_string(m.keyframe_interval()) +
+                                                         " is outside [1, 3600]");
+        }
+        r.keyframe_interval = static_cast<int>(m.keyframe_interval());
+    }
+    return std::optional<MapCodingRequest>{std::move(r)};
+}
+
+int DepthBitsFor(const render::FloatImage& image, const LightMap& map, const Vec3& origin,
+                 bool corner_depth) {
+    const Mat4 lixel = kit::MakeRelativeMatrices(map, origin).lixel;
+    const Mat4 inverse = lixel.inverse();
+    const Vec4 z_row = lixel.row(2).cwiseAbs().transpose();
+    const Vec4 w_row = lixel.row(3).cwiseAbs().transpose();
+    const double offset = corner_depth ? 0.0 : 0.5;
+    const int stride_x = std::max(1, image.width / 256);
+    const int stride_y = std::max(1, image.height / 256);
+    double least = std::numeric_limits<double>::infinity();
+    for (int y = 0; y < image.height; y += stride_y) {
+        for (int x = 0; x < image.width; x += stride_x) {
+            const double d = image.at(x, y);
+            if (!(d > 0.0 && d <= 1.0)) continue;  // cleared (0) is coded exactly
+            const Vec4 h_image = inverse * Vec4(x + offset, y + offset, d, 1.0);
+            if (!(std::abs(h_image.w()) > 0.0)) continue;
+            const Vec4 p(h_image.x() / h_image.w(), h_image.y() / h_image.w(),
+                         h_image.z() / h_image.w(), 1.0);
+            const Vec4 h = lixel * p;
+            const Vec4 a = p.cwiseAbs();
+            // lixel_stored_depth_rounding (kit/glsl/lixel_shadows.glsl), in double.
+            const double rounding = 0.5 * 1.1920929e-7 *
+                                    (z_row.dot(a) + std::abs(h.z() / h.w()) * w_row.dot(a)) /
+                                    std::abs(h.w());
+            if (std::isfinite(rounding)) least = std::min(least, rounding);
+        }
+    }
+    if (!std::isfinite(least)) return codec::kMinQuantisedBits;  // nothing drawn: all exact
+    const double room = 16.0 * least / 4.0;
+    for (int bits = codec::kMinQuantisedBits; bits <= codec::kMaxQuantisedBits; ++bits) {
+        if (codec::QuantisedErrorBound(bits) <= room) return bits;
+    }
+    return 0;
+}
+
+Result<std::string> MapCoder::Code(const LightMap& map, v1::PassKind kind,
+                                   const render::FloatImage& image) {
+    const bool points = kind == v1::PASS_SILHOUETTE_MAP;
+    codec::EncodeOptions o;
+    o.codec = points ? codec::Codec::kExact : request_.depth_codec;
+    if (o.codec == codec::Codec::kQuantised) {
+        o.bits = request_.bits != 0
+                     ? request_.bits
+                     : DepthBitsFor(image, map, origin_, kind == v1::PASS_CORNER_DEPTH);
+        if (o.bits == 0) o.codec = codec::Codec::kExact;
+    }
+    o.zstd_level = request_.zstd_level;
+    o.tile = request_.tile;
+    o.frame_id = NewFrameId();
+    ReferenceKey key{map.matrix, map.width, map.height, static_cast<int>(kind)};
+    std::shared_ptr<const CodedReference> held;
+    if (!request_.keyframe) held = references_.Find(request_.references, key);
+    if (held && held->chain + 1 < request_.keyframe_interval) o.reference = held->values.get();
+    auto coded = encoder_.Encode(points ? codec::Content::kPoints : codec::Content::kDepth,
+                                 image.pixels.data(), static_cast<std::uint32_t>(image.width),
+                                 static_cast<std::uint32_t>(image.height), o);
+    if (!coded) return coded.error();
+    auto next = std::make_shared<CodedReference>();
+    next->key = key;
+    next->chain = coded->header.reference_id != 0 ? held->chain + 1 : 0;
+    next->values = std::make_shared<codec::IntegerImage>(std::move(coded->decoded));
+    references_.Put(std::move(next));
+    return std::move(coded->bytes);
+}
+
+}  // namespace lixel::service
