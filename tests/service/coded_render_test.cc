@@ -1,0 +1,238 @@
+// Render's coded maps (RenderRequest.encoding, lixel::service::MapCoder, lixel::client's
+// CodedFrames) over real gRPC: every image decodes within its stated bound (exactly for the exact
+// codec and the silhouette points), a repeated frame costs next to nothing against the frame the
+// client holds, keyframes come when they must, and bad encodings are refused by name.
+#include <gtest/gtest.h>
+#include <lixel/codec/map_encoder.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+#include "service_fixture.h"
+
+namespace lixel::testing {
+namespace {
+
+class CodedRender : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite() { room_ = new SmallSceneServer(StartWithSmallScene("coded")); }
+    static void TearDownTestSuite() {
+        delete room_;
+        room_ = nullptr;
+    }
+
+    // The room with second depth and the silhouette map: depth, second depth, corner depth and
+    // points images.
+    static v1::RenderRequest Request(v1::MapCodec codec, std::uint32_t bits = 0) {
+        v1::RenderRequest request;
+        request.mutable_plan()->set_scene_id(room_->scene_id);
+        request.mutable_plan()->set_lixel_budget(256 * 256);
+        request.mutable_plan()->mutable_passes()->set_second_depth(true);
+        request.mutable_plan()->mutable_passes()->set_silhouette_map(true);
+        request.mutable_encoding()->set_codec(codec);
+        request.mutable_encoding()->set_bits(bits);
+        return request;
+    }
+
+    static client::Client& Client() { return *room_->client; }
+
+    static SmallSceneServer* room_;
+};
+
+SmallSceneServer* CodedRender::room_ = nullptr;
+
+std::uint32_t Bits(float f) { return std::bit_cast<std::uint32_t>(f); }
+
+TEST_F(CodedRender, EveryImageDecodesWithinItsStatedBoundAndPointsExactly) {
+    auto raw = Client().Render(Request(v1::MAP_CODEC_RAW));
+    ASSERT_TRUE(raw.ok()) << raw.error().Message();
+    ASSERT_TRUE(raw->coded.empty());
+    for (auto [codec, bits] : {std::pair{v1::MAP_CODEC_QUANTISED, 0u},
+                               std::pair{v1::MAP_CODEC_QUANTISED, 16u},
+                               std::pair{v1::MAP_CODEC_EXACT, 0u}}) {
+        auto coded = Client().Render(Request(codec, bits));
+        ASSERT_TRUE(coded.ok()) << coded.error().Message();
+        ASSERT_EQ(coded->header.images_size(), raw->header.images_size());
+        ASSERT_EQ(coded->coded.size(), static_cast<std::size_t>(coded->header.images_size()));
+        std::uint64_t raw_bytes = 0;
+        for (int i = 0; i < coded->header.images_size(); ++i) {
+            const v1::MapImage& meta = coded->header.images(i);
+            EXPECT_TRUE(meta.coded());
+            EXPECT_EQ(meta.bytes(), 0u);
+            const codec::CodedHeader& h = coded->coded[i];
+            EXPECT_EQ(h.reference_id, 0u) << "no frame was held: a keyframe";
+            const auto& a = raw->images[i];
+            const auto& b = coded->images[i];
+            ASSERT_EQ(a.size(), b.size());
+            raw_bytes += a.size() * 4;
+            const bool exact = codec == v1::MAP_CODEC_EXACT || meta.pass() == v1::PASS_SILHOUETTE_MAP;
+            EXPECT_EQ(h.codec == codec::Codec::kExact, exact || h.bits == 32) << i;
+            if (bits != 0 && !exact) {
+                EXPECT_EQ(h.bits, 16);
+            }
+            for (std::size_t t = 0; t < a.size(); ++t) {
+                if (h.codec == codec::Codec::kExact) {
+                    ASSERT_EQ(Bits(a[t]), Bits(b[t])) << "image " << i << " texel " << t;
+                } else {
+                    ASSERT_LE(std::abs(double(a[t]) - double(b[t])), h.error_bound)
+                        << "image " << i << " texel " << t;
+                    if (a[t] == 0.0f) {
+                        ASSERT_EQ(b[t], 0.0f) << "the clear value is exact";
+                    }
+                }
+            }
+        }
+        // Rendered depth is planar per triangle: even the exact codec is several times smaller.
+        EXPECT_LT(coded->streamed_bytes * 4, raw_bytes) << coded->streamed_bytes;
+    }
+}
+
+TEST_F(CodedRender, TheDefaultNIsNoCoarserThanTheRoundingBiasAllows) {
+    // DepthBitsFor's rule on this room: N in [19, 24] (a coarser N would move answers).
+    auto coded = Client().Render(Request(v1::MAP_CODEC_QUANTISED));
+    ASSERT_TRUE(coded.ok()) << coded.error().Message();
+    for (const codec::CodedHeader& h : coded->coded) {
+        if (h.content == codec::Content::kPoints) continue;
+        EXPECT_TRUE(h.codec == codec::Codec::kExact || (h.bits >= 19 && h.bits <= 24)) << h.bits;
+    }
+}
+
+TEST_F(CodedRender, ARepeatedFrameIsCodedAgainstTheHeldOneAndCostsAlmostNothing) {
+    client::CodedFrames frames;
+    auto first = Client().Render(Request(v1::MAP_CODEC_QUANTISED), {}, &frames);
+    ASSERT_TRUE(first.ok()) << first.error().Message();
+    EXPECT_EQ(frames.held(), first->coded.size());
+    auto second = Client().Render(Request(v1::MAP_CODEC_QUANTISED), {}, &frames);
+    ASSERT_TRUE(second.ok()) << second.error().Message();
+    ASSERT_EQ(second->coded.size(), first->coded.size());
+    for (std::size_t i = 0; i < second->coded.size(); ++i) {
+        EXPECT_EQ(second->coded[i].reference_id, first->coded[i].frame_id) << i;
+        EXPECT_EQ(second->coded[i].keyframe_id, first->coded[i].frame_id) << i;
+        EXPECT_EQ(second->images[i], first->images[i]) << i;
+        // Every tile a copy: the payload is the tile modes, a few bytes once compressed.
+        EXPECT_LE(second->coded[i].payload_bytes, 40u) << i;
+    }
+    EXPECT_LT(second->streamed_bytes * 10, first->streamed_bytes)
+        << second->streamed_bytes << " against " << first->streamed_bytes;
+}
+
+TEST_F(CodedRender, KeyframesComeOnRequestAtTheIntervalAndForFramesNotHeld) {
+    client::CodedFrames frames;
+    v1::RenderRequest request = Request(v1::MAP_CODEC_EXACT);
+    request.mutable_encoding()->set_keyframe_interval(2);
+    auto key = Client().Render(request, {}, &frames);
+    ASSERT_TRUE(key.ok()) << key.error().Message();
+    auto temporal = Client().Render(request, {}, &frames);
+    ASSERT_TRUE(temporal.ok()) << temporal.error().Message();
+    auto again = Client().Render(request, {}, &frames);  // the chain is 2 long: a keyframe
+    ASSERT_TRUE(again.ok()) << again.error().Message();
+    request.mutable_encoding()->set_keyframe(true);
+    auto asked = Client().Render(request, {}, &frames);
+    ASSERT_TRUE(asked.ok()) << asked.error().Message();
+    // Ids the server never sent (or no longer holds): keyframes, decodable without them.
+    request.mutable_encoding()->set_keyframe(false);
+    request.mutable_encoding()->add_reference_frames(12345);
+    client::CodedFrames fresh;
+    auto unknown = Client().Render(request, {}, &fresh);
+    ASSERT_TRUE(unknown.ok()) << unknown.error().Message();
+    for (std::size_t i = 0; i < key->coded.size(); ++i) {
+        EXPECT_EQ(key->coded[i].reference_id, 0u);
+        EXPECT_NE(temporal->coded[i].reference_id, 0u);
+        EXPECT_EQ(again->coded[i].reference_id, 0u);
+        EXPECT_EQ(asked->coded[i].reference_id, 0u);
+        EXPECT_EQ(unknown->coded[i].reference_id, 0u);
+    }
+}
+
+TEST_F(CodedRender, AFrameAgainstAReferenceTheClientLacksIsRefusedNotMisdecoded) {
+    client::CodedFrames frames;
+    auto first = Client().Render(Request(v1::MAP_CODEC_QUANTISED), {}, &frames);
+    ASSERT_TRUE(first.ok()) << first.error().Message();
+    // Another client names those frames without holding them: the server codes differences, and
+    // the decoder refuses them rather than decode against nothing.
+    v1::RenderRequest request = Request(v1::MAP_CODEC_QUANTISED);
+    for (const codec::CodedHeader& h : first->coded) {
+        request.mutable_encoding()->add_reference_frames(h.frame_id);
+    }
+    client::CodedFrames empty;
+    auto refused = Client().Render(request, {}, &empty);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().field.find("coded_map.reference_id"), std::string::npos)
+        << refused.error().Message();
+    EXPECT_NE(refused.error().reason.find("not held"), std::string::npos);
+}
+
+TEST_F(CodedRender, ABadEncodingIsRefusedNamingItsFieldAndTheServerServesOn) {
+    const auto refused = [](v1::RenderRequest request, const std::string& field) {
+        auto r = Client().Render(request);
+        ASSERT_FALSE(r.ok()) << field;
+        EXPECT_EQ(r.error().field, "INVALID_ARGUMENT");
+        EXPECT_NE(r.error().reason.find(field), std::string::npos) << r.error().reason;
+    };
+    v1::RenderRequest r = Request(v1::MAP_CODEC_QUANTISED, 15);
+    refused(r, "encoding.bits");
+    r = Request(v1::MAP_CODEC_QUANTISED, 25);
+    refused(r, "encoding.bits");
+    r = Request(v1::MAP_CODEC_EXACT, 20);
+    refused(r, "encoding.bits");
+    r = Request(v1::MAP_CODEC_RAW, 20);
+    refused(r, "encoding.codec");
+    r = Request(static_cast<v1::MapCodec>(7));
+    refused(r, "encoding.codec");
+    r = Request(v1::MAP_CODEC_QUANTISED);
+    r.mutable_encoding()->set_zstd_level(20);
+    refused(r, "encoding.zstd_level");
+    r = Request(v1::MAP_CODEC_QUANTISED);
+    r.mutable_encoding()->set_tile(4);
+    refused(r, "encoding.tile");
+    r = Request(v1::MAP_CODEC_QUANTISED);
+    for (int i = 0; i < 65; ++i) r.mutable_encoding()->add_reference_frames(1 + i);
+    refused(r, "encoding.reference_frames");
+    r = Request(v1::MAP_CODEC_QUANTISED);
+    r.mutable_encoding()->set_keyframe_interval(3601);
+    refused(r, "encoding.keyframe_interval");
+    auto served = Client().Render(Request(v1::MAP_CODEC_QUANTISED));
+    EXPECT_TRUE(served.ok()) << served.error().Message();
+}
+
+TEST(CodedFrames, AnImageOfAnotherShapeThanAnnouncedOrCorruptIsRefusedNamingIt) {
+    // What a hostile or broken server could send: a coded image that is not the one its header
+    // announced, or one whose bytes were damaged on the way.
+    std::vector<float> depth(40 * 30, 0.25f);
+    codec::MapEncoder encoder;
+    codec::EncodeOptions o;
+    o.bits = 20;
+    auto coded = encoder.Encode(codec::Content::kDepth, depth.data(), 40, 30, o);
+    ASSERT_TRUE(coded.ok());
+    v1::RenderHeader header;
+    v1::MapImage* image = header.add_images();
+    image->set_pass(v1::PASS_DEPTH);
+    image->set_width(40);
+    image->set_height(30);
+    image->set_coded(true);
+    client::CodedFrames frames;
+    EXPECT_TRUE(frames.Decode(header, 0, coded->bytes).ok());
+    image->set_width(41);
+    auto shape = frames.Decode(header, 0, coded->bytes);
+    ASSERT_FALSE(shape.ok());
+    EXPECT_EQ(shape.error().field, "images[0]");
+    image->set_width(40);
+    image->set_pass(v1::PASS_SILHOUETTE_MAP);
+    EXPECT_FALSE(frames.Decode(header, 0, coded->bytes).ok());
+    image->set_pass(v1::PASS_DEPTH);
+    std::string damaged = coded->bytes;
+    damaged[damaged.size() / 2] = static_cast<char>(damaged[damaged.size() / 2] ^ 0x10);
+    auto corrupt = frames.Decode(header, 0, damaged);
+    if (!corrupt.ok()) {
+        EXPECT_EQ(corrupt.error().field.rfind("images[0].coded_map.", 0), 0u) << corrupt.error().field;
+    } else {
+        EXPECT_EQ(corrupt->texels, frames.Decode(header, 0, coded->bytes)->texels);
+    }
+    auto truncated = frames.Decode(header, 0, std::string_view(coded->bytes).substr(0, 90));
+    ASSERT_FALSE(truncated.ok());
+    EXPECT_EQ(truncated.error().field, "images[0].coded_map.payload_bytes");
+}
+
+}  // namespace
+}  // namespace lixel::testing
