@@ -4,9 +4,11 @@
 
 #include <zstd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <string>
 
 #include "tile_predictors.h"
@@ -14,12 +16,15 @@
 namespace lixel::codec {
 
 using detail::Grid;
-using detail::Predict;
 using detail::TileSpan;
 using detail::UnZigZag;
 
 struct MapDecoder::Context {
     ZSTD_DCtx* zstd = ZSTD_createDCtx();
+    // Scratch kept from image to image (the payload, the residuals in walk order), so a
+    // stream's decoder allocates its buffers once.
+    std::string raw;
+    std::vector<std::uint32_t> residuals;
     ~Context() { ZSTD_freeDCtx(zstd); }
 };
 
@@ -52,6 +57,13 @@ Result<const IntegerImage*> ReferenceOf(const CodedHeader& h,
         return Bad("reference_id", "frame " + std::to_string(h.reference_id) +
                                        " is not of this image's content, codec, N and size");
     }
+    // The caller's values: a frame with any beyond N bits is no decoded frame.
+    std::uint32_t largest = 0;
+    for (std::uint32_t value : r.values) largest = std::max(largest, value);
+    if (h.bits < 32 && largest >> h.bits != 0) {
+        return Bad("reference_id", "frame " + std::to_string(h.reference_id) +
+                                       " holds values beyond N bits: not a decoded frame");
+    }
     return &r;
 }
 
@@ -75,6 +87,63 @@ Result<bool> CheckFrame(const CodedHeader& h, std::string_view payload) {
     return true;
 }
 
+// The residuals in walk order, joined from their byte planes (one plane at a time: a loop the
+// compiler vectorises).
+struct ResidualReader {
+    const std::uint32_t* values;
+    std::uint64_t next = 0;
+    std::uint32_t largest = 0;  // each residual is N bits: larger ones would give a map two codings
+
+    ResidualReader(const unsigned char* planes_base, std::uint64_t count, int planes,
+                   std::vector<std::uint32_t>& scratch) {
+        if (scratch.size() < count) scratch.resize(count);
+        std::uint32_t* out = scratch.data();
+        values = out;
+        for (std::uint64_t i = 0; i < count; ++i) out[i] = planes_base[i];
+        for (int b = 1; b < planes; ++b) {
+            const unsigned char* plane = planes_base + b * count;
+            const int shift = 8 * b;
+            for (std::uint64_t i = 0; i < count; ++i) out[i] |= std::uint32_t{plane[i]} << shift;
+        }
+        for (std::uint64_t i = 0; i < count; ++i) largest = std::max(largest, out[i]);
+    }
+    std::uint32_t Next() { return values[next++]; }
+};
+
+// Row y of a tile: each value from its residual and prediction (tile_predictors.h's Predict,
+// with texels outside the image read as 0, which is its edge rule for both spatial predictors).
+template <TileMode kMode>
+void DecodeRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref, const std::uint32_t* zeros,
+               const TileSpan& s, std::uint32_t y, ResidualReader& residual) {
+    const std::uint64_t row = std::uint64_t{g.width} * g.channels;
+    std::uint32_t* cur = v + y * row;
+    const std::uint32_t* below = y > 0 ? cur - row : zeros;
+    const std::uint32_t* prior = ref != nullptr ? ref + y * row : nullptr;
+    const int ch = g.channels;
+    for (std::uint32_t x = s.x0; x < s.x1; ++x) {
+        for (int c = 0; c < ch; ++c) {
+            const std::uint64_t i = std::uint64_t{x} * ch + c;
+            std::uint32_t prediction;
+            if constexpr (kMode == TileMode::kTemporal) {
+                prediction = prior[i];
+            } else {
+                const std::uint64_t a = x > 0 ? cur[i - ch] : 0;
+                const std::uint64_t b = below[i];
+                const std::uint64_t d = x > 0 ? below[i - ch] : 0;
+                if constexpr (kMode == TileMode::kMed) {
+                    const std::uint64_t lo = a < b ? a : b;
+                    const std::uint64_t hi = a < b ? b : a;
+                    prediction = static_cast<std::uint32_t>(
+                        d >= hi ? lo : d <= lo ? hi : ((a + b - d) & g.mask));
+                } else {
+                    prediction = static_cast<std::uint32_t>((a + b - d) & g.mask);
+                }
+            }
+            cur[i] = UnZigZag(residual.Next(), prediction, g);
+        }
+    }
+}
+
 }  // namespace
 
 Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
@@ -93,7 +162,8 @@ Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
     const std::string_view payload = bytes.substr(kHeaderBytes);
     if (auto ok = CheckFrame(h, payload); !ok) return ok.error();
 
-    std::string raw(h.raw_bytes, '\0');
+    std::string& raw = context_->raw;
+    raw.resize(h.raw_bytes);
     const std::size_t got = ZSTD_decompressDCtx(context_->zstd, raw.data(), raw.size(),
                                                 payload.data(), payload.size());
     if (ZSTD_isError(got)) return Bad("payload", std::string("zstd: ") + ZSTD_getErrorName(got));
@@ -146,26 +216,29 @@ Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
     const Grid g = detail::GridOf(h);
     const unsigned char* exceptions = p + tiles;
     const unsigned char* z = exceptions + 8ull * h.exceptions;
-    std::uint64_t k = 0;
+    const std::vector<std::uint32_t> zeros(std::uint64_t{h.width} * g.channels, 0);
+    ResidualReader residual(z, residuals, planes, context_->residuals);
+    if (residual.largest > g.mask) return Bad("payload", "a residual beyond N bits");
     for (std::uint32_t ty = 0; ty < up; ++ty) {
         for (std::uint32_t tx = 0; tx < across; ++tx) {
             const auto m = static_cast<TileMode>(p[std::uint64_t{ty} * across + tx]);
             const TileSpan s = detail::SpanOf(h, tx, ty);
             for (std::uint32_t y = s.y0; y < s.y1; ++y) {
-                const std::uint64_t row = (std::uint64_t{y} * h.width) * g.channels;
-                if (m == TileMode::kCopy) {
-                    std::memcpy(v + row + std::uint64_t{s.x0} * g.channels,
-                                ref + row + std::uint64_t{s.x0} * g.channels,
-                                std::size_t(s.x1 - s.x0) * g.channels * sizeof(std::uint32_t));
-                    continue;
-                }
-                for (std::uint32_t x = s.x0; x < s.x1; ++x) {
-                    for (int c = 0; c < g.channels; ++c) {
-                        std::uint32_t zz = 0;
-                        for (int b = 0; b < planes; ++b) zz |= std::uint32_t{z[b * residuals + k]} << (8 * b);
-                        ++k;
-                        v[row + std::uint64_t{x} * g.channels + c] =
-                            UnZigZag(zz, Predict(m, g, v, ref, x, y, c), g);
+                switch (m) {
+                    case TileMode::kGradient:
+                        DecodeRow<TileMode::kGradient>(g, v, ref, zeros.data(), s, y, residual);
+                        break;
+                    case TileMode::kMed:
+                        DecodeRow<TileMode::kMed>(g, v, ref, zeros.data(), s, y, residual);
+                        break;
+                    case TileMode::kTemporal:
+                        DecodeRow<TileMode::kTemporal>(g, v, ref, zeros.data(), s, y, residual);
+                        break;
+                    case TileMode::kCopy: {
+                        const std::uint64_t at = (std::uint64_t{y} * h.width + s.x0) * g.channels;
+                        std::memcpy(v + at, ref + at,
+                                    std::size_t(s.x1 - s.x0) * g.channels * sizeof(std::uint32_t));
+                        break;
                     }
                 }
             }
@@ -178,9 +251,9 @@ Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
         return out;
     }
     const double steps = std::ldexp(1.0, h.bits) - 1.0;
+    float* texels = out.texels.data();
     for (std::uint64_t i = 0; i < count; ++i) {
-        if (v[i] > g.mask) return Bad("payload", "a value outside N bits");
-        out.texels[i] = static_cast<float>(static_cast<double>(v[i]) / steps);
+        texels[i] = static_cast<float>(static_cast<double>(v[i]) / steps);
     }
     std::uint64_t previous = 0;
     for (std::uint32_t e = 0; e < h.exceptions; ++e) {
@@ -190,6 +263,10 @@ Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
                                          std::to_string(index) + " is out of range or order");
         }
         previous = index;
+        if (v[index] != 0) {
+            return Bad("exceptions", "exception " + std::to_string(e) + "'s texel holds an " +
+                                         "integer other than 0");
+        }
         out.texels[index] = std::bit_cast<float>(Le32(exceptions + 8ull * e + 4));
     }
     return out;

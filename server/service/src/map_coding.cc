@@ -73,8 +73,8 @@ int DepthBitsFor(const render::FloatImage& image, const LightMap& map, const Vec
     const Vec4 z_row = lixel.row(2).cwiseAbs().transpose();
     const Vec4 w_row = lixel.row(3).cwiseAbs().transpose();
     const double offset = corner_depth ? 0.0 : 0.5;
-    const int stride_x = std::max(1, image.width / 256);
-    const int stride_y = std::max(1, image.height / 256);
+    const int stride_x = std::max(1, image.width / 64);
+    const int stride_y = std::max(1, image.height / 64);
     double least = std::numeric_limits<double>::infinity();
     for (int y = 0; y < image.height; y += stride_y) {
         for (int x = 0; x < image.width; x += stride_x) {
