@@ -156,9 +156,11 @@ Result<bool> RunView(client::Client& client, Sweep& sweep, const SceneRun& scene
     const bool preview = !f.previewed && budget == sweep.preview_budget;
     request.set_evaluate(true);
     request.set_preview(preview);
+    request.set_map_bytes(method.HasMaps());
     auto evaluated = client.View(request);
     request.set_evaluate(false);
     request.set_preview(false);
+    request.set_map_bytes(false);
     auto timed = evaluated ? TimeViews(client, request, sweep.runs, method.HasMaps())
                            : Result<TimedViews>(evaluated.error());
     sweep.bar.Advance(1, scene.name + " " + method.name);

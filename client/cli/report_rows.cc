@@ -88,6 +88,8 @@ eval::ReportRow RowOfView(const std::string& scene, const std::string& method,
     row.aliasing_planes = Stats(e.aliasing_planes());
     row.aliasing_elsewhere = Stats(e.aliasing_elsewhere());
     row.lixel_use = e.lixel_use();
+    row.map_bytes_raw = evaluated.map_bytes_raw();
+    row.map_bytes_coded = evaluated.map_bytes_coded();
     return row;
 }
 

@@ -130,14 +130,8 @@ void DecodeRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref, const 
                 const std::uint64_t a = x > 0 ? cur[i - ch] : 0;
                 const std::uint64_t b = below[i];
                 const std::uint64_t d = x > 0 ? below[i - ch] : 0;
-                if constexpr (kMode == TileMode::kMed) {
-                    const std::uint64_t lo = a < b ? a : b;
-                    const std::uint64_t hi = a < b ? b : a;
-                    prediction = static_cast<std::uint32_t>(
-                        d >= hi ? lo : d <= lo ? hi : ((a + b - d) & g.mask));
-                } else {
-                    prediction = static_cast<std::uint32_t>((a + b - d) & g.mask);
-                }
+                prediction = kMode == TileMode::kMed ? detail::Med(a, b, d, g.mask)
+                                                     : detail::Gradient(a, b, d, g.mask);
             }
             cur[i] = UnZigZag(residual.Next(), prediction, g);
         }

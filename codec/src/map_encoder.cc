@@ -77,14 +77,6 @@ struct Residuals {
     std::vector<unsigned char> same;         // per tile: every value equals the reference's
 };
 
-inline std::uint32_t Med(std::uint64_t a, std::uint64_t b, std::uint64_t d, std::uint64_t mask) {
-    const std::uint64_t lo = a < b ? a : b;
-    const std::uint64_t hi = a < b ? b : a;
-    if (d >= hi) return static_cast<std::uint32_t>(lo);
-    if (d <= lo) return static_cast<std::uint32_t>(hi);
-    return static_cast<std::uint32_t>((a + b - d) & mask);
-}
-
 // Row y's texels [x0, x1) of one tile, `kChannels` values a texel.
 template <int kChannels, bool kReference>
 void PredictRow(const Grid& g, const std::uint32_t* cur, const std::uint32_t* below,
@@ -99,8 +91,8 @@ void PredictRow(const Grid& g, const std::uint32_t* cur, const std::uint32_t* be
         const std::uint64_t b = below[i];
         const std::uint64_t d = left ? below[i - kChannels] : 0;
         const std::uint32_t value = cur[i];
-        const std::uint32_t g1 = ZigZag(value, static_cast<std::uint32_t>((a + b - d) & g.mask), g);
-        const std::uint32_t m1 = ZigZag(value, Med(a, b, d, g.mask), g);
+        const std::uint32_t g1 = ZigZag(value, detail::Gradient(a, b, d, g.mask), g);
+        const std::uint32_t m1 = ZigZag(value, detail::Med(a, b, d, g.mask), g);
         zg[i] = g1;
         zm[i] = m1;
         cg += static_cast<std::uint64_t>(std::bit_width(g1));

@@ -20,27 +20,22 @@ struct Grid {
 
 Grid GridOf(const CodedHeader& h);
 
-// The value at (x, y, c) predicted by `mode` from already decoded values (`v`: left, below and
-// below-left; texels outside the image are not read: the bottom row predicts from its left
-// neighbour, the left column from the texel below, texel (0, 0) from 0) or from the reference
-// `ref` (temporal modes). All arithmetic is modulo 2^N.
-inline std::uint32_t Predict(TileMode mode, const Grid& g, const std::uint32_t* v,
-                             const std::uint32_t* ref, std::uint32_t x, std::uint32_t y, int c) {
-    const std::uint64_t at = (std::uint64_t{y} * g.width + x) * g.channels + c;
-    if (mode == TileMode::kTemporal || mode == TileMode::kCopy) return ref[at];
-    const std::uint64_t row = std::uint64_t{g.width} * g.channels;
-    if (y == 0) return x == 0 ? 0u : v[at - g.channels];
-    if (x == 0) return v[at - row];
-    const std::uint64_t a = v[at - g.channels];
-    const std::uint64_t b = v[at - row];
-    const std::uint64_t d = v[at - row - g.channels];
-    if (mode == TileMode::kMed) {
-        const std::uint64_t lo = a < b ? a : b;
-        const std::uint64_t hi = a < b ? b : a;
-        if (d >= hi) return static_cast<std::uint32_t>(lo);
-        if (d <= lo) return static_cast<std::uint32_t>(hi);
-    }
-    return static_cast<std::uint32_t>((a + b - d) & g.mask);
+// The spatial predictions from already decoded neighbours of the same channel: a left, b below,
+// d below-left; texels outside the image read as 0, which is the format's edge rule (the bottom
+// row predicts from its left neighbour, the left column from below, texel (0, 0) from 0). All
+// arithmetic is modulo 2^N. Temporal tiles predict the reference's value at the same texel.
+inline std::uint32_t Gradient(std::uint64_t a, std::uint64_t b, std::uint64_t d,
+                              std::uint64_t mask) {
+    return static_cast<std::uint32_t>((a + b - d) & mask);
+}
+
+// LOCO-I's median edge detector.
+inline std::uint32_t Med(std::uint64_t a, std::uint64_t b, std::uint64_t d, std::uint64_t mask) {
+    const std::uint64_t lo = a < b ? a : b;
+    const std::uint64_t hi = a < b ? b : a;
+    if (d >= hi) return static_cast<std::uint32_t>(lo);
+    if (d <= lo) return static_cast<std::uint32_t>(hi);
+    return static_cast<std::uint32_t>((a + b - d) & mask);
 }
 
 // (value - prediction) mod 2^N as a signed number in [-2^(N-1), 2^(N-1)), zig-zagged: 0, -1, 1,

@@ -118,8 +118,10 @@ TEST(ReportRow, BudgetsRelativeToTheView) {
     std::string header, row;
     std::getline(lines, header);
     std::getline(lines, row);
-    EXPECT_TRUE(header.ends_with(",view_pixels,lixels_per_pixel")) << header;
-    EXPECT_TRUE(row.ends_with(",1048576,1")) << row;
+    EXPECT_TRUE(header.ends_with(",view_pixels,lixels_per_pixel,map_bytes_raw,map_bytes_coded"))
+        << header;
+    EXPECT_TRUE(row.ends_with(",1048576,1,,")) << row;  // bytes not measured: empty
+
 }
 
 TEST(ReportMarkdown, TablePerSceneBestInBold) {
@@ -133,6 +135,7 @@ TEST(ReportMarkdown, TablePerSceneBestInBold) {
     EXPECT_NE(md.find("| 512² (1/4 per pixel) | **plane-optimal + depth** |"), std::string::npos)
         << md;
     EXPECT_NE(md.find("| 512² (1/4 per pixel) | uniform + depth |"), std::string::npos);
+    EXPECT_NE(md.find("| coded KiB |"), std::string::npos) << md;
     EXPECT_NE(md.find("| 1024² (1 per pixel) | **uniform + depth** |"), std::string::npos);
     EXPECT_NE(md.find("**1.000**"), std::string::npos);  // 10 of 1000 misclassified
     EXPECT_NE(md.find("2.50 / 6.00 / 25.0%"), std::string::npos);

@@ -196,6 +196,28 @@ TEST_F(CodedRender, ABadEncodingIsRefusedNamingItsFieldAndTheServerServesOn) {
     EXPECT_TRUE(served.ok()) << served.error().Message();
 }
 
+TEST_F(CodedRender, ViewCountsTheMethodsMapBytesRawAndCoded) {
+    // The report's column: every image of the method's passes, raw and as coded keyframes.
+    v1::ViewRequest view;
+    view.mutable_plan()->set_scene_id(room_->scene_id);
+    view.mutable_plan()->set_lixel_budget(256 * 256);
+    view.set_method(v1::METHOD_UNIFORM);
+    view.set_filter(v1::FILTER_DEPTH);
+    view.set_map_bytes(true);
+    auto counted = Client().View(view);
+    ASSERT_TRUE(counted.ok()) << counted.error().Message();
+    // One uniform map of the budget's square: its depth image.
+    EXPECT_EQ(counted->map_bytes_raw(), 4 * counted->total_lixels());
+    EXPECT_GT(counted->map_bytes_coded(), 0u);
+    EXPECT_LT(counted->map_bytes_coded() * 4, counted->map_bytes_raw());
+    view.set_map_bytes(false);
+    auto plain = Client().View(view);
+    ASSERT_TRUE(plain.ok()) << plain.error().Message();
+    EXPECT_EQ(plain->map_bytes_raw(), 0u);
+    EXPECT_EQ(plain->map_bytes_coded(), 0u);
+    EXPECT_EQ(plain->mask(), counted->mask());
+}
+
 TEST(CodedFrames, AnImageOfAnotherShapeThanAnnouncedOrCorruptIsRefusedNamingIt) {
     // What a hostile or broken server could send: a coded image that is not the one its header
     // announced, or one whose bytes were damaged on the way.

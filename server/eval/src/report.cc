@@ -149,7 +149,8 @@ Result<bool> WriteReportCsv(const std::string& path, const std::vector<ReportRow
                           "map_cost_ratio", "lookup_cost_ratio", "cost_ratio"}) {
         out << "," << c << "," << c << "_min," << c << "_max";
     }
-    out << ",smooth_truth_pixels,smooth_truth_misclassified_pct,view_pixels,lixels_per_pixel";
+    out << ",smooth_truth_pixels,smooth_truth_misclassified_pct,view_pixels,lixels_per_pixel"
+           ",map_bytes_raw,map_bytes_coded";
     out << "\n";
     for (const ReportRow& r : rows) {
         out << CsvField(r.scene) << "," << CsvField(r.method) << "," << r.budget << ","
@@ -186,6 +187,8 @@ Result<bool> WriteReportCsv(const std::string& path, const std::vector<ReportRow
         }
         out << "," << r.view_pixels << ","
             << (r.view_pixels > 0 ? Number(r.LixelsPerPixel(), 6) : std::string());
+        out << "," << (r.map_bytes_coded > 0 ? std::to_string(r.map_bytes_raw) : std::string())
+            << "," << (r.map_bytes_coded > 0 ? std::to_string(r.map_bytes_coded) : std::string());
         out << "\n";
     }
     return WriteText(path, out.str());
@@ -195,6 +198,14 @@ namespace {
 
 // How the report.md tables are formatted: a ratio or a time with its spread, the aliasing
 // triple.
+// A method's maps as Render codes them: KiB, and how many times smaller than float32.
+std::string CodedText(const ReportRow& r) {
+    if (r.map_bytes_coded == 0) return "–";
+    return Fixed(static_cast<double>(r.map_bytes_coded) / 1024.0, 1) + " (" +
+           Fixed(static_cast<double>(r.map_bytes_raw) / static_cast<double>(r.map_bytes_coded), 1) +
+           "×)";
+}
+
 std::string RatioText(const Spread& s) {
     if (!s.valid()) return "–";
     return Fixed(s.median, 2) + " [" + Fixed(s.min, 2) + "–" + Fixed(s.max, 2) + "]";
@@ -240,7 +251,10 @@ void WritePreamble(std::ostringstream& out, const MarkdownContext& c) {
            "(mean / 95th percentile / share above "
         << Number(kAliasingThreshold)
         << "), on the planes of interest and elsewhere. Use: share of allocated lixels some "
-           "visible pixel reads. **Bold**: fewest misclassified pixels at that budget. Budgets "
+           "visible pixel reads. Coded KiB: the method's map images (every pass it drew) as "
+           "Render streams them with MAP_CODEC_QUANTISED at the default N, as keyframes "
+           "(docs/service.md, \"Coded maps\"), and how many times smaller than raw float32 "
+           "(– where not measured). **Bold**: fewest misclassified pixels at that budget. Budgets "
            "are given in lixels and per pixel of the view (1/16, 1/4, 1: the defaults at a "
            "1024² view). Plane-optimal maps hold only where a shadow can fall, so a plan may "
            "use fewer lixels than its budget.\n\n";
@@ -276,9 +290,9 @@ void WriteSceneTable(std::ostringstream& out, const MarkdownContext& c, const st
                      const std::vector<std::size_t>& order) {
     out << "\n## " << scene << "\n\n"
         << "| budget | method | lixels | maps | misclassified % | planes % | elsewhere % | "
-           "band % | m planes | m elsewhere | use |"
+           "band % | m planes | m elsewhere | use | coded KiB |"
         << (c.costs ? " map × | lookup × | cost × | map ms | lookup ms |\n" : " total ms |\n")
-        << "|---:|---|---:|---:|---:|---:|---:|---:|---|---|---:|"
+        << "|---:|---|---:|---:|---:|---:|---:|---:|---|---|---:|---:|"
         << (c.costs ? "---:|---:|---:|---:|---:|\n" : "---:|\n");
     for (const std::size_t i : order) {
         const ReportRow& r = c.rows[i];
@@ -289,7 +303,7 @@ void WriteSceneTable(std::ostringstream& out, const MarkdownContext& c, const st
             << Fixed(r.error.PlanesPercent(), 3) << " | " << Fixed(r.error.ElsewherePercent(), 3)
             << " | " << Fixed(r.error.BandPercent(), 2) << " | " << AliasingText(r.aliasing_planes)
             << " | " << AliasingText(r.aliasing_elsewhere) << " | "
-            << Fixed(100.0 * r.lixel_use, 1) << "% |";
+            << Fixed(100.0 * r.lixel_use, 1) << "% | " << CodedText(r) << " |";
         if (c.costs) {
             out << " " << RatioText(r.cost.map_ratio) << " | " << RatioText(r.cost.lookup_ratio)
                 << " | " << RatioText(r.cost.cost_ratio) << " | " << MsText(r.cost.map_ms)

@@ -1,6 +1,7 @@
 // A worker's GL state and the render jobs run on it.
 #include <lixel/render/readback.h>
 #include <lixel/service/gpu_worker.h>
+#include <lixel/service/map_coding.h>
 #include <lixel/volumes/scene_volume.h>
 
 #include <algorithm>
@@ -156,6 +157,48 @@ Result<bool> RenderPlanImages(GpuWorker& worker, const render::GpuScene& scene, 
     return true;
 }
 
+namespace {
+
+// Every image of `maps` read back and coded as Render codes it (MAP_CODEC_QUANTISED at the
+// default N, a keyframe): the report's bytes per map.
+Result<bool> CodedMapBytes(GpuWorker& worker, const render::GpuScene& scene,
+                           const std::vector<render::RenderedMap>& maps, MaskTimes* times) {
+    CodedReferences none(0);
+    MapCoder coder(MapCodingRequest{}, none, scene.origin());
+    const auto code = [&](const LightMap& map, v1::PassKind kind,
+                          Result<render::FloatImage> image) -> Result<bool> {
+        if (!image) return image.error();
+        auto coded = coder.Code(map, kind, *image);
+        if (!coded) return coded.error();
+        times->map_bytes_raw += image->pixels.size() * sizeof(float);
+        times->map_bytes_coded += coded->size();
+        return true;
+    };
+    render::GlContext& context = *worker.context;
+    for (const render::RenderedMap& m : maps) {
+        if (m.depth) {
+            if (auto ok = code(m.map, v1::PASS_DEPTH, render::ReadDepth(context, *m.depth)); !ok) {
+                return ok;
+            }
+        }
+        if (m.second_depth) {
+            auto ok = code(m.map, v1::PASS_SECOND_DEPTH, render::ReadDepth(context, *m.second_depth));
+            if (!ok) return ok;
+        }
+        if (m.silhouette) {
+            auto ok = code(m.map, v1::PASS_CORNER_DEPTH,
+                           render::ReadDepth(context, m.silhouette->corners));
+            if (!ok) return ok;
+            ok = code(m.map, v1::PASS_SILHOUETTE_MAP,
+                      render::ReadSilhouettePoints(context, *m.silhouette));
+            if (!ok) return ok;
+        }
+    }
+    return true;
+}
+
+}  // namespace
+
 Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene& scene,
                                       const MaskJob& job, const CancelCheck& cancelled,
                                       MaskTimes* times, render::Rgb8Image* preview) {
@@ -186,6 +229,9 @@ Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene&
     auto mask = render::ReadMask(*worker.context, *view);
     if (times != nullptr) times->readback_seconds = Seconds(start);
     if (auto ok = ReadPreviewInto(worker, *view, preview); !ok) return ok.error();
+    if (job.map_bytes && times != nullptr) {
+        if (auto ok = CodedMapBytes(worker, scene, rendered, times); !ok) return ok.error();
+    }
     return mask;
 }
 

@@ -292,6 +292,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     job.viewport = decoded->viewport;
     job.light = plan->hull.light;
     job.method = method;
+    job.map_bytes = request.map_bytes();
     if (auto s = MapsForMethod(request, *decoded, *plan, method, volumes, job, used); !s.ok()) {
         return s;
     }
@@ -328,6 +329,8 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         if (!m.lookup.unshadowed) lixels += static_cast<std::uint64_t>(m.map.width) * m.map.height;
     }
     response->set_total_lixels(lixels);
+    response->set_map_bytes_raw(mask_times.map_bytes_raw);
+    response->set_map_bytes_coded(mask_times.map_bytes_coded);
     used.maps = job.maps;
     used.total_lixels = static_cast<std::int64_t>(lixels);
     EncodePlan(used, response->mutable_plan());

@@ -36,6 +36,11 @@ struct ReportRow {
     CostStats cost;   // map and lookup costs and their ratios; cost.measured() false: none taken
     // Against the smooth objects' shadows (smooth_truth.h), for scenes with a smooth twin.
     std::optional<SmoothTruthScore> smooth_truth;
+    // Bytes of the method's map images (every pass it drew) as raw float32 and as Render's coded
+    // keyframes at the default N (ViewRequest.map_bytes; docs/service.md, "Coded maps"); 0: not
+    // measured (the in-process runner, or a method without maps).
+    std::uint64_t map_bytes_raw = 0;
+    std::uint64_t map_bytes_coded = 0;
 
     double TotalMs() const;
     // budget / view_pixels, the budget relative to the view (issue 26); NaN when not known.

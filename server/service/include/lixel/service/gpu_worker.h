@@ -108,6 +108,9 @@ struct MaskJob {
     // RenderVolumeMask: smooth silhouettes (paper 002) for the closed meshes with normals, with
     // these settings; unset: robust silhouettes (paper 001) for every mesh.
     std::optional<volumes::SmoothOptions> smooth;
+    // RenderMask: also read back every image of the maps and code it as Render would
+    // (MAP_CODEC_QUANTISED, the default N, a keyframe), after the timed stages.
+    bool map_bytes = false;
 };
 struct MaskTimes {
     double maps_seconds = 0.0;
@@ -117,6 +120,9 @@ struct MaskTimes {
     // upload of the volume, apart from the stencil pass in view_seconds.
     double smooth_build_seconds = 0.0;
     double smooth_upload_seconds = 0.0;
+    // MaskJob::map_bytes: the maps' images as raw float32 and as coded keyframes.
+    std::uint64_t map_bytes_raw = 0;
+    std::uint64_t map_bytes_coded = 0;
 };
 // With `preview` set, the view's shaded preview is read back too, after the timed mask read-back.
 Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene& scene,
