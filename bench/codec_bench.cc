@@ -174,6 +174,7 @@ void Report(benchmark::State& state, const Totals& t) {
 void BM_CodedRoom(benchmark::State& state) {
     const int side = static_cast<int>(state.range(0));
     const int count = static_cast<int>(state.range(1));
+    const bool still_camera = state.range(2) != 0;
     for (auto _ : state) {
         Totals t;
         service::CodedReferences references(1ull << 30);
@@ -182,6 +183,7 @@ void BM_CodedRoom(benchmark::State& state) {
         scene::SequenceOptions sequence;
         sequence.frames = count;
         sequence.viewport = Viewport{side, side};
+        if (still_camera) sequence.orbit_degrees = sequence.dolly = 0.0;
         for (int f = 0; f < count; ++f) {
             auto scene = scene::SequenceFrame("floor_wall", f, sequence);
             const service::SceneRecord record = service::MakeSceneRecord(std::move(scene).value());
@@ -197,14 +199,23 @@ void BM_CodedRoom(benchmark::State& state) {
         Report(state, t);
     }
 }
-BENCHMARK(BM_CodedRoom)->Args({512, 60})->Args({2048, 60})->Iterations(1)->Unit(benchmark::kSecond);
+// range(2): 1 holds the camera still (only the shapes move).
+BENCHMARK(BM_CodedRoom)
+    ->Args({512, 60, 0})
+    ->Args({2048, 60, 0})
+    ->Args({512, 60, 1})
+    ->Args({2048, 60, 1})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
 
 // A still sphere_grid of range(1) triangles under the sequence's moving camera and a still light:
-// coherent plans keep what they can, and only what changed is sent.
+// coherent plans keep what they can, and only what changed is sent. A plane map's matrix
+// follows the camera (one lixel per pixel), so a moving camera's frames are keyframes.
 void BM_CodedSphereGrid(benchmark::State& state) {
     const int side = static_cast<int>(state.range(0));
     const long triangles = static_cast<long>(state.range(1));
     const int count = static_cast<int>(state.range(2));
+    const bool still_camera = state.range(3) != 0;
     const service::SceneRecord record = service::MakeSceneRecord(scene::SphereGridScene(triangles));
     for (auto _ : state) {
         Totals t;
@@ -214,6 +225,7 @@ void BM_CodedSphereGrid(benchmark::State& state) {
         scene::SequenceOptions sequence;
         sequence.frames = count;
         sequence.viewport = Viewport{side, side};
+        if (still_camera) sequence.orbit_degrees = sequence.dolly = 0.0;
         for (int f = 0; f < count; ++f) {
             auto moved = scene::SequenceFrame("sphere_grid", f, sequence);
             v1::PlanRequest message;
@@ -231,11 +243,13 @@ void BM_CodedSphereGrid(benchmark::State& state) {
         Report(state, t);
     }
 }
+// range(3): 1 holds the camera still too (every frame the same).
 BENCHMARK(BM_CodedSphereGrid)
-    ->Args({512, 100'000, 20})
-    ->Args({2048, 100'000, 20})
-    ->Args({512, 1'000'000, 20})
-    ->Args({2048, 1'000'000, 20})
+    ->Args({512, 100'000, 20, 0})
+    ->Args({2048, 100'000, 20, 0})
+    ->Args({512, 1'000'000, 20, 0})
+    ->Args({2048, 1'000'000, 20, 0})
+    ->Args({2048, 1'000'000, 20, 1})
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
 

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
-"""A lixel client in Python: upload a small scene, plan its shadow maps, render them and fetch a
-view mask, printing what the server answered. Uses Debian's python3-grpcio and the stubs the
-build generates from proto/lixel/v1/lixel.proto (build/client/python).
+"""A lixel client in Python: upload a small scene, plan its shadow maps, render them (raw, then
+coded and decoded with lixel_maps) and fetch a view mask, printing what the server answered.
+Uses Debian's python3-grpcio, python3-numpy and python3-zstandard, and the stubs the build
+generates from proto/lixel/v1/lixel.proto (build/client/python).
 
     python3 client/python/example.py --target 127.0.0.1:50051 --stubs build/client/python
 """
@@ -9,7 +10,20 @@ build generates from proto/lixel/v1/lixel.proto (build/client/python).
 import argparse
 import array
 import math
+import os
 import sys
+
+
+def render_images(stub, request, metadata):
+    """A Render call's images as (MapImage, bytes) in stream order: raw float32, or coded."""
+    images = []
+    for part in stub.Render(request, metadata=metadata, timeout=120):
+        if part.HasField("header"):
+            images = [(meta, bytearray()) for meta in part.header.images]
+        else:
+            chunk = part.chunk
+            images[chunk.image_index][1][chunk.offset:chunk.offset + len(chunk.data)] = chunk.data
+    return [(meta, bytes(data)) for meta, data in images]
 
 
 def perspective_look_at(eye, target, fovy_degrees, aspect, near, far):
@@ -60,6 +74,7 @@ def main():
     args = parser.parse_args()
 
     sys.path.insert(0, args.stubs)
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # lixel_maps
     import grpc
     from lixel.v1 import lixel_pb2 as pb
     from lixel.v1 import lixel_pb2_grpc as rpc
@@ -96,14 +111,30 @@ def main():
         for item in plan.left_out:
             print(f"  left out {item.item}: {item.reason}")
 
-        received = 0
-        for part in stub.Render(pb.RenderRequest(plan=plan_request), metadata=metadata,
-                                timeout=120):
-            if part.HasField("header"):
-                print(f"  rendering {len(part.header.images)} image(s)")
-            else:
-                received += len(part.chunk.data)
+        raw = render_images(stub, pb.RenderRequest(plan=plan_request), metadata)
+        received = sum(len(image) for _, image in raw)
+        print(f"  rendering {len(raw)} image(s)")
         print(f"  received {received} bytes of maps")
+
+        # The same maps coded (docs/service.md, "Coded maps"), decoded with lixel_maps.
+        import numpy
+        import lixel_maps
+        coded_request = pb.RenderRequest(plan=plan_request, encoding=pb.MapEncoding(
+            codec=pb.MAP_CODEC_QUANTISED))
+        coded = render_images(stub, coded_request, metadata)
+        streamed = sum(len(image) for _, image in coded)
+        worst = 0.0
+        for (_, raw_bytes), (meta, coded_bytes) in zip(raw, coded):
+            decoded = lixel_maps.decode(coded_bytes)
+            exact = numpy.frombuffer(raw_bytes, dtype=numpy.float32).reshape(decoded.texels.shape)
+            error = float(numpy.abs(decoded.texels.astype(numpy.float64) - exact).max())
+            if error > decoded.header.error_bound:
+                print(f"lixel: image {meta.map_index} decoded {error} off, over its bound "
+                      f"{decoded.header.error_bound}", file=sys.stderr)
+                return 1
+            worst = max(worst, error)
+        print(f"  coded: {streamed} bytes of maps, {received / streamed:.1f}x smaller, decoded "
+              f"within each image's stated bound (largest error {worst:.2g})")
 
         view = stub.View(pb.ViewRequest(plan=plan_request, evaluate=True), metadata=metadata,
                          timeout=120)

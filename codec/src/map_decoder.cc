@@ -58,9 +58,9 @@ Result<const IntegerImage*> ReferenceOf(const CodedHeader& h,
                                        " is not of this image's content, codec, N and size");
     }
     // The caller's values: a frame with any beyond N bits is no decoded frame.
-    std::uint32_t largest = 0;
-    for (std::uint32_t value : r.values) largest = std::max(largest, value);
-    if (h.bits < 32 && largest >> h.bits != 0) {
+    std::uint32_t bits = 0;
+    for (std::uint32_t value : r.values) bits |= value;
+    if (h.bits < 32 && bits >> h.bits != 0) {
         return Bad("reference_id", "frame " + std::to_string(h.reference_id) +
                                        " holds values beyond N bits: not a decoded frame");
     }
@@ -92,7 +92,7 @@ Result<bool> CheckFrame(const CodedHeader& h, std::string_view payload) {
 struct ResidualReader {
     const std::uint32_t* values;
     std::uint64_t next = 0;
-    std::uint32_t largest = 0;  // each residual is N bits: larger ones would give a map two codings
+    std::uint32_t bits = 0;  // each residual is N bits: larger ones would give a map two codings
 
     ResidualReader(const unsigned char* planes_base, std::uint64_t count, int planes,
                    std::vector<std::uint32_t>& scratch) {
@@ -105,36 +105,58 @@ struct ResidualReader {
             const int shift = 8 * b;
             for (std::uint64_t i = 0; i < count; ++i) out[i] |= std::uint32_t{plane[i]} << shift;
         }
-        for (std::uint64_t i = 0; i < count; ++i) largest = std::max(largest, out[i]);
+        // OR of every residual: vectorises where a max (pmaxud, SSE4.1) would not.
+        for (std::uint64_t i = 0; i < count; ++i) bits |= out[i];
     }
     std::uint32_t Next() { return values[next++]; }
 };
 
-// Row y of a tile: each value from its residual and prediction (tile_predictors.h's Predict,
-// with texels outside the image read as 0, which is its edge rule for both spatial predictors).
-template <TileMode kMode>
-void DecodeRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref, const std::uint32_t* zeros,
-               const TileSpan& s, std::uint32_t y, ResidualReader& residual) {
-    const std::uint64_t row = std::uint64_t{g.width} * g.channels;
+// Row y of a tile: each value from its residual and prediction, with texels outside the image
+// read as 0 (the format's edge rule for both spatial predictors). The left and below-left
+// neighbours are carried in registers from texel to texel: reading back the value just stored
+// would put a store-to-load round trip on the chain every value waits for.
+template <TileMode kMode, int kChannels>
+void DecodeRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
+               const std::uint32_t* zeros, const TileSpan& s, std::uint32_t y,
+               ResidualReader& residual) {
+    const std::uint64_t row = std::uint64_t{g.width} * kChannels;
     std::uint32_t* cur = v + y * row;
     const std::uint32_t* below = y > 0 ? cur - row : zeros;
-    const std::uint32_t* prior = ref != nullptr ? ref + y * row : nullptr;
-    const int ch = g.channels;
-    for (std::uint32_t x = s.x0; x < s.x1; ++x) {
-        for (int c = 0; c < ch; ++c) {
-            const std::uint64_t i = std::uint64_t{x} * ch + c;
-            std::uint32_t prediction;
-            if constexpr (kMode == TileMode::kTemporal) {
-                prediction = prior[i];
-            } else {
-                const std::uint64_t a = x > 0 ? cur[i - ch] : 0;
-                const std::uint64_t b = below[i];
-                const std::uint64_t d = x > 0 ? below[i - ch] : 0;
-                prediction = kMode == TileMode::kMed ? detail::Med(a, b, d, g.mask)
-                                                     : detail::Gradient(a, b, d, g.mask);
-            }
-            cur[i] = UnZigZag(residual.Next(), prediction, g);
+    const std::uint64_t begin = std::uint64_t{s.x0} * kChannels;
+    const std::uint64_t end = std::uint64_t{s.x1} * kChannels;
+    if constexpr (kMode == TileMode::kTemporal) {
+        const std::uint32_t* prior = ref + y * row;
+        for (std::uint64_t i = begin; i < end; ++i) cur[i] = UnZigZag(residual.Next(), prior[i], g);
+        return;
+    }
+    std::uint32_t a[kChannels];
+    std::uint32_t d[kChannels];
+    for (int c = 0; c < kChannels; ++c) {
+        a[c] = s.x0 > 0 ? cur[begin - kChannels + c] : 0;
+        d[c] = s.x0 > 0 ? below[begin - kChannels + c] : 0;
+    }
+    for (std::uint64_t i = begin; i < end; i += kChannels) {
+        for (int c = 0; c < kChannels; ++c) {
+            const std::uint32_t b = below[i + c];
+            const std::uint32_t prediction = kMode == TileMode::kMed
+                                                 ? detail::Med(a[c], b, d[c], g.mask)
+                                                 : detail::Gradient(a[c], b, d[c], g.mask);
+            const std::uint32_t value = UnZigZag(residual.Next(), prediction, g);
+            cur[i + c] = value;
+            a[c] = value;
+            d[c] = b;
         }
+    }
+}
+
+template <TileMode kMode>
+void DecodeRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
+               const std::uint32_t* zeros, const TileSpan& s, std::uint32_t y,
+               ResidualReader& residual) {
+    if (g.channels == 1) {
+        DecodeRow<kMode, 1>(g, v, ref, zeros, s, y, residual);
+    } else {
+        DecodeRow<kMode, 2>(g, v, ref, zeros, s, y, residual);
     }
 }
 
@@ -212,7 +234,7 @@ Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
     const unsigned char* z = exceptions + 8ull * h.exceptions;
     const std::vector<std::uint32_t> zeros(std::uint64_t{h.width} * g.channels, 0);
     ResidualReader residual(z, residuals, planes, context_->residuals);
-    if (residual.largest > g.mask) return Bad("payload", "a residual beyond N bits");
+    if (residual.bits > g.mask) return Bad("payload", "a residual beyond N bits");
     for (std::uint32_t ty = 0; ty < up; ++ty) {
         for (std::uint32_t tx = 0; tx < across; ++tx) {
             const auto m = static_cast<TileMode>(p[std::uint64_t{ty} * across + tx]);

@@ -21,8 +21,7 @@ using detail::ZigZag;
 struct MapEncoder::Context {
     ZSTD_CCtx* zstd = ZSTD_createCCtx();
     // Scratch kept from image to image, so a stream's encoder allocates (and the kernel faults
-    // in) its buffers once: the predictors' residuals, the walk, the payload before zstd.
-    std::vector<std::uint32_t> residuals[3];
+    // in) its buffers once: the residuals in walk order, the payload before zstd.
     std::vector<std::uint32_t> walk;
     std::string raw;
     ~Context() { ZSTD_freeCCtx(zstd); }
@@ -66,110 +65,95 @@ std::vector<std::uint32_t> Values(Content content, Codec codec, int bits, const 
     return values;
 }
 
-// Every value's residual under the spatial predictors (and the reference, when there is one),
-// in one pass, with each tile's cost under each: the residuals' summed bit lengths (zstd's input
-// is the byte planes, whose high planes are zero where these are short). Texels outside the
-// image read as 0, which is the format's edge rule (the bottom row predicts from its left
-// neighbour, the left column from below, texel (0, 0) from 0) for both predictors.
-struct Residuals {
-    std::uint32_t* z[3] = {nullptr, nullptr, nullptr};  // by TileMode: gradient, MED, temporal
-    std::vector<std::uint64_t> cost[3];      // per tile
-    std::vector<unsigned char> same;         // per tile: every value equals the reference's
-};
-
-// Row y's texels [x0, x1) of one tile, `kChannels` values a texel.
-template <int kChannels, bool kReference>
-void PredictRow(const Grid& g, const std::uint32_t* cur, const std::uint32_t* below,
-                const std::uint32_t* prior, std::uint32_t x0, std::uint32_t x1,
-                std::uint32_t* zg, std::uint32_t* zm, std::uint32_t* zt, std::uint64_t cost[3],
-                unsigned char* same) {
-    std::uint64_t cg = 0, cm = 0, ct = 0;
-    unsigned char all_same = 1;
-    for (std::uint64_t i = std::uint64_t{x0} * kChannels; i < std::uint64_t{x1} * kChannels; ++i) {
-        const bool left = i >= kChannels;
-        const std::uint64_t a = left ? cur[i - kChannels] : 0;
-        const std::uint64_t b = below[i];
-        const std::uint64_t d = left ? below[i - kChannels] : 0;
-        const std::uint32_t value = cur[i];
-        const std::uint32_t g1 = ZigZag(value, detail::Gradient(a, b, d, g.mask), g);
-        const std::uint32_t m1 = ZigZag(value, detail::Med(a, b, d, g.mask), g);
-        zg[i] = g1;
-        zm[i] = m1;
-        cg += static_cast<std::uint64_t>(std::bit_width(g1));
-        cm += static_cast<std::uint64_t>(std::bit_width(m1));
-        if constexpr (kReference) {
-            const std::uint32_t t1 = ZigZag(value, prior[i], g);
-            zt[i] = t1;
-            ct += static_cast<std::uint64_t>(std::bit_width(t1));
-            all_same &= static_cast<unsigned char>(value == prior[i]);
-        }
-    }
-    cost[0] += cg;
-    cost[1] += cm;
-    if constexpr (kReference) {
-        cost[2] += ct;
-        *same &= all_same;
-    }
-}
-
-template <int kChannels, bool kReference>
-void PredictAll(const CodedHeader& h, const Grid& g, const std::uint32_t* v,
-                const std::uint32_t* ref, Residuals& r) {
-    const std::uint32_t across = TilesAcross(h);
-    const auto tile = static_cast<std::uint32_t>(h.tile);
+// Residuals of texels [x0, x1) of row y under `kMode`, zig-zagged, into `out` when given; returns
+// their summed bit lengths (zstd's input is the byte planes, whose high planes are zero where
+// the residuals are short). Texels outside the image read as 0, which is the format's edge rule
+// for both spatial predictors.
+template <TileMode kMode, int kChannels>
+std::uint64_t RowResiduals(const Grid& g, const std::uint32_t* v, const std::uint32_t* ref,
+                           const std::uint32_t* zeros, std::uint32_t x0, std::uint32_t x1,
+                           std::uint32_t y, std::uint32_t* out) {
     const std::uint64_t row = std::uint64_t{g.width} * kChannels;
-    const std::vector<std::uint32_t> zeros(row, 0);
-    std::uint64_t costs[3] = {0, 0, 0};
-    for (std::uint32_t y = 0; y < g.height; ++y) {
-        const std::uint64_t at = y * row;
-        const std::uint32_t* below = y > 0 ? v + at - row : zeros.data();
-        const std::uint64_t tile_row = std::uint64_t{y / tile} * across;
-        for (std::uint32_t tx = 0; tx < across; ++tx) {
-            const std::uint64_t t = tile_row + tx;
-            costs[0] = costs[1] = costs[2] = 0;
-            unsigned char same = 1;
-            PredictRow<kChannels, kReference>(
-                g, v + at, below, kReference ? ref + at : nullptr, tx * tile,
-                std::min(g.width, (tx + 1) * tile), r.z[0] + at, r.z[1] + at,
-                kReference ? r.z[2] + at : nullptr, costs, &same);
-            r.cost[0][t] += costs[0];
-            r.cost[1][t] += costs[1];
-            if constexpr (kReference) {
-                r.cost[2][t] += costs[2];
-                r.same[t] &= same;
-            }
+    const std::uint32_t* cur = v + y * row;
+    const std::uint32_t* below = y > 0 ? cur - row : zeros;
+    const std::uint32_t* prior = ref != nullptr ? ref + y * row : nullptr;
+    std::uint64_t bits = 0;
+    for (std::uint64_t i = std::uint64_t{x0} * kChannels; i < std::uint64_t{x1} * kChannels; ++i) {
+        std::uint32_t prediction;
+        if constexpr (kMode == TileMode::kTemporal) {
+            prediction = prior[i];
+        } else {
+            const bool left = i >= kChannels;
+            const std::uint32_t a = left ? cur[i - kChannels] : 0;
+            const std::uint32_t d = left ? below[i - kChannels] : 0;
+            prediction = kMode == TileMode::kMed ? detail::Med(a, below[i], d, g.mask)
+                                                 : detail::Gradient(a, below[i], d, g.mask);
         }
+        const std::uint32_t z = ZigZag(cur[i], prediction, g);
+        if (out != nullptr) *out++ = z;
+        bits += static_cast<std::uint64_t>(std::bit_width(z));
+    }
+    return bits;
+}
+
+template <TileMode kMode>
+std::uint64_t RowResiduals(const Grid& g, const std::uint32_t* v, const std::uint32_t* ref,
+                           const std::uint32_t* zeros, std::uint32_t x0, std::uint32_t x1,
+                           std::uint32_t y, std::uint32_t* out) {
+    return g.channels == 1 ? RowResiduals<kMode, 1>(g, v, ref, zeros, x0, x1, y, out)
+                           : RowResiduals<kMode, 2>(g, v, ref, zeros, x0, x1, y, out);
+}
+
+std::uint64_t RowResiduals(TileMode mode, const Grid& g, const std::uint32_t* v,
+                           const std::uint32_t* ref, const std::uint32_t* zeros, std::uint32_t x0,
+                           std::uint32_t x1, std::uint32_t y, std::uint32_t* out) {
+    switch (mode) {
+        case TileMode::kMed: return RowResiduals<TileMode::kMed>(g, v, ref, zeros, x0, x1, y, out);
+        case TileMode::kTemporal:
+            return RowResiduals<TileMode::kTemporal>(g, v, ref, zeros, x0, x1, y, out);
+        default: return RowResiduals<TileMode::kGradient>(g, v, ref, zeros, x0, x1, y, out);
     }
 }
 
-Residuals Predicted(const CodedHeader& h, const Grid& g, const std::uint32_t* v,
-                    const std::uint32_t* ref, std::vector<std::uint32_t> (&scratch)[3]) {
-    Residuals r;
-    const std::uint64_t count = h.texels() * g.channels;
-    const std::uint64_t tiles = std::uint64_t{TilesAcross(h)} * TilesUp(h);
-    const int modes = ref != nullptr ? 3 : 2;
-    for (int m = 0; m < modes; ++m) {
-        if (scratch[m].size() < count) scratch[m].resize(count);  // every value is written below
-        r.z[m] = scratch[m].data();
-        r.cost[m].assign(tiles, 0);
+bool SameAsReference(const Grid& g, const std::uint32_t* v, const std::uint32_t* ref,
+                     const TileSpan& s) {
+    const std::size_t n = std::size_t(s.x1 - s.x0) * g.channels;
+    for (std::uint32_t y = s.y0; y < s.y1; ++y) {
+        const std::uint64_t at = (std::uint64_t{y} * g.width + s.x0) * g.channels;
+        if (std::memcmp(v + at, ref + at, n * sizeof(std::uint32_t)) != 0) return false;
     }
-    if (ref != nullptr) r.same.assign(tiles, 1);
-    if (g.channels == 1) {
-        ref != nullptr ? PredictAll<1, true>(h, g, v, ref, r) : PredictAll<1, false>(h, g, v, ref, r);
-    } else {
-        ref != nullptr ? PredictAll<2, true>(h, g, v, ref, r) : PredictAll<2, false>(h, g, v, ref, r);
-    }
-    return r;
+    return true;
 }
 
-TileMode ChooseMode(const Residuals& r, std::uint64_t t) {
-    if (!r.same.empty() && r.same[t]) return TileMode::kCopy;
+// The mode the choice estimates from every kCostRowStep-th row of a tile: the choice only steers
+// the size (each residual is then taken with the chosen predictor), and a tile's rows are alike.
+constexpr std::uint32_t kCostRowStep = 4;
+
+// A tile's mode: a copy where every value equals the reference's, else the predictor whose
+// residuals have the fewest summed bits on the sampled rows (the gradient on ties).
+TileMode ChooseMode(const Grid& g, const std::uint32_t* v, const std::uint32_t* ref,
+                    const std::uint32_t* zeros, const TileSpan& s) {
+    if (ref != nullptr && SameAsReference(g, v, ref, s)) return TileMode::kCopy;
     TileMode best = TileMode::kGradient;
-    for (TileMode m : {TileMode::kMed, TileMode::kTemporal}) {
-        const auto i = static_cast<int>(m);
-        if (r.z[i] && r.cost[i][t] < r.cost[static_cast<int>(best)][t]) best = m;
+    std::uint64_t least = ~std::uint64_t{0};
+    for (TileMode m : {TileMode::kGradient, TileMode::kMed, TileMode::kTemporal}) {
+        if (m == TileMode::kTemporal && ref == nullptr) continue;
+        std::uint64_t cost = 0;
+        for (std::uint32_t y = s.y0; y < s.y1 && cost < least; y += kCostRowStep) {
+            cost += RowResiduals(m, g, v, ref, zeros, s.x0, s.x1, y, nullptr);
+        }
+        if (cost < least) {
+            least = cost;
+            best = m;
+        }
     }
     return best;
+}
+
+// Byte `kPlane` of every residual (a constant shift: a loop the compiler vectorises).
+template <int kPlane>
+void SplitPlane(const std::uint32_t* z, std::uint64_t count, unsigned char* plane) {
+    for (std::uint64_t i = 0; i < count; ++i) plane[i] = static_cast<unsigned char>(z[i] >> (8 * kPlane));
 }
 
 Result<bool> CheckOptions(Content content, std::uint32_t width, std::uint32_t height,
@@ -227,13 +211,13 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
     const std::uint32_t across = TilesAcross(h);
     const std::uint32_t up = TilesUp(h);
     out.tiles = std::uint64_t{across} * up;
-    const Residuals predicted = Predicted(h, g, v.data(), ref, context_->residuals);
+    const std::vector<std::uint32_t> zeros(std::uint64_t{width} * g.channels, 0);
     std::vector<TileMode> modes(out.tiles);
     std::uint64_t residuals = 0;
     for (std::uint32_t ty = 0; ty < up; ++ty) {
         for (std::uint32_t tx = 0; tx < across; ++tx) {
             const TileSpan s = detail::SpanOf(h, tx, ty);
-            const TileMode m = ChooseMode(predicted, std::uint64_t{ty} * across + tx);
+            const TileMode m = ChooseMode(g, v.data(), ref, zeros.data(), s);
             modes[std::uint64_t{ty} * across + tx] = m;
             if (m == TileMode::kTemporal || m == TileMode::kCopy) ++out.temporal_tiles;
             if (m != TileMode::kCopy) {
@@ -259,8 +243,7 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
         for (int i = 0; i < 4; ++i) p[4 + i] = static_cast<unsigned char>(e.bits >> (8 * i));
         p += 8;
     }
-    // The residuals in walk order, then split into byte planes (one plane at a time: a loop the
-    // compiler vectorises).
+    // The residuals in walk order, then split into byte planes.
     std::vector<std::uint32_t>& walk = context_->walk;
     if (walk.size() < residuals) walk.resize(residuals);
     std::uint64_t k = 0;
@@ -269,22 +252,16 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
             const TileMode m = modes[std::uint64_t{ty} * across + tx];
             if (m == TileMode::kCopy) continue;
             const TileSpan s = detail::SpanOf(h, tx, ty);
-            const std::uint32_t* zs = predicted.z[static_cast<int>(m)];
-            const std::uint64_t span = std::uint64_t(s.x1 - s.x0) * g.channels;
             for (std::uint32_t y = s.y0; y < s.y1; ++y) {
-                std::memcpy(walk.data() + k, zs + (std::uint64_t{y} * width + s.x0) * g.channels,
-                            span * sizeof(std::uint32_t));
-                k += span;
+                RowResiduals(m, g, v.data(), ref, zeros.data(), s.x0, s.x1, y, walk.data() + k);
+                k += std::uint64_t(s.x1 - s.x0) * g.channels;
             }
         }
     }
-    for (int b = 0; b < planes; ++b) {
-        unsigned char* plane = p + b * residuals;
-        const int shift = 8 * b;
-        for (std::uint64_t i = 0; i < residuals; ++i) {
-            plane[i] = static_cast<unsigned char>(walk[i] >> shift);
-        }
-    }
+    SplitPlane<0>(walk.data(), residuals, p);
+    if (planes > 1) SplitPlane<1>(walk.data(), residuals, p + residuals);
+    if (planes > 2) SplitPlane<2>(walk.data(), residuals, p + 2 * residuals);
+    if (planes > 3) SplitPlane<3>(walk.data(), residuals, p + 3 * residuals);
     h.raw_bytes = raw.size();
 
     ZSTD_CCtx* z = context_->zstd;

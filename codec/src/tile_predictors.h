@@ -39,17 +39,18 @@ inline std::uint32_t Med(std::uint64_t a, std::uint64_t b, std::uint64_t d, std:
 }
 
 // (value - prediction) mod 2^N as a signed number in [-2^(N-1), 2^(N-1)), zig-zagged: 0, -1, 1,
-// -2, ... become 0, 1, 2, 3, ...
+// -2, ... become 0, 1, 2, 3, ... Branch-free: residuals are noise around 0, so a branch on their
+// sign would be mispredicted about half the time. 2^N divides 2^32, so uint32 arithmetic
+// modulo 2^32 is arithmetic modulo 2^N before the mask.
 inline std::uint32_t ZigZag(std::uint32_t value, std::uint32_t prediction, const Grid& g) {
-    const std::uint64_t r = (std::uint64_t{value} - prediction) & g.mask;
-    const std::uint64_t half = (g.mask >> 1) + 1;
-    if (r < half) return static_cast<std::uint32_t>(2 * r);
-    const std::uint64_t negative = g.mask + 1 - r;  // |s|, in [1, half]
-    return static_cast<std::uint32_t>(2 * negative - 1);
+    const int unused = 32 - g.bits;
+    const auto r = static_cast<std::uint32_t>((value - prediction) << unused);
+    const std::int32_t s = static_cast<std::int32_t>(r) >> unused;  // sign-extended from N bits
+    return (static_cast<std::uint32_t>(s) << 1) ^ static_cast<std::uint32_t>(s >> 31);
 }
 
 inline std::uint32_t UnZigZag(std::uint32_t z, std::uint32_t prediction, const Grid& g) {
-    const std::uint64_t s = (z & 1u) ? (g.mask + 1 - ((std::uint64_t{z} + 1) >> 1)) : (z >> 1);
+    const std::uint32_t s = (z >> 1) ^ (0u - (z & 1u));
     return static_cast<std::uint32_t>((prediction + s) & g.mask);
 }
 

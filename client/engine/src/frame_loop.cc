@@ -289,6 +289,8 @@ FramesSummary Summarise(std::span<const EngineFrame> frames) {
     std::vector<double> totals, server_view;
     for (const EngineFrame& f : frames) {
         totals.push_back(f.times.Total());
+        s.streamed_bytes += f.streamed_bytes;
+        s.raw_bytes += f.raw_bytes;
         s.atlas_reallocations = std::max(s.atlas_reallocations, f.atlas_reallocations);
         if (!f.check) continue;
         ++s.checked;
@@ -343,6 +345,14 @@ std::string SummaryText(const FramesSummary& s) {
         1e3 * m.draw_readback, 1e3 * s.median_total, m.upload_scene / total, m.render / total,
         m.kit_frame / total, m.gl_upload / total, m.draw_readback / total,
         static_cast<long long>(s.atlas_reallocations));
+    if (s.frames > 0 && s.streamed_bytes > 0) {
+        const double frames = static_cast<double>(s.frames);
+        text += Format("\nmaps streamed: %.1f KiB a frame, raw float32 %.1f KiB a frame (%.1fx "
+                       "smaller)",
+                       static_cast<double>(s.streamed_bytes) / 1024.0 / frames,
+                       static_cast<double>(s.raw_bytes) / 1024.0 / frames,
+                       static_cast<double>(s.raw_bytes) / static_cast<double>(s.streamed_bytes));
+    }
     if (s.checked > 0) {
         text += Format(
             "\ncheck over %d frames: %lld of %lld pixels differ (worst frame %lld), %lld show a "

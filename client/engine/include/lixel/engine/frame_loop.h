@@ -144,6 +144,8 @@ struct FramesSummary {
     EngineFrameTimes median;    // each stage's median over the frames
     double median_total = 0.0;  // median of the frames' totals
     std::int64_t atlas_reallocations = 0;
+    std::uint64_t streamed_bytes = 0;  // map bytes Render streamed over every frame
+    std::uint64_t raw_bytes = 0;       // the same maps as float32
     // With the check (checked > 0).
     int checked = 0;
     std::int64_t worst_differing = 0;  // the most differing pixels in one frame
