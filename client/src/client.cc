@@ -191,11 +191,16 @@ Result<v1::PlanResponse> Client::Plan(const v1::PlanRequest& request) {
 
 namespace {
 
+// An image's size as float32, from its announced shape.
+std::uint64_t RawBytes(const v1::MapImage& image) {
+    return std::uint64_t{image.width()} * image.height() *
+           (image.pass() == v1::PASS_SILHOUETTE_MAP ? 8 : 4);
+}
+
 // The most bytes a coded image of `image`'s shape may take: its raw size, zstd's bound on
 // incompressible input and the header (the server's own reservation, render_job.cc).
 std::uint64_t CodedLimit(const v1::MapImage& image) {
-    const std::uint64_t raw = std::uint64_t{image.width()} * image.height() *
-                              (image.pass() == v1::PASS_SILHOUETTE_MAP ? 8 : 4);
+    const std::uint64_t raw = RawBytes(image);
     return raw + raw / 64 + 4096;
 }
 
@@ -216,9 +221,33 @@ Result<RenderedMaps> Client::Render(
         v1::RenderChunk chunk;
         std::uint64_t total = 0;
         std::uint64_t received = 0;
-        while (reader->Read(&chunk)) {
+        // What a malformed stream did (a broken or hostile server): the call ends with it.
+        std::string malformed;
+        const auto refuse = [&](std::string why) {
+            malformed = std::move(why);
+            c.TryCancel();
+        };
+        while (malformed.empty() && reader->Read(&chunk)) {
             if (chunk.has_header()) {
                 out.header = chunk.header();
+                // Every image's size checked against its shape, and their sum against the
+                // receive limit, before anything is allocated for them.
+                std::uint64_t announced = 0;
+                for (int i = 0; i < out.header.images_size(); ++i) {
+                    const v1::MapImage& image = out.header.images(i);
+                    announced += RawBytes(image);
+                    if (!image.coded() && image.bytes() != RawBytes(image)) {
+                        refuse("images[" + std::to_string(i) + "]: " + std::to_string(image.bytes()) +
+                               " bytes announced for " + std::to_string(image.width()) + " x " +
+                               std::to_string(image.height()));
+                    }
+                }
+                if (announced > options_.max_receive_bytes) {
+                    refuse("header: " + std::to_string(announced) +
+                           " bytes of maps announced, over max_receive_bytes = " +
+                           std::to_string(options_.max_receive_bytes));
+                }
+                if (!malformed.empty()) break;
                 for (const v1::MapImage& image : out.header.images()) {
                     out.images.emplace_back(image.coded() ? 0 : image.bytes() / sizeof(float));
                     total += image.bytes();
@@ -228,7 +257,8 @@ Result<RenderedMaps> Client::Render(
             }
             const v1::MapChunk& piece = chunk.chunk();
             if (piece.image_index() >= out.images.size()) {
-                c.TryCancel();
+                refuse("chunk: image_index " + std::to_string(piece.image_index()) +
+                       " names no image of the header");
                 break;
             }
             received += piece.data().size();
@@ -238,7 +268,9 @@ Result<RenderedMaps> Client::Render(
                 std::string& bytes = coded[piece.image_index()];
                 if (piece.offset() != bytes.size() ||
                     bytes.size() + piece.data().size() > CodedLimit(announced)) {
-                    c.TryCancel();
+                    refuse("images[" + std::to_string(piece.image_index()) + "]: coded chunk at " +
+                           std::to_string(piece.offset()) + " is out of order or past the image's " +
+                           std::to_string(CodedLimit(announced)) + "-byte bound");
                     break;
                 }
                 bytes += piece.data();
@@ -247,7 +279,9 @@ Result<RenderedMaps> Client::Render(
             auto& image = out.images[piece.image_index()];
             const std::size_t bytes = image.size() * sizeof(float);
             if (piece.offset() + piece.data().size() > bytes) {
-                c.TryCancel();
+                refuse("images[" + std::to_string(piece.image_index()) + "]: chunk at " +
+                       std::to_string(piece.offset()) + " runs past the image's " +
+                       std::to_string(bytes) + " bytes");
                 break;
             }
             std::memcpy(reinterpret_cast<char*>(image.data()) + piece.offset(),
@@ -255,7 +289,9 @@ Result<RenderedMaps> Client::Render(
             if (progress) progress(received, total);
         }
         out.streamed_bytes = received;
-        return reader->Finish();
+        const grpc::Status finished = reader->Finish();
+        if (!malformed.empty()) return grpc::Status(grpc::StatusCode::DATA_LOSS, malformed);
+        return finished;
     });
     if (!s.ok()) return StatusError(s);
     if (!coding) return out;

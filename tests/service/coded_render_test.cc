@@ -218,6 +218,93 @@ TEST_F(CodedRender, ViewCountsTheMethodsMapBytesRawAndCoded) {
     EXPECT_EQ(plain->mask(), counted->mask());
 }
 
+// A server that answers every Render with what the test scripted: a hostile or broken one.
+class ScriptedRender final : public v1::Shadow::Service {
+  public:
+    explicit ScriptedRender(std::vector<v1::RenderChunk> script) : script_(std::move(script)) {}
+    grpc::Status Render(grpc::ServerContext*, const v1::RenderRequest*,
+                        grpc::ServerWriter<v1::RenderChunk>* writer) override {
+        for (const v1::RenderChunk& c : script_) writer->Write(c);
+        return grpc::Status::OK;
+    }
+
+  private:
+    std::vector<v1::RenderChunk> script_;
+};
+
+// The client's answer to a Render from a server that streams `script`.
+Result<client::RenderedMaps> RenderFrom(std::vector<v1::RenderChunk> script) {
+    ScriptedRender service(std::move(script));
+    grpc::ServerBuilder builder;
+    int port = 0;
+    builder.AddListeningPort("127.0.0.1:0", grpc::InsecureServerCredentials(), &port);
+    builder.RegisterService(&service);
+    auto server = builder.BuildAndStart();
+    auto c = Connect("127.0.0.1:" + std::to_string(port));
+    v1::RenderRequest request;
+    request.mutable_encoding()->set_codec(v1::MAP_CODEC_QUANTISED);
+    auto result = c->Render(request);
+    server->Shutdown();
+    return result;
+}
+
+v1::RenderChunk HeaderOf(std::uint32_t width, std::uint32_t height, bool coded) {
+    v1::RenderChunk header;
+    v1::MapImage* image = header.mutable_header()->add_images();
+    image->set_pass(v1::PASS_DEPTH);
+    image->set_width(width);
+    image->set_height(height);
+    image->set_coded(coded);
+    image->set_bytes(coded ? 0 : std::uint64_t{width} * height * 4);
+    return header;
+}
+
+v1::RenderChunk ChunkOf(std::uint64_t offset, std::string data) {
+    v1::RenderChunk chunk;
+    chunk.mutable_chunk()->set_offset(offset);
+    chunk.mutable_chunk()->set_data(std::move(data));
+    return chunk;
+}
+
+TEST(HostileServer, MalformedOrCorruptCodedMapsAreRefusedNamingTheImageNeverMisdecoded) {
+    std::vector<float> depth(40 * 30);
+    for (std::size_t i = 0; i < depth.size(); ++i) depth[i] = 0.25f + 1e-4f * float(i % 40);
+    codec::MapEncoder encoder;
+    codec::EncodeOptions o;
+    o.bits = 20;
+    auto coded = encoder.Encode(codec::Content::kDepth, depth.data(), 40, 30, o);
+    ASSERT_TRUE(coded.ok());
+    const std::string& bytes = coded->bytes;
+
+    auto good = RenderFrom({HeaderOf(40, 30, true), ChunkOf(0, bytes)});
+    ASSERT_TRUE(good.ok()) << good.error().Message();
+    for (std::size_t i = 0; i < depth.size(); ++i) {
+        ASSERT_LE(std::abs(good->images[0][i] - depth[i]), coded->header.error_bound);
+    }
+    const auto refused = [](const Result<client::RenderedMaps>& r, const std::string& field) {
+        ASSERT_FALSE(r.ok()) << field;
+        EXPECT_NE(r.error().Message().find(field), std::string::npos) << r.error().Message();
+    };
+    std::string damaged = bytes;
+    damaged[bytes.size() - 3] = static_cast<char>(damaged[bytes.size() - 3] ^ 0x01);
+    refused(RenderFrom({HeaderOf(40, 30, true), ChunkOf(0, damaged)}), "images[0].coded_map.");
+    refused(RenderFrom({HeaderOf(40, 30, true), ChunkOf(0, bytes.substr(0, 100))}),
+            "images[0].coded_map.payload_bytes");
+    refused(RenderFrom({HeaderOf(41, 30, true), ChunkOf(0, bytes)}), "images[0]");
+    refused(RenderFrom({HeaderOf(40, 30, true), ChunkOf(8, bytes)}), "DATA_LOSS");
+    refused(RenderFrom({HeaderOf(2, 2, true), ChunkOf(0, std::string(5000, 'x'))}), "DATA_LOSS");
+    refused(RenderFrom({HeaderOf(40, 30, false), ChunkOf(4795, "0123456789")}), "DATA_LOSS");
+    v1::RenderChunk huge = HeaderOf(16384, 16384, true);
+    for (int i = 0; i < 4; ++i) *huge.mutable_header()->add_images() = huge.header().images(0);
+    refused(RenderFrom({huge}), "max_receive_bytes");
+    v1::RenderChunk lying = HeaderOf(4, 4, false);
+    lying.mutable_header()->mutable_images(0)->set_bytes(std::uint64_t{1} << 40);
+    refused(RenderFrom({lying}), "DATA_LOSS");
+    v1::RenderChunk stray = ChunkOf(0, "x");
+    stray.mutable_chunk()->set_image_index(3);
+    refused(RenderFrom({HeaderOf(40, 30, true), stray}), "names no image");
+}
+
 TEST(CodedFrames, AnImageOfAnotherShapeThanAnnouncedOrCorruptIsRefusedNamingIt) {
     // What a hostile or broken server could send: a coded image that is not the one its header
     // announced, or one whose bytes were damaged on the way.

@@ -56,6 +56,9 @@ public:
     // Plan, Render and View carry a scene id; when an instance does not know it (evicted, or
     // another instance) the scene is uploaded again and the call retried.
     Result<v1::PlanResponse> Plan(const v1::PlanRequest& request);
+    // A malformed stream (images announced past their shapes or max_receive_bytes, chunks out
+    // of order or past their image) ends the call as DATA_LOSS naming the image; a coded image
+    // that does not decode is an error naming images[i] and the coded-map field.
     // Coded maps (request.encoding) are decoded here. With `frames`, the frames it holds are
     // named as references (so the server may code differences from them) and this call's
     // frame is held in their place; without, every coded image is a keyframe.
