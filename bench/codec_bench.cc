@@ -17,7 +17,6 @@
 #include <lixel/service/gpu_worker.h>
 #include <lixel/service/map_coding.h>
 #include <lixel/service/proto_convert.h>
-
 #include <zlib.h>
 
 #include <chrono>
@@ -48,9 +47,12 @@ service::GpuWorker& Worker() {
 v1::PassKind KindOf(const service::ImageShape& shape) {
     if (shape.corner_depth) return v1::PASS_CORNER_DEPTH;
     switch (shape.pass) {
-        case Pass::kDepth: return v1::PASS_DEPTH;
-        case Pass::kSecondDepth: return v1::PASS_SECOND_DEPTH;
-        case Pass::kSilhouetteMap: return v1::PASS_SILHOUETTE_MAP;
+        case Pass::kDepth:
+            return v1::PASS_DEPTH;
+        case Pass::kSecondDepth:
+            return v1::PASS_SECOND_DEPTH;
+        case Pass::kSilhouetteMap:
+            return v1::PASS_SILHOUETTE_MAP;
     }
     return v1::PASS_DEPTH;
 }
@@ -63,7 +65,8 @@ std::uint64_t GzipBytes(const std::vector<float>& pixels) {
     std::vector<Bytef> buffer(compressBound(1 << 20));
     for (std::uint64_t at = 0; at < size; at += 1 << 20) {
         uLongf n = static_cast<uLongf>(buffer.size());
-        compress2(buffer.data(), &n, data + at, static_cast<uLong>(std::min<std::uint64_t>(1 << 20, size - at)), 6);
+        compress2(buffer.data(), &n, data + at,
+                  static_cast<uLong>(std::min<std::uint64_t>(1 << 20, size - at)), 6);
         out += n;
     }
     return out;
@@ -234,8 +237,8 @@ void BM_CodedSphereGrid(benchmark::State& state) {
             message.mutable_camera()->set_width(static_cast<std::uint32_t>(side));
             message.mutable_camera()->set_height(static_cast<std::uint32_t>(side));
             std::string error;
-            if (!RunFrame("grid " + std::to_string(triangles), record, message, &previous, references, frames, f == 0, t,
-                          &error)) {
+            if (!RunFrame("grid " + std::to_string(triangles), record, message, &previous,
+                          references, frames, f == 0, t, &error)) {
                 state.SkipWithError(error.c_str());
                 return;
             }

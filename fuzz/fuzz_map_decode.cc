@@ -9,10 +9,9 @@
 //      the stated bound, the exact codec bit for bit.
 // Nothing may crash, leak or allocate past the decoder's budget; a decoded map has the texels
 // its header states, and every value fits its N bits.
+#include <fuzzer/FuzzedDataProvider.h>
 #include <lixel/codec/map_decoder.h>
 #include <lixel/codec/map_encoder.h>
-
-#include <fuzzer/FuzzedDataProvider.h>
 #include <zlib.h>
 #include <zstd.h>
 
@@ -87,7 +86,8 @@ void Built(FuzzedDataProvider& in) {
     reference.height = h.height;
     reference.frame_id = 1;
     reference.keyframe_id = 1;
-    reference.values.assign(h.texels() * h.channels(), 0x5a5a5a5au & ((std::uint64_t{1} << h.bits) - 1));
+    reference.values.assign(h.texels() * h.channels(),
+                            0x5a5a5a5au & ((std::uint64_t{1} << h.bits) - 1));
     MapDecoder decoder(kBudget);
     CheckDecoded(decoder.Decode(bytes, {{1, &reference}}));
 }
@@ -147,8 +147,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             CheckDecoded(decoder.Decode(bytes));
             break;
         }
-        case 2: Built(in); break;
-        default: RoundTrip(in); break;
+        case 2:
+            Built(in);
+            break;
+        default:
+            RoundTrip(in);
+            break;
     }
     return 0;
 }

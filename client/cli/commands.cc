@@ -242,7 +242,9 @@ int RenderCommand(client::Client& client, const Flags& flags) {
     for (const auto& image : maps->images) raw += image.size() * sizeof(float);
     std::printf("streamed %llu bytes of maps, %.2fx smaller than raw float32 (%llu bytes)\n",
                 static_cast<unsigned long long>(maps->streamed_bytes),
-                maps->streamed_bytes ? static_cast<double>(raw) / static_cast<double>(maps->streamed_bytes) : 0.0,
+                maps->streamed_bytes
+                    ? static_cast<double>(raw) / static_cast<double>(maps->streamed_bytes)
+                    : 0.0,
                 static_cast<unsigned long long>(raw));
     for (const codec::CodedHeader& h : maps->coded) {
         std::printf("  coded %u x %u: %s, N = %d, error bound %.3g, frame %016llx%s\n", h.width,

@@ -237,8 +237,9 @@ Result<RenderedMaps> Client::Render(
                     const v1::MapImage& image = out.header.images(i);
                     announced += RawBytes(image);
                     if (!image.coded() && image.bytes() != RawBytes(image)) {
-                        refuse("images[" + std::to_string(i) + "]: " + std::to_string(image.bytes()) +
-                               " bytes announced for " + std::to_string(image.width()) + " x " +
+                        refuse("images[" + std::to_string(i) +
+                               "]: " + std::to_string(image.bytes()) + " bytes announced for " +
+                               std::to_string(image.width()) + " x " +
                                std::to_string(image.height()));
                     }
                 }
@@ -262,14 +263,16 @@ Result<RenderedMaps> Client::Render(
                 break;
             }
             received += piece.data().size();
-            const v1::MapImage& announced = out.header.images(static_cast<int>(piece.image_index()));
+            const v1::MapImage& announced =
+                out.header.images(static_cast<int>(piece.image_index()));
             if (announced.coded()) {
                 // Coded bytes arrive in order, each image within its bound.
                 std::string& bytes = coded[piece.image_index()];
                 if (piece.offset() != bytes.size() ||
                     bytes.size() + piece.data().size() > CodedLimit(announced)) {
                     refuse("images[" + std::to_string(piece.image_index()) + "]: coded chunk at " +
-                           std::to_string(piece.offset()) + " is out of order or past the image's " +
+                           std::to_string(piece.offset()) +
+                           " is out of order or past the image's " +
                            std::to_string(CodedLimit(announced)) + "-byte bound");
                     break;
                 }
@@ -284,8 +287,8 @@ Result<RenderedMaps> Client::Render(
                        std::to_string(bytes) + " bytes");
                 break;
             }
-            std::memcpy(reinterpret_cast<char*>(image.data()) + piece.offset(),
-                        piece.data().data(), piece.data().size());
+            std::memcpy(reinterpret_cast<char*>(image.data()) + piece.offset(), piece.data().data(),
+                        piece.data().size());
             if (progress) progress(received, total);
         }
         out.streamed_bytes = received;

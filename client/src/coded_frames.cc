@@ -20,8 +20,8 @@ Result<codec::DecodedMap> CodedFrames::Decode(const v1::RenderHeader& header, in
     // before its payload is read, whatever its own header claims.
     auto stated = codec::ReadHeader(coded);
     if (!stated) return Error{field + "." + stated.error().field, stated.error().reason};
-    const codec::Content content = image.pass() == v1::PASS_SILHOUETTE_MAP ? codec::Content::kPoints
-                                                                           : codec::Content::kDepth;
+    const codec::Content content =
+        image.pass() == v1::PASS_SILHOUETTE_MAP ? codec::Content::kPoints : codec::Content::kDepth;
     if (stated->width != image.width() || stated->height != image.height() ||
         stated->content != content) {
         return Error{field, "coded as " + std::to_string(stated->width) + " x " +

@@ -1,6 +1,5 @@
 // The coded map's header: fixed layout, little-endian, CRC-32 (zlib's) over its first 76 bytes.
 #include <lixel/codec/coded_map.h>
-
 #include <zlib.h>
 
 #include <bit>
@@ -102,8 +101,10 @@ Result<CodedHeader> ReadHeader(std::string_view bytes) {
     }
     h.width = static_cast<std::uint32_t>(Get(in + 8, 4));
     h.height = static_cast<std::uint32_t>(Get(in + 12, 4));
-    if (h.width < 1 || h.width > kMaxSide) return Bad("width", std::to_string(h.width) + " is outside [1, 16385]");
-    if (h.height < 1 || h.height > kMaxSide) return Bad("height", std::to_string(h.height) + " is outside [1, 16385]");
+    if (h.width < 1 || h.width > kMaxSide)
+        return Bad("width", std::to_string(h.width) + " is outside [1, 16385]");
+    if (h.height < 1 || h.height > kMaxSide)
+        return Bad("height", std::to_string(h.height) + " is outside [1, 16385]");
     h.tile = static_cast<int>(Get(in + 16, 2));
     if (h.tile < kMinTile || h.tile > kMaxTile) {
         return Bad("tile", std::to_string(h.tile) + " is outside [8, 1024]");
@@ -139,8 +140,8 @@ Result<CodedHeader> ReadHeader(std::string_view bytes) {
     }
     // The largest payload the header allows: tile modes, exceptions, every residual.
     const std::uint64_t tiles = std::uint64_t{TilesAcross(h)} * TilesUp(h);
-    const std::uint64_t most = tiles + 8ull * h.exceptions +
-                               std::uint64_t(BytePlanes(h.bits)) * h.texels() * h.channels();
+    const std::uint64_t most =
+        tiles + 8ull * h.exceptions + std::uint64_t(BytePlanes(h.bits)) * h.texels() * h.channels();
     if (h.raw_bytes < tiles || h.raw_bytes > most) {
         return Bad("raw_bytes", std::to_string(h.raw_bytes) + " is outside the [" +
                                     std::to_string(tiles) + ", " + std::to_string(most) +

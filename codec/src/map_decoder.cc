@@ -1,7 +1,6 @@
 // Decoding, every size checked before it is used: the header (ReadHeader), the caller's texel
 // budget, zstd's frame header (content size, checksum flag), then the payload's own layout.
 #include <lixel/codec/map_decoder.h>
-
 #include <zstd.h>
 
 #include <algorithm>
@@ -162,8 +161,8 @@ void DecodeRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
 
 }  // namespace
 
-Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
-                                      const std::map<std::uint64_t, const IntegerImage*>& references) {
+Result<DecodedMap> MapDecoder::Decode(
+    std::string_view bytes, const std::map<std::uint64_t, const IntegerImage*>& references) {
     auto header = ReadHeader(bytes);
     if (!header) return header.error();
     const CodedHeader& h = *header;
@@ -180,8 +179,8 @@ Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
 
     std::string& raw = context_->raw;
     raw.resize(h.raw_bytes);
-    const std::size_t got = ZSTD_decompressDCtx(context_->zstd, raw.data(), raw.size(),
-                                                payload.data(), payload.size());
+    const std::size_t got =
+        ZSTD_decompressDCtx(context_->zstd, raw.data(), raw.size(), payload.data(), payload.size());
     if (ZSTD_isError(got)) return Bad("payload", std::string("zstd: ") + ZSTD_getErrorName(got));
     if (got != raw.size()) return Bad("payload", "decompressed size is not raw_bytes");
 
@@ -193,11 +192,14 @@ Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
     std::uint64_t residuals = 0;
     bool temporal = false;
     for (std::uint64_t t = 0; t < tiles; ++t) {
-        if (p[t] > 3) return Bad("tile_modes", "tile " + std::to_string(t) + " has mode " + std::to_string(p[t]));
+        if (p[t] > 3)
+            return Bad("tile_modes",
+                       "tile " + std::to_string(t) + " has mode " + std::to_string(p[t]));
         const auto m = static_cast<TileMode>(p[t]);
         if (m == TileMode::kTemporal || m == TileMode::kCopy) {
             if (ref == nullptr) {
-                return Bad("tile_modes", "tile " + std::to_string(t) + " reads a reference frame, and none is named");
+                return Bad("tile_modes", "tile " + std::to_string(t) +
+                                             " reads a reference frame, and none is named");
             }
             temporal = true;
         }
@@ -212,9 +214,10 @@ Result<DecodedMap> MapDecoder::Decode(std::string_view bytes,
     }
     const int planes = BytePlanes(h.bits);
     if (h.raw_bytes != tiles + 8ull * h.exceptions + planes * residuals) {
-        return Bad("raw_bytes", std::to_string(h.raw_bytes) + " is not what its tiles and " +
-                                    "exceptions need (" +
-                                    std::to_string(tiles + 8ull * h.exceptions + planes * residuals) + ")");
+        return Bad("raw_bytes",
+                   std::to_string(h.raw_bytes) + " is not what its tiles and " +
+                       "exceptions need (" +
+                       std::to_string(tiles + 8ull * h.exceptions + planes * residuals) + ")");
     }
 
     DecodedMap out;

@@ -1,6 +1,5 @@
 // Encoding: values, a predictor per tile chosen by the residuals' bit length, byte planes, zstd.
 #include <lixel/codec/map_encoder.h>
-
 #include <zstd.h>
 
 #include <bit>
@@ -108,10 +107,12 @@ std::uint64_t RowResiduals(TileMode mode, const Grid& g, const std::uint32_t* v,
                            const std::uint32_t* ref, const std::uint32_t* zeros, std::uint32_t x0,
                            std::uint32_t x1, std::uint32_t y, std::uint32_t* out) {
     switch (mode) {
-        case TileMode::kMed: return RowResiduals<TileMode::kMed>(g, v, ref, zeros, x0, x1, y, out);
+        case TileMode::kMed:
+            return RowResiduals<TileMode::kMed>(g, v, ref, zeros, x0, x1, y, out);
         case TileMode::kTemporal:
             return RowResiduals<TileMode::kTemporal>(g, v, ref, zeros, x0, x1, y, out);
-        default: return RowResiduals<TileMode::kGradient>(g, v, ref, zeros, x0, x1, y, out);
+        default:
+            return RowResiduals<TileMode::kGradient>(g, v, ref, zeros, x0, x1, y, out);
     }
 }
 
@@ -153,7 +154,8 @@ TileMode ChooseMode(const Grid& g, const std::uint32_t* v, const std::uint32_t* 
 // Byte `kPlane` of every residual (a constant shift: a loop the compiler vectorises).
 template <int kPlane>
 void SplitPlane(const std::uint32_t* z, std::uint64_t count, unsigned char* plane) {
-    for (std::uint64_t i = 0; i < count; ++i) plane[i] = static_cast<unsigned char>(z[i] >> (8 * kPlane));
+    for (std::uint64_t i = 0; i < count; ++i)
+        plane[i] = static_cast<unsigned char>(z[i] >> (8 * kPlane));
 }
 
 Result<bool> CheckOptions(Content content, std::uint32_t width, std::uint32_t height,
@@ -164,7 +166,8 @@ Result<bool> CheckOptions(Content content, std::uint32_t width, std::uint32_t he
     if (o.codec == Codec::kQuantised && content != Content::kDepth) {
         return Bad("codec", "quantised codes depth only; silhouette points are exact");
     }
-    if (o.codec == Codec::kQuantised && (o.bits < kMinQuantisedBits || o.bits > kMaxQuantisedBits)) {
+    if (o.codec == Codec::kQuantised &&
+        (o.bits < kMinQuantisedBits || o.bits > kMaxQuantisedBits)) {
         return Bad("bits", std::to_string(o.bits) + " is outside [16, 24]");
     }
     if (o.tile < kMinTile || o.tile > kMaxTile) {
@@ -270,8 +273,9 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
     ZSTD_CCtx_setParameter(z, ZSTD_c_checksumFlag, 1);
     ZSTD_CCtx_setParameter(z, ZSTD_c_contentSizeFlag, 1);
     out.bytes.resize(kHeaderBytes + ZSTD_compressBound(raw.size()));
-    const std::size_t packed = ZSTD_compress2(z, out.bytes.data() + kHeaderBytes,
-                                              out.bytes.size() - kHeaderBytes, raw.data(), raw.size());
+    const std::size_t packed =
+        ZSTD_compress2(z, out.bytes.data() + kHeaderBytes, out.bytes.size() - kHeaderBytes,
+                       raw.data(), raw.size());
     if (ZSTD_isError(packed)) return Bad("zstd", ZSTD_getErrorName(packed));
     out.bytes.resize(kHeaderBytes + packed);
     h.payload_bytes = packed;

@@ -17,7 +17,8 @@ Grid GridOf(const CodedHeader& h) {
 
 TileSpan SpanOf(const CodedHeader& h, std::uint32_t tx, std::uint32_t ty) {
     const auto t = static_cast<std::uint32_t>(h.tile);
-    return TileSpan{tx * t, std::min(h.width, (tx + 1) * t), ty * t, std::min(h.height, (ty + 1) * t)};
+    return TileSpan{tx * t, std::min(h.width, (tx + 1) * t), ty * t,
+                    std::min(h.height, (ty + 1) * t)};
 }
 
 }  // namespace lixel::codec::detail

@@ -21,7 +21,9 @@ std::vector<float> DepthImage(std::mt19937_64& rng, std::uint32_t w, std::uint32
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::vector<float> out(std::size_t{w} * h);
     const int facets = 1 + static_cast<int>(u(rng) * 6);
-    struct Facet { double a, b, c, x0, y0, r; };
+    struct Facet {
+        double a, b, c, x0, y0, r;
+    };
     std::vector<Facet> f;
     for (int i = 0; i < facets; ++i) {
         f.push_back({(u(rng) - 0.5) * 1e-3, (u(rng) - 0.5) * 1e-3, u(rng), u(rng) * w, u(rng) * h,
@@ -39,9 +41,15 @@ std::vector<float> DepthImage(std::mt19937_64& rng, std::uint32_t w, std::uint32
         }
     }
     if (specials) {
-        const float odd[] = {1.0f, 0.0f, -0.25f, 1.5f, std::numeric_limits<float>::infinity(),
+        const float odd[] = {1.0f,
+                             0.0f,
+                             -0.25f,
+                             1.5f,
+                             std::numeric_limits<float>::infinity(),
                              -std::numeric_limits<float>::infinity(),
-                             std::numeric_limits<float>::quiet_NaN(), 1.0000001f, -1e-30f,
+                             std::numeric_limits<float>::quiet_NaN(),
+                             1.0000001f,
+                             -1e-30f,
                              std::numeric_limits<float>::denorm_min()};
         for (float v : odd) out[rng() % out.size()] = v;
     }
@@ -69,7 +77,8 @@ TEST(MapCodec, QuantisedRoundTripIsBitExactAndWithinTheBoundForEveryN) {
             const auto [w, h] = sizes[(round + bits) % 6];
             const std::vector<float> depth = DepthImage(rng, w, h, w * h > 20);
             const int tile = round % 2 == 0 ? 64 : 8;
-            auto coded = encoder.Encode(Content::kDepth, depth.data(), w, h, Quantised(bits, 7, tile));
+            auto coded =
+                encoder.Encode(Content::kDepth, depth.data(), w, h, Quantised(bits, 7, tile));
             ASSERT_TRUE(coded) << coded.error().Message();
             auto back = decoder.Decode(coded->bytes);
             ASSERT_TRUE(back) << back.error().Message();
@@ -81,7 +90,8 @@ TEST(MapCodec, QuantisedRoundTripIsBitExactAndWithinTheBoundForEveryN) {
                 const float d = depth[i];
                 const float e = back->texels[i];
                 if (d >= 0.0f && d <= 1.0f) {
-                    EXPECT_LE(std::abs(double(e) - double(d)), bound) << "N = " << bits << " texel " << i;
+                    EXPECT_LE(std::abs(double(e) - double(d)), bound)
+                        << "N = " << bits << " texel " << i;
                     if (d == 0.0f || d == 1.0f) {
                         EXPECT_EQ(e, d) << "texel " << i;
                     }
@@ -101,7 +111,8 @@ TEST(MapCodec, TheBoundIsTightAtItsWorstTexel) {
         double worst = 0.0;
         std::vector<float> ramp(4096);
         for (std::size_t i = 0; i < ramp.size(); ++i) {
-            ramp[i] = static_cast<float>((std::floor(0.3 * steps) + double(i) * 0.37 + 0.5) / steps);
+            ramp[i] =
+                static_cast<float>((std::floor(0.3 * steps) + double(i) * 0.37 + 0.5) / steps);
         }
         MapEncoder encoder;
         MapDecoder decoder;
@@ -131,7 +142,7 @@ TEST(MapCodec, ExactCodecRestoresEveryBitOfDepthAndPoints) {
             // Mostly the empty (-1, -1) or smooth values, some arbitrary bit patterns (NaNs with
             // payloads, -0, infinities, denormals).
             const auto kind = rng() % 8;
-            texels[i] = kind < 4 ? -1.0f
+            texels[i] = kind < 4   ? -1.0f
                         : kind < 7 ? static_cast<float>(i % 97) / 97.0f
                                    : std::bit_cast<float>(static_cast<std::uint32_t>(rng()));
         }
@@ -154,12 +165,14 @@ TEST(MapCodec, PlanarDepthCodesToAFewBitsPerTexel) {
     // the quantiser's rounding: a 512² plane at N = 24 takes well under 4 of 32 bits a texel.
     std::vector<float> plane(512 * 512);
     for (int y = 0; y < 512; ++y) {
-        for (int x = 0; x < 512; ++x) plane[y * 512 + x] = static_cast<float>(0.2 + 3.1e-4 * x + 1.7e-4 * y);
+        for (int x = 0; x < 512; ++x)
+            plane[y * 512 + x] = static_cast<float>(0.2 + 3.1e-4 * x + 1.7e-4 * y);
     }
     MapEncoder encoder;
     auto coded = encoder.Encode(Content::kDepth, plane.data(), 512, 512, Quantised(24, 3));
     ASSERT_TRUE(coded);
-    EXPECT_LT(static_cast<double>(coded->bytes.size()) * 8.0 / static_cast<double>(plane.size()), 4.0)
+    EXPECT_LT(static_cast<double>(coded->bytes.size()) * 8.0 / static_cast<double>(plane.size()),
+              4.0)
         << coded->bytes.size() << " bytes";
 }
 
@@ -271,8 +284,10 @@ TEST(MapCodec, EveryFlippedBitTruncationAndPaddingIsRefused) {
                 continue;
             }
             EXPECT_GE(byte, kHeaderBytes) << "a header bit went unnoticed";
-            EXPECT_EQ(r->values.values, original->values.values) << "byte " << byte << " bit " << bit;
-            EXPECT_EQ(std::memcmp(r->texels.data(), original->texels.data(), r->texels.size() * 4), 0);
+            EXPECT_EQ(r->values.values, original->values.values)
+                << "byte " << byte << " bit " << bit;
+            EXPECT_EQ(std::memcmp(r->texels.data(), original->texels.data(), r->texels.size() * 4),
+                      0);
         }
     }
     EXPECT_GT(refused, static_cast<int>(good.size() * 8 * 95 / 100));

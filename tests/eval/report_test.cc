@@ -121,7 +121,6 @@ TEST(ReportRow, BudgetsRelativeToTheView) {
     EXPECT_TRUE(header.ends_with(",view_pixels,lixels_per_pixel,map_bytes_raw,map_bytes_coded"))
         << header;
     EXPECT_TRUE(row.ends_with(",1048576,1,,")) << row;  // bytes not measured: empty
-
 }
 
 TEST(ReportMarkdown, TablePerSceneBestInBold) {
@@ -266,7 +265,7 @@ TEST(ReportMarkdown, CostRatiosWithTheRendererAndFewRepeatsNoted) {
     EXPECT_EQ(Read(dir / "five.md").find("Fewer than"), std::string::npos);
     // Rows without costs keep the total-ms column.
     ASSERT_TRUE(WriteReportMarkdown((dir / "old.md").string(), Rows()).ok());
-    EXPECT_NE(Read(dir / "old.md").find("| use | total ms |"), std::string::npos);
+    EXPECT_NE(Read(dir / "old.md").find("| use | coded KiB | total ms |"), std::string::npos);
 }
 
 TEST(ReportMarkdown, SmoothObjectsTableOnlyForScenesWithATwin) {

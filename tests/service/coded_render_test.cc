@@ -48,9 +48,9 @@ TEST_F(CodedRender, EveryImageDecodesWithinItsStatedBoundAndPointsExactly) {
     auto raw = Client().Render(Request(v1::MAP_CODEC_RAW));
     ASSERT_TRUE(raw.ok()) << raw.error().Message();
     ASSERT_TRUE(raw->coded.empty());
-    for (auto [codec, bits] : {std::pair{v1::MAP_CODEC_QUANTISED, 0u},
-                               std::pair{v1::MAP_CODEC_QUANTISED, 16u},
-                               std::pair{v1::MAP_CODEC_EXACT, 0u}}) {
+    for (auto [codec, bits] :
+         {std::pair{v1::MAP_CODEC_QUANTISED, 0u}, std::pair{v1::MAP_CODEC_QUANTISED, 16u},
+          std::pair{v1::MAP_CODEC_EXACT, 0u}}) {
         auto coded = Client().Render(Request(codec, bits));
         ASSERT_TRUE(coded.ok()) << coded.error().Message();
         ASSERT_EQ(coded->header.images_size(), raw->header.images_size());
@@ -66,7 +66,8 @@ TEST_F(CodedRender, EveryImageDecodesWithinItsStatedBoundAndPointsExactly) {
             const auto& b = coded->images[i];
             ASSERT_EQ(a.size(), b.size());
             raw_bytes += a.size() * 4;
-            const bool exact = codec == v1::MAP_CODEC_EXACT || meta.pass() == v1::PASS_SILHOUETTE_MAP;
+            const bool exact =
+                codec == v1::MAP_CODEC_EXACT || meta.pass() == v1::PASS_SILHOUETTE_MAP;
             EXPECT_EQ(h.codec == codec::Codec::kExact, exact || h.bits == 32) << i;
             if (bits != 0 && !exact) {
                 EXPECT_EQ(h.bits, 16);
@@ -334,7 +335,8 @@ TEST(CodedFrames, AnImageOfAnotherShapeThanAnnouncedOrCorruptIsRefusedNamingIt) 
     damaged[damaged.size() / 2] = static_cast<char>(damaged[damaged.size() / 2] ^ 0x10);
     auto corrupt = frames.Decode(header, 0, damaged);
     if (!corrupt.ok()) {
-        EXPECT_EQ(corrupt.error().field.rfind("images[0].coded_map.", 0), 0u) << corrupt.error().field;
+        EXPECT_EQ(corrupt.error().field.rfind("images[0].coded_map.", 0), 0u)
+            << corrupt.error().field;
     } else {
         EXPECT_EQ(corrupt->texels, frames.Decode(header, 0, coded->bytes)->texels);
     }

@@ -316,10 +316,9 @@ std::string FrameLine(const EngineFrame& f) {
         "render %.2f, kit %.2f, gl upload %.2f, draw+readback %.2f, total %.2f; atlas "
         "allocations %lld",
         f.frame, f.maps, static_cast<unsigned long long>(f.lixels),
-        static_cast<double>(f.streamed_bytes) / 1024.0,
-        static_cast<double>(f.raw_bytes) / 1024.0, 1e3 * t.upload_scene, 1e3 * t.render,
-        1e3 * t.kit_frame, 1e3 * t.gl_upload, 1e3 * t.draw_readback, 1e3 * t.Total(),
-        static_cast<long long>(f.atlas_reallocations));
+        static_cast<double>(f.streamed_bytes) / 1024.0, static_cast<double>(f.raw_bytes) / 1024.0,
+        1e3 * t.upload_scene, 1e3 * t.render, 1e3 * t.kit_frame, 1e3 * t.gl_upload,
+        1e3 * t.draw_readback, 1e3 * t.Total(), static_cast<long long>(f.atlas_reallocations));
     if (f.check) {
         const FrameCheck& c = *f.check;
         line += Format(
@@ -347,11 +346,12 @@ std::string SummaryText(const FramesSummary& s) {
         static_cast<long long>(s.atlas_reallocations));
     if (s.frames > 0 && s.streamed_bytes > 0) {
         const double frames = static_cast<double>(s.frames);
-        text += Format("\nmaps streamed: %.1f KiB a frame, raw float32 %.1f KiB a frame (%.1fx "
-                       "smaller)",
-                       static_cast<double>(s.streamed_bytes) / 1024.0 / frames,
-                       static_cast<double>(s.raw_bytes) / 1024.0 / frames,
-                       static_cast<double>(s.raw_bytes) / static_cast<double>(s.streamed_bytes));
+        text += Format(
+            "\nmaps streamed: %.1f KiB a frame, raw float32 %.1f KiB a frame (%.1fx "
+            "smaller)",
+            static_cast<double>(s.streamed_bytes) / 1024.0 / frames,
+            static_cast<double>(s.raw_bytes) / 1024.0 / frames,
+            static_cast<double>(s.raw_bytes) / static_cast<double>(s.streamed_bytes));
     }
     if (s.checked > 0) {
         text += Format(

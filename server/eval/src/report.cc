@@ -298,12 +298,12 @@ void WriteSceneTable(std::ostringstream& out, const MarkdownContext& c, const st
         const ReportRow& r = c.rows[i];
         const std::string b = c.best[i] ? "**" : "";
         out << "| " << BudgetLabel(r.budget) << " (" << PerPixelLabel(r.LixelsPerPixel())
-            << " per pixel) | " << b << r.method << b << " | " << r.total_lixels << " | "
-            << r.maps << " | " << b << Fixed(r.error.Percent(), 3) << b << " | "
+            << " per pixel) | " << b << r.method << b << " | " << r.total_lixels << " | " << r.maps
+            << " | " << b << Fixed(r.error.Percent(), 3) << b << " | "
             << Fixed(r.error.PlanesPercent(), 3) << " | " << Fixed(r.error.ElsewherePercent(), 3)
             << " | " << Fixed(r.error.BandPercent(), 2) << " | " << AliasingText(r.aliasing_planes)
-            << " | " << AliasingText(r.aliasing_elsewhere) << " | "
-            << Fixed(100.0 * r.lixel_use, 1) << "% | " << CodedText(r) << " |";
+            << " | " << AliasingText(r.aliasing_elsewhere) << " | " << Fixed(100.0 * r.lixel_use, 1)
+            << "% | " << CodedText(r) << " |";
         if (c.costs) {
             out << " " << RatioText(r.cost.map_ratio) << " | " << RatioText(r.cost.lookup_ratio)
                 << " | " << RatioText(r.cost.cost_ratio) << " | " << MsText(r.cost.map_ms)

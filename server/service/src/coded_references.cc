@@ -1,6 +1,5 @@
 // The server's held coded frames.
 #include <lixel/service/coded_references.h>
-
 #include <openssl/rand.h>
 
 #include <cstring>

@@ -182,7 +182,8 @@ Result<bool> CodedMapBytes(GpuWorker& worker, const render::GpuScene& scene,
             }
         }
         if (m.second_depth) {
-            auto ok = code(m.map, v1::PASS_SECOND_DEPTH, render::ReadDepth(context, *m.second_depth));
+            auto ok =
+                code(m.map, v1::PASS_SECOND_DEPTH, render::ReadDepth(context, *m.second_depth));
             if (!ok) return ok;
         }
         if (m.silhouette) {

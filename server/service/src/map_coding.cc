@@ -1,7 +1,6 @@
 // Render's coded maps.
-#include <lixel/service/map_coding.h>
-
 #include <lixel/kit/shadow_block.h>
+#include <lixel/service/map_coding.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,20 +26,22 @@ Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding&
         return std::optional<MapCodingRequest>{};
     }
     MapCodingRequest r;
-    r.depth_codec = m.codec() == v1::MAP_CODEC_EXACT ? codec::Codec::kExact : codec::Codec::kQuantised;
+    r.depth_codec =
+        m.codec() == v1::MAP_CODEC_EXACT ? codec::Codec::kExact : codec::Codec::kQuantised;
     if (m.bits() != 0) {
         if (m.codec() == v1::MAP_CODEC_EXACT) {
             return Bad(field + ".bits", "the exact codec keeps all 32 bits; leave it 0");
         }
         if (m.bits() < codec::kMinQuantisedBits || m.bits() > codec::kMaxQuantisedBits) {
-            return Bad(field + ".bits", std::to_string(m.bits()) +
-                                            " is outside [16, 24] (0: chosen per map)");
+            return Bad(field + ".bits",
+                       std::to_string(m.bits()) + " is outside [16, 24] (0: chosen per map)");
         }
         r.bits = static_cast<int>(m.bits());
     }
     if (m.zstd_level() != 0) {
         if (m.zstd_level() < 1 || m.zstd_level() > 19) {
-            return Bad(field + ".zstd_level", std::to_string(m.zstd_level()) + " is outside [1, 19]");
+            return Bad(field + ".zstd_level",
+                       std::to_string(m.zstd_level()) + " is outside [1, 19]");
         }
         r.zstd_level = m.zstd_level();
     }
@@ -51,15 +52,15 @@ Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding&
         r.tile = static_cast<int>(m.tile());
     }
     if (m.reference_frames_size() > kMaxReferenceFrames) {
-        return Bad(field + ".reference_frames", std::to_string(m.reference_frames_size()) +
-                                                    " ids, at most 64");
+        return Bad(field + ".reference_frames",
+                   std::to_string(m.reference_frames_size()) + " ids, at most 64");
     }
     r.references.assign(m.reference_frames().begin(), m.reference_frames().end());
     r.keyframe = m.keyframe();
     if (m.keyframe_interval() != 0) {
         if (m.keyframe_interval() > 3600) {
-            return Bad(field + ".keyframe_interval", std::to_string(m.keyframe_interval()) +
-                                                         " is outside [1, 3600]");
+            return Bad(field + ".keyframe_interval",
+                       std::to_string(m.keyframe_interval()) + " is outside [1, 3600]");
         }
         r.keyframe_interval = static_cast<int>(m.keyframe_interval());
     }

@@ -27,7 +27,6 @@ void FillMapChunk(std::uint32_t image_index, std::string_view coded, std::uint64
     mc->mutable_data()->assign(coded.substr(offset, chunk_bytes));
 }
 
-
 bool RenderFeed::PutHeader(v1::RenderChunk header) {
     std::unique_lock lock(mutex_);
     if (closed_) return false;

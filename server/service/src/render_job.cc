@@ -1,9 +1,9 @@
 // Render: the plan, then each map's images streamed as they are read back.
-#include "job_common.h"
-
 #include <lixel/service/map_coding.h>
 
 #include <cstdio>
+
+#include "job_common.h"
 
 namespace lixel::service {
 
@@ -65,9 +65,10 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
         total += static_cast<double>(shape.bytes());
     }
     const std::uint64_t chunk = std::max<std::uint64_t>(1, state.options.chunk_bytes);
-    // A coded image is held beside its float32 pixels while it is written: at most the raw size
-    // and zstd's bound on incompressible input (under 1 %), plus the header.
-    const std::uint64_t coded_room = coding->has_value() ? largest + largest / 64 + 4096 : 0;
+    // Coding an image holds, beside its float32 pixels: its values and residuals (4 bytes a
+    // texel each), the payload before zstd (at most 4) and the coded image (the raw size and
+    // zstd's bound on incompressible input, under 1 %, plus the header).
+    const std::uint64_t coded_room = coding->has_value() ? 4 * largest + largest / 64 + 4096 : 0;
     if (grpc::Status held =
             reserve(header.ByteSizeLong() + largest + coded_room + std::min(chunk, largest));
         !held.ok()) {
@@ -83,7 +84,9 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     bool mismatch = false;
     bool stalled = false;
     std::optional<MapCoder> coder;
-    if (coding->has_value()) coder.emplace(**coding, state.coded_references, (**gpu_scene).origin());
+    if (coding->has_value()) {
+        coder.emplace(**coding, state.coded_references, (**gpu_scene).origin());
+    }
     std::optional<Error> coding_failed;
     std::vector<float> coded_spare;  // a coded image's pixels, for the next read-back
     const double idle_seconds = state.options.stream_idle_seconds;
@@ -104,7 +107,9 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
                 mismatch = true;
                 return false;
             }
-            if (!coder) return feed.PutImage(static_cast<std::uint32_t>(next++), std::move(image.image));
+            if (!coder) {
+                return feed.PutImage(static_cast<std::uint32_t>(next++), std::move(image.image));
+            }
             auto coded = coder->Code(plan->maps.at(shape.map_index).map,
                                      PassKindOf(shape.pass, shape.corner_depth), image.image);
             if (!coded) {

@@ -62,10 +62,10 @@ public:
     // Coded maps (request.encoding) are decoded here. With `frames`, the frames it holds are
     // named as references (so the server may code differences from them) and this call's
     // frame is held in their place; without, every coded image is a keyframe.
-    Result<RenderedMaps> Render(const v1::RenderRequest& request,
-                                const std::function<void(std::uint64_t, std::uint64_t)>& progress =
-                                    {},
-                                CodedFrames* frames = nullptr);
+    Result<RenderedMaps> Render(
+        const v1::RenderRequest& request,
+        const std::function<void(std::uint64_t, std::uint64_t)>& progress = {},
+        CodedFrames* frames = nullptr);
     Result<v1::ViewResponse> View(const v1::ViewRequest& request);
     Result<v1::SilhouettesResponse> Silhouettes(const v1::SilhouettesRequest& request);
 

@@ -30,10 +30,10 @@ enum class Codec : std::uint8_t {
 
 // Per tile: how its texels are predicted.
 enum class TileMode : std::uint8_t {
-    kGradient = 0,   // a + b - c (exact on planes, and rendered depth is planar per triangle)
-    kMed = 1,        // LOCO-I's median edge detector
-    kTemporal = 2,   // the reference frame's value at the same texel
-    kCopy = 3,       // every texel equals the reference frame's: no residuals
+    kGradient = 0,  // a + b - c (exact on planes, and rendered depth is planar per triangle)
+    kMed = 1,       // LOCO-I's median edge detector
+    kTemporal = 2,  // the reference frame's value at the same texel
+    kCopy = 3,      // every texel equals the reference frame's: no residuals
 };
 
 inline constexpr std::size_t kHeaderBytes = 80;
@@ -48,17 +48,17 @@ inline constexpr std::uint32_t kMaxSide = 16385;  // a 16384² map's corner dept
 struct CodedHeader {
     Content content = Content::kDepth;
     Codec codec = Codec::kQuantised;
-    int bits = 24;                     // N: [16, 24] quantised, 32 exact
-    std::uint32_t width = 0;           // texels, [1, kMaxSide]
+    int bits = 24;            // N: [16, 24] quantised, 32 exact
+    std::uint32_t width = 0;  // texels, [1, kMaxSide]
     std::uint32_t height = 0;
-    int tile = 64;                     // tile side, texels, [kMinTile, kMaxTile]
-    std::uint32_t exceptions = 0;      // texels stored with exact float32 bits (quantised only)
-    double error_bound = 0.0;          // max |decoded - float| over texels in [0, 1]; 0 exact
-    std::uint64_t frame_id = 0;        // this image's id, non-zero
-    std::uint64_t reference_id = 0;    // the image its temporal tiles read; 0: none (keyframe)
-    std::uint64_t keyframe_id = 0;     // the keyframe its chain of references starts at
-    std::uint64_t payload_bytes = 0;   // the zstd frame that follows the header
-    std::uint64_t raw_bytes = 0;       // that frame's content size
+    int tile = 64;                    // tile side, texels, [kMinTile, kMaxTile]
+    std::uint32_t exceptions = 0;     // texels stored with exact float32 bits (quantised only)
+    double error_bound = 0.0;         // max |decoded - float| over texels in [0, 1]; 0 exact
+    std::uint64_t frame_id = 0;       // this image's id, non-zero
+    std::uint64_t reference_id = 0;   // the image its temporal tiles read; 0: none (keyframe)
+    std::uint64_t keyframe_id = 0;    // the keyframe its chain of references starts at
+    std::uint64_t payload_bytes = 0;  // the zstd frame that follows the header
+    std::uint64_t raw_bytes = 0;      // that frame's content size
 
     int channels() const { return content == Content::kPoints ? 2 : 1; }
     std::uint64_t texels() const { return std::uint64_t{width} * height; }

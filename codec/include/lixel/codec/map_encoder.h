@@ -24,9 +24,9 @@ struct EncodeOptions {
 };
 
 struct EncodedMap {
-    std::string bytes;      // header + zstd payload
+    std::string bytes;  // header + zstd payload
     CodedHeader header;
-    IntegerImage decoded;   // the values a decoder will hold afterwards (the next reference)
+    IntegerImage decoded;  // the values a decoder will hold afterwards (the next reference)
     std::uint64_t temporal_tiles = 0;  // kTemporal and kCopy tiles
     std::uint64_t tiles = 0;
 };

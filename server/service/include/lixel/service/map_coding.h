@@ -51,7 +51,8 @@ class MapCoder {
 
     // Codes `image` of `map` (kind: the wire's PassKind) and holds its values under a fresh
     // frame id for the client's next frames.
-    Result<std::string> Code(const LightMap& map, v1::PassKind kind, const render::FloatImage& image);
+    Result<std::string> Code(const LightMap& map, v1::PassKind kind,
+                             const render::FloatImage& image);
 
   private:
     MapCodingRequest request_;

@@ -6,6 +6,7 @@
 
 #include <grpcpp/support/status.h>
 #include <lixel/render/image.h>
+#include <lixel/v1/lixel.pb.h>
 
 #include <chrono>
 #include <condition_variable>
@@ -15,8 +16,6 @@
 #include <optional>
 #include <string>
 #include <string_view>
-
-#include <lixel/v1/lixel.pb.h>
 
 namespace lixel::service {
 
