@@ -21,7 +21,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lixel {
@@ -172,12 +174,10 @@ void Report(benchmark::State& state, const Totals& t) {
     state.counters["raw_KiB"] = double(t.raw_all) / 1024.0 / t.frames;
 }
 
-// The animated room (scene::SequenceFrame "floor_wall": bouncing shapes, moving camera), every
-// frame a new scene as the engine client uploads it today.
-void BM_CodedRoom(benchmark::State& state) {
-    const int side = static_cast<int>(state.range(0));
-    const int count = static_cast<int>(state.range(1));
-    const bool still_camera = state.range(2) != 0;
+// `count` frames of a sequence at `side`² pixels and lixels, each through RunFrame: `frame(f,
+// sequence, &message)` gives frame f's scene record and GPU id and fills its plan request.
+template <class Frame>
+void RunSequence(benchmark::State& state, int side, int count, bool still_camera, Frame frame) {
     for (auto _ : state) {
         Totals t;
         service::CodedReferences references(1ull << 30);
@@ -188,13 +188,12 @@ void BM_CodedRoom(benchmark::State& state) {
         sequence.viewport = Viewport{side, side};
         if (still_camera) sequence.orbit_degrees = sequence.dolly = 0.0;
         for (int f = 0; f < count; ++f) {
-            auto scene = scene::SequenceFrame("floor_wall", f, sequence);
-            const service::SceneRecord record = service::MakeSceneRecord(std::move(scene).value());
             v1::PlanRequest message;
             message.set_lixel_budget(std::uint64_t(side) * side);
+            const auto [id, record] = frame(f, sequence, &message);
             std::string error;
-            if (!RunFrame("room " + std::to_string(f), record, message, &previous, references,
-                          frames, f == 0, t, &error)) {
+            if (!RunFrame(id, *record, message, &previous, references, frames, f == 0, t,
+                          &error)) {
                 state.SkipWithError(error.c_str());
                 return;
             }
@@ -202,7 +201,21 @@ void BM_CodedRoom(benchmark::State& state) {
         Report(state, t);
     }
 }
-// range(2): 1 holds the camera still (only the shapes move).
+
+// The animated room (scene::SequenceFrame "floor_wall": bouncing shapes, moving camera), every
+// frame a new scene as the engine client uploads it today. range(2): 1 holds the camera still
+// (only the shapes move).
+void BM_CodedRoom(benchmark::State& state) {
+    const int side = static_cast<int>(state.range(0));
+    std::shared_ptr<const service::SceneRecord> record;
+    RunSequence(state, side, static_cast<int>(state.range(1)), state.range(2) != 0,
+                [&](int f, const scene::SequenceOptions& sequence, v1::PlanRequest*) {
+                    auto scene = scene::SequenceFrame("floor_wall", f, sequence);
+                    record = std::make_shared<const service::SceneRecord>(
+                        service::MakeSceneRecord(std::move(scene).value()));
+                    return std::pair{"room " + std::to_string(f), record};
+                });
+}
 BENCHMARK(BM_CodedRoom)
     ->Args({512, 60, 0})
     ->Args({2048, 60, 0})
@@ -214,39 +227,22 @@ BENCHMARK(BM_CodedRoom)
 // A still sphere_grid of range(1) triangles under the sequence's moving camera and a still light:
 // coherent plans keep what they can, and only what changed is sent. A plane map's matrix
 // follows the camera (one lixel per pixel), so a moving camera's frames are keyframes.
+// range(3): 1 holds the camera still too (every frame the same).
 void BM_CodedSphereGrid(benchmark::State& state) {
     const int side = static_cast<int>(state.range(0));
     const long triangles = static_cast<long>(state.range(1));
-    const int count = static_cast<int>(state.range(2));
-    const bool still_camera = state.range(3) != 0;
-    const service::SceneRecord record = service::MakeSceneRecord(scene::SphereGridScene(triangles));
-    for (auto _ : state) {
-        Totals t;
-        service::CodedReferences references(1ull << 30);
-        client::CodedFrames frames;
-        v1::PlanResponse previous;
-        scene::SequenceOptions sequence;
-        sequence.frames = count;
-        sequence.viewport = Viewport{side, side};
-        if (still_camera) sequence.orbit_degrees = sequence.dolly = 0.0;
-        for (int f = 0; f < count; ++f) {
-            auto moved = scene::SequenceFrame("sphere_grid", f, sequence);
-            v1::PlanRequest message;
-            message.set_lixel_budget(std::uint64_t(side) * side);
-            service::EncodeMat4(moved->camera.Viewer(), message.mutable_camera()->mutable_viewer());
-            message.mutable_camera()->set_width(static_cast<std::uint32_t>(side));
-            message.mutable_camera()->set_height(static_cast<std::uint32_t>(side));
-            std::string error;
-            if (!RunFrame("grid " + std::to_string(triangles), record, message, &previous,
-                          references, frames, f == 0, t, &error)) {
-                state.SkipWithError(error.c_str());
-                return;
-            }
-        }
-        Report(state, t);
-    }
+    const auto record = std::make_shared<const service::SceneRecord>(
+        service::MakeSceneRecord(scene::SphereGridScene(triangles)));
+    RunSequence(state, side, static_cast<int>(state.range(2)), state.range(3) != 0,
+                [&](int f, const scene::SequenceOptions& sequence, v1::PlanRequest* message) {
+                    auto moved = scene::SequenceFrame("sphere_grid", f, sequence);
+                    service::EncodeMat4(moved->camera.Viewer(),
+                                        message->mutable_camera()->mutable_viewer());
+                    message->mutable_camera()->set_width(static_cast<std::uint32_t>(side));
+                    message->mutable_camera()->set_height(static_cast<std::uint32_t>(side));
+                    return std::pair{"grid " + std::to_string(triangles), record};
+                });
 }
-// range(3): 1 holds the camera still too (every frame the same).
 BENCHMARK(BM_CodedSphereGrid)
     ->Args({512, 100'000, 20, 0})
     ->Args({2048, 100'000, 20, 0})

@@ -52,10 +52,14 @@ std::vector<float> RenderFeed::TakeSpare() {
     return std::exchange(spare_, {});
 }
 
+bool RenderFeed::WaitToPutLocked(std::unique_lock<std::mutex>& lock) {
+    room_.wait(lock, [&] { return closed_ || (!image_.has_value() && !coded_.has_value()); });
+    return !closed_;
+}
+
 bool RenderFeed::PutImage(std::uint32_t image_index, render::FloatImage image) {
     std::unique_lock lock(mutex_);
-    room_.wait(lock, [&] { return closed_ || (!image_.has_value() && !coded_.has_value()); });
-    if (closed_) return false;
+    if (!WaitToPutLocked(lock)) return false;
     image_ = std::move(image);
     image_index_ = image_index;
     offset_ = 0;
@@ -66,8 +70,7 @@ bool RenderFeed::PutImage(std::uint32_t image_index, render::FloatImage image) {
 
 bool RenderFeed::PutCoded(std::uint32_t image_index, std::string coded) {
     std::unique_lock lock(mutex_);
-    room_.wait(lock, [&] { return closed_ || (!image_.has_value() && !coded_.has_value()); });
-    if (closed_) return false;
+    if (!WaitToPutLocked(lock)) return false;
     coded_ = std::move(coded);
     image_index_ = image_index;
     offset_ = 0;

@@ -62,6 +62,8 @@ class RenderFeed {
 
   private:
     bool ReadyLocked() const;
+    // Waits until no image is being written; false once the call has ended.
+    bool WaitToPutLocked(std::unique_lock<std::mutex>& lock);
     void WakeIfIdle(std::unique_lock<std::mutex>& lock);
 
     const std::uint64_t chunk_bytes_;
