@@ -127,6 +127,44 @@ TEST(EngineClient, CoherentPlansKeepTheAtlasAndStayViews) {
     EXPECT_LE(reallocations[1] * 2, reallocations[0]);
 }
 
+// Coded maps (docs/service.md, "Coded maps"): the engine's masks from decoded maps are its masks
+// from raw float32 maps, pixel for pixel, for every shadow test, over consecutive coherent frames
+// (so temporal tiles against the frame before are exercised too), at the default N.
+TEST(EngineClient, CodedMapsDrawTheMasksRawMapsDraw) {
+    auto server = testing::StartServer(testing::SmallServerOptions("engine-coded"));
+    ASSERT_NE(server, nullptr);
+    auto client = testing::Connect(testing::Target(*server));
+    for (const EngineFilter filter : {EngineFilter::kDepth, EngineFilter::kPcf,
+                                      EngineFilter::kSecondDepth, EngineFilter::kSilhouette}) {
+        std::vector<std::vector<float>> masks[2];
+        std::uint64_t streamed[2] = {0, 0};
+        for (const bool coded : {false, true}) {
+            FramesOptions options;
+            options.frames = 60;
+            options.size = 128;
+            options.budget = 128 * 128;
+            options.filter = filter;
+            options.coherent = true;
+            if (coded) options.encoding.set_codec(v1::MAP_CODEC_QUANTISED);
+            auto loop = FrameLoop::Create(*client, options);
+            ASSERT_TRUE(loop.ok()) << loop.error().Message();
+            for (int f = 20; f < 26; ++f) {
+                auto frame = (*loop)->Run(f);
+                ASSERT_TRUE(frame.ok()) << frame.error().Message();
+                masks[coded].push_back(frame->images.mask);
+                streamed[coded] += frame->streamed_bytes;
+            }
+        }
+        for (std::size_t f = 0; f < masks[0].size(); ++f) {
+            auto same = CompareMasks(masks[1][f], masks[0][f]);
+            ASSERT_TRUE(same.ok());
+            EXPECT_EQ(same->differing, 0) << EngineFilterName(filter) << " frame " << f;
+            EXPECT_EQ(same->surface_mismatch, 0);
+        }
+        EXPECT_LT(streamed[1] * 4, streamed[0]) << EngineFilterName(filter);
+    }
+}
+
 TEST(EngineView, BiasDefaultsAreTheViewPasss) {
     const EngineShadowOptions engine;
     const render::ShadowOptions server;
