@@ -191,17 +191,39 @@ Result<v1::PlanResponse> Client::Plan(const v1::PlanRequest& request) {
 
 namespace {
 
-// An image's size as float32, from its announced shape.
+// An image's size as float32, from its announced shape (sides checked first: at most
+// codec::kMaxSide, so the product fits).
 std::uint64_t RawBytes(const v1::MapImage& image) {
     return std::uint64_t{image.width()} * image.height() *
            (image.pass() == v1::PASS_SILHOUETTE_MAP ? 8 : 4);
 }
 
-// The most bytes a coded image of `image`'s shape may take: its raw size, zstd's bound on
-// incompressible input and the header (the server's own reservation, render_job.cc).
-std::uint64_t CodedLimit(const v1::MapImage& image) {
-    const std::uint64_t raw = RawBytes(image);
-    return raw + raw / 64 + 4096;
+// What is wrong with a Render header (a broken or hostile server), or "": every image's shape
+// within the largest a map has, raw images' sizes their shapes', coded images only when asked
+// for, and the sum of their float32 sizes within the client's receive limit.
+std::string CheckHeader(const v1::RenderHeader& header, bool coding, std::uint64_t limit) {
+    std::uint64_t announced = 0;
+    for (int i = 0; i < header.images_size(); ++i) {
+        const v1::MapImage& image = header.images(i);
+        const std::string field = "images[" + std::to_string(i) + "]: ";
+        const std::string shape =
+            std::to_string(image.width()) + " x " + std::to_string(image.height());
+        if (image.width() < 1 || image.width() > codec::kMaxSide || image.height() < 1 ||
+            image.height() > codec::kMaxSide) {
+            return field + shape + " is outside [1, 16385]²";
+        }
+        if (image.coded() && !coding) return field + "coded, but no encoding was asked for";
+        if (!image.coded() && image.bytes() != RawBytes(image)) {
+            return field + std::to_string(image.bytes()) + " bytes announced for " + shape +
+                   ", which has " + std::to_string(RawBytes(image));
+        }
+        announced += RawBytes(image);
+    }
+    if (announced > limit) {
+        return "header: " + std::to_string(announced) +
+               " bytes of maps announced, over max_receive_bytes = " + std::to_string(limit);
+    }
+    return "";
 }
 
 }  // namespace
@@ -229,26 +251,17 @@ Result<RenderedMaps> Client::Render(
         };
         while (malformed.empty() && reader->Read(&chunk)) {
             if (chunk.has_header()) {
+                if (out.header.images_size() > 0 || !out.images.empty()) {
+                    refuse("header: a second header in one stream");
+                    break;
+                }
                 out.header = chunk.header();
-                // Every image's size checked against its shape, and their sum against the
-                // receive limit, before anything is allocated for them.
-                std::uint64_t announced = 0;
-                for (int i = 0; i < out.header.images_size(); ++i) {
-                    const v1::MapImage& image = out.header.images(i);
-                    announced += RawBytes(image);
-                    if (!image.coded() && image.bytes() != RawBytes(image)) {
-                        refuse("images[" + std::to_string(i) +
-                               "]: " + std::to_string(image.bytes()) + " bytes announced for " +
-                               std::to_string(image.width()) + " x " +
-                               std::to_string(image.height()));
-                    }
+                // Checked before anything is allocated for the images.
+                if (std::string why = CheckHeader(out.header, coding, options_.max_receive_bytes);
+                    !why.empty()) {
+                    refuse(std::move(why));
+                    break;
                 }
-                if (announced > options_.max_receive_bytes) {
-                    refuse("header: " + std::to_string(announced) +
-                           " bytes of maps announced, over max_receive_bytes = " +
-                           std::to_string(options_.max_receive_bytes));
-                }
-                if (!malformed.empty()) break;
                 for (const v1::MapImage& image : out.header.images()) {
                     out.images.emplace_back(image.coded() ? 0 : image.bytes() / sizeof(float));
                     total += image.bytes();
@@ -268,12 +281,12 @@ Result<RenderedMaps> Client::Render(
             if (announced.coded()) {
                 // Coded bytes arrive in order, each image within its bound.
                 std::string& bytes = coded[piece.image_index()];
-                if (piece.offset() != bytes.size() ||
-                    bytes.size() + piece.data().size() > CodedLimit(announced)) {
+                const std::uint64_t limit = codec::MaxCodedBytes(RawBytes(announced));
+                if (piece.offset() != bytes.size() || bytes.size() + piece.data().size() > limit) {
                     refuse("images[" + std::to_string(piece.image_index()) + "]: coded chunk at " +
                            std::to_string(piece.offset()) +
-                           " is out of order or past the image's " +
-                           std::to_string(CodedLimit(announced)) + "-byte bound");
+                           " is out of order or past the image's " + std::to_string(limit) +
+                           "-byte bound");
                     break;
                 }
                 bytes += piece.data();

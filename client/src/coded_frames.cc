@@ -7,7 +7,12 @@ namespace lixel::client {
 
 void CodedFrames::NameIn(v1::MapEncoding* encoding) const {
     if (encoding->reference_frames_size() != 0) return;
-    for (const codec::IntegerImage& image : held_) encoding->add_reference_frames(image.frame_id);
+    // The server takes at most kMaxReferenceFrames: a frame of more images names its first ones
+    // (the rest are keyframes), rather than have every later frame refused.
+    for (const codec::IntegerImage& image : held_) {
+        if (encoding->reference_frames_size() == codec::kMaxReferenceFrames) break;
+        encoding->add_reference_frames(image.frame_id);
+    }
 }
 
 Result<codec::DecodedMap> CodedFrames::Decode(const v1::RenderHeader& header, int index,
@@ -24,10 +29,13 @@ Result<codec::DecodedMap> CodedFrames::Decode(const v1::RenderHeader& header, in
         image.pass() == v1::PASS_SILHOUETTE_MAP ? codec::Content::kPoints : codec::Content::kDepth;
     if (stated->width != image.width() || stated->height != image.height() ||
         stated->content != content) {
+        const auto name = [](codec::Content c) {
+            return c == codec::Content::kPoints ? std::string(" points") : std::string(" depth");
+        };
         return Error{field, "coded as " + std::to_string(stated->width) + " x " +
-                                std::to_string(stated->height) + " of another content, announced " +
-                                std::to_string(image.width()) + " x " +
-                                std::to_string(image.height())};
+                                std::to_string(stated->height) + name(stated->content) +
+                                ", announced " + std::to_string(image.width()) + " x " +
+                                std::to_string(image.height()) + name(content)};
     }
     auto decoded = decoder_.Decode(coded, references);
     if (!decoded) return Error{field + "." + decoded.error().field, decoded.error().reason};

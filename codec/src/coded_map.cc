@@ -109,7 +109,9 @@ Result<CodedHeader> ReadHeader(std::string_view bytes) {
     if (h.tile < kMinTile || h.tile > kMaxTile) {
         return Bad("tile", std::to_string(h.tile) + " is outside [8, 1024]");
     }
-    if (Get(in + 18, 2) != 0 || Get(in + 72, 4) != 0) return Bad("reserved", "not zero");
+    if (Get(in + 18, 2) != 0 || Get(in + 72, 4) != 0) {
+        return Bad("reserved", "bytes 18-19 and 72-75 must be zero");
+    }
     h.exceptions = static_cast<std::uint32_t>(Get(in + 20, 4));
     if (h.exceptions > h.texels()) {
         return Bad("exceptions", std::to_string(h.exceptions) + ", more than the " +
@@ -120,7 +122,10 @@ Result<CodedHeader> ReadHeader(std::string_view bytes) {
     }
     h.error_bound = std::bit_cast<double>(Get(in + 24, 8));
     const double bound = h.codec == Codec::kQuantised ? QuantisedErrorBound(h.bits) : 0.0;
-    if (!(h.error_bound == bound)) return Bad("error_bound", "not the bound its N states");
+    // Bit for bit: -0 is not the exact codec's 0, nor a NaN any bound.
+    if (std::bit_cast<std::uint64_t>(h.error_bound) != std::bit_cast<std::uint64_t>(bound)) {
+        return Bad("error_bound", "not the bound its N states");
+    }
     h.frame_id = Get(in + 32, 8);
     h.reference_id = Get(in + 40, 8);
     h.keyframe_id = Get(in + 48, 8);
@@ -128,8 +133,11 @@ Result<CodedHeader> ReadHeader(std::string_view bytes) {
     if (h.reference_id == 0 && h.keyframe_id != h.frame_id) {
         return Bad("keyframe_id", "a keyframe (no reference) is its own keyframe");
     }
-    if (h.reference_id != 0 && (h.keyframe_id == 0 || h.reference_id == h.frame_id)) {
-        return Bad("reference_id", "a frame refers to another frame and a keyframe");
+    if (h.reference_id != 0 && h.keyframe_id == 0) {
+        return Bad("keyframe_id", "0: a frame with a reference names the keyframe it starts at");
+    }
+    if (h.reference_id != 0 && h.reference_id == h.frame_id) {
+        return Bad("reference_id", "the frame's own id: a frame refers to another frame");
     }
     h.payload_bytes = Get(in + 56, 8);
     h.raw_bytes = Get(in + 64, 8);

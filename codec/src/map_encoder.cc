@@ -42,14 +42,13 @@ struct Exception {
 
 // Quantised: q = round(d (2^N - 1)) for d in [0, 1]; anything else is an exception with its
 // exact bits (its q is 0, which only its neighbours' predictions read).
-std::vector<std::uint32_t> Values(Content content, Codec codec, int bits, const float* texels,
-                                  std::uint64_t count, std::vector<Exception>* exceptions) {
+std::vector<std::uint32_t> Values(Codec codec, int bits, const float* texels, std::uint64_t count,
+                                  std::vector<Exception>* exceptions) {
     std::vector<std::uint32_t> values(count);
     if (codec == Codec::kExact) {
         std::memcpy(values.data(), texels, count * sizeof(float));
         return values;
     }
-    (void)content;
     const double steps = std::ldexp(1.0, bits) - 1.0;
     for (std::uint64_t i = 0; i < count; ++i) {
         const float d = texels[i];
@@ -203,7 +202,7 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
     const std::uint64_t count = h.texels() * g.channels;
 
     std::vector<Exception> exceptions;
-    std::vector<std::uint32_t> v = Values(content, o.codec, h.bits, texels, count, &exceptions);
+    std::vector<std::uint32_t> v = Values(o.codec, h.bits, texels, count, &exceptions);
     h.exceptions = static_cast<std::uint32_t>(exceptions.size());
     const IntegerImage* reference =
         o.reference != nullptr && o.reference->Matches(h) && o.reference->values.size() == count

@@ -308,10 +308,12 @@ class Suite:
         held = {7: self.decoded[big.case["case"]].values}
         refused(lambda: lixel_maps.decode(recoded(data, raw, reference_id=7), held),
                 "coded_map.reference_id")
-        for changes in ({"reference_id": 7, "keyframe_id": 0}, {"reference_id": h.frame_id}):
-            e = refused(lambda: lixel_maps.decode(recoded(data, raw, **changes), held),
-                        "coded_map.reference_id")
-            expect("refers to another frame and a keyframe" in e.reason, e.reason)
+        e = refused(lambda: lixel_maps.decode(recoded(data, raw, reference_id=7, keyframe_id=0),
+                                              held), "coded_map.keyframe_id")
+        expect("names the keyframe it starts at" in e.reason, e.reason)
+        e = refused(lambda: lixel_maps.decode(recoded(data, raw, reference_id=h.frame_id), held),
+                    "coded_map.reference_id")
+        expect("refers to another frame" in e.reason, e.reason)
         # A reference with a value beyond N bits (in a copy tile, or any other): refused before
         # a tile reads it.
         temporal = by_kind[("quantised", True, False)]

@@ -4,10 +4,12 @@
 // client holds, keyframes come when they must, and bad encodings are refused by name.
 #include <gtest/gtest.h>
 #include <lixel/codec/map_encoder.h>
+#include <lixel/service/coded_references.h>
 
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <thread>
 
 #include "service_fixture.h"
 
@@ -178,11 +180,14 @@ TEST_F(CodedRender, ABadEncodingIsRefusedNamingItsFieldAndTheServerServesOn) {
     r = Request(v1::MAP_CODEC_EXACT, 20);
     refused(r, "encoding.bits");
     r = Request(v1::MAP_CODEC_RAW, 20);
-    refused(r, "encoding.codec");
+    refused(r, "encoding.bits: set, but the codec is raw float32");
+    r = Request(v1::MAP_CODEC_RAW);
+    r.mutable_encoding()->set_zstd_level(99);
+    refused(r, "encoding.zstd_level: set, but the codec is raw float32");
     r = Request(static_cast<v1::MapCodec>(7));
     refused(r, "encoding.codec");
     r = Request(v1::MAP_CODEC_QUANTISED);
-    r.mutable_encoding()->set_zstd_level(20);
+    r.mutable_encoding()->set_zstd_level(10);  // zstd's tables past tens of MiB, seconds a map
     refused(r, "encoding.zstd_level");
     r = Request(v1::MAP_CODEC_QUANTISED);
     r.mutable_encoding()->set_tile(4);
@@ -233,8 +238,9 @@ class ScriptedRender final : public v1::Shadow::Service {
     std::vector<v1::RenderChunk> script_;
 };
 
-// The client's answer to a Render from a server that streams `script`.
-Result<client::RenderedMaps> RenderFrom(std::vector<v1::RenderChunk> script) {
+// The client's answer to a Render asking for `codec` from a server that streams `script`.
+Result<client::RenderedMaps> RenderFrom(std::vector<v1::RenderChunk> script,
+                                        v1::MapCodec codec = v1::MAP_CODEC_QUANTISED) {
     ScriptedRender service(std::move(script));
     grpc::ServerBuilder builder;
     int port = 0;
@@ -243,7 +249,7 @@ Result<client::RenderedMaps> RenderFrom(std::vector<v1::RenderChunk> script) {
     auto server = builder.BuildAndStart();
     auto c = Connect("127.0.0.1:" + std::to_string(port));
     v1::RenderRequest request;
-    request.mutable_encoding()->set_codec(v1::MAP_CODEC_QUANTISED);
+    request.mutable_encoding()->set_codec(codec);
     auto result = c->Render(request);
     server->Shutdown();
     return result;
@@ -293,7 +299,7 @@ TEST(HostileServer, MalformedOrCorruptCodedMapsAreRefusedNamingTheImageNeverMisd
             "images[0].coded_map.payload_bytes");
     refused(RenderFrom({HeaderOf(41, 30, true), ChunkOf(0, bytes)}), "images[0]");
     refused(RenderFrom({HeaderOf(40, 30, true), ChunkOf(8, bytes)}), "DATA_LOSS");
-    refused(RenderFrom({HeaderOf(2, 2, true), ChunkOf(0, std::string(5000, 'x'))}), "DATA_LOSS");
+    refused(RenderFrom({HeaderOf(2, 2, true), ChunkOf(0, std::string(9000, 'x'))}), "DATA_LOSS");
     refused(RenderFrom({HeaderOf(40, 30, false), ChunkOf(4795, "0123456789")}), "DATA_LOSS");
     v1::RenderChunk huge = HeaderOf(16384, 16384, true);
     for (int i = 0; i < 4; ++i) *huge.mutable_header()->add_images() = huge.header().images(0);
@@ -304,6 +310,85 @@ TEST(HostileServer, MalformedOrCorruptCodedMapsAreRefusedNamingTheImageNeverMisd
     v1::RenderChunk stray = ChunkOf(0, "x");
     stray.mutable_chunk()->set_image_index(3);
     refused(RenderFrom({HeaderOf(40, 30, true), stray}), "names no image");
+    // A second header with fewer images, then a chunk for an image only the first one had.
+    v1::RenderChunk three = HeaderOf(40, 30, true);
+    for (int i = 0; i < 2; ++i) *three.mutable_header()->add_images() = three.header().images(0);
+    v1::RenderChunk late = ChunkOf(0, bytes);
+    late.mutable_chunk()->set_image_index(2);
+    refused(RenderFrom({three, HeaderOf(40, 30, true), late}), "a second header");
+    // Sides no map has, whose float32 size would wrap 64 bits.
+    refused(RenderFrom({HeaderOf(1u << 31, 1u << 31, false)}), "outside [1, 16385]");
+    refused(RenderFrom({HeaderOf(0, 30, true)}), "outside [1, 16385]");
+}
+
+TEST(HostileServer, CodedImagesNobodyAskedForAreRefused) {
+    std::vector<float> depth(8 * 8, 0.5f);
+    codec::MapEncoder encoder;
+    auto coded = encoder.Encode(codec::Content::kDepth, depth.data(), 8, 8, {});
+    ASSERT_TRUE(coded.ok());
+    auto raw = RenderFrom({HeaderOf(8, 8, true), ChunkOf(0, coded->bytes)}, v1::MAP_CODEC_RAW);
+    ASSERT_FALSE(raw.ok());
+    EXPECT_NE(raw.error().reason.find("coded, but no encoding was asked for"), std::string::npos)
+        << raw.error().Message();
+}
+
+std::shared_ptr<const service::CodedReference> HeldFrame(std::uint64_t id, int kind,
+                                                         std::size_t values) {
+    auto r = std::make_shared<service::CodedReference>();
+    r->key.kind = kind;
+    r->key.width = r->key.height = 4;
+    auto image = std::make_shared<codec::IntegerImage>();
+    image->frame_id = id;
+    image->values.assign(values, 0);
+    r->values = image;
+    return r;
+}
+
+TEST(CodedReferences, HoldsFramesWithinItsBytesLeastRecentlyUsedOut) {
+    const std::uint64_t one = 1024 * 4 + 256;  // a frame of 1024 values, as the store counts it
+    service::CodedReferences store(3 * one);
+    for (std::uint64_t id = 1; id <= 3; ++id) store.Put(HeldFrame(id, 0, 1024));
+    EXPECT_EQ(store.size(), 3u);
+    EXPECT_EQ(store.bytes(), 3 * one);
+    const service::ReferenceKey key = HeldFrame(0, 0, 0)->key;
+    ASSERT_NE(store.Find({1}, key), nullptr);  // 1 is now the most recently used
+    store.Put(HeldFrame(4, 0, 1024));          // evicts 2, the least recently used
+    EXPECT_EQ(store.Find({2}, key), nullptr);
+    EXPECT_NE(store.Find({1}, key), nullptr);
+    EXPECT_NE(store.Find({4}, key), nullptr);
+    EXPECT_LE(store.bytes(), 3 * one);
+    // The first named id held with the same key; another kind (image) is not a reference.
+    EXPECT_EQ(store.Find({99, 3, 4}, key)->values->frame_id, 3u);
+    EXPECT_EQ(store.Find({3}, HeldFrame(0, 1, 0)->key), nullptr);
+    // The same id again replaces the frame; one larger than the store is not held.
+    store.Put(HeldFrame(3, 0, 512));
+    EXPECT_EQ(store.size(), 3u);
+    store.Put(HeldFrame(5, 0, 4096));
+    EXPECT_EQ(store.Find({5}, key), nullptr);
+    service::CodedReferences none(0);
+    none.Put(HeldFrame(1, 0, 1));
+    EXPECT_EQ(none.size(), 0u);
+}
+
+TEST(CodedReferences, ManyWorkersPutAndFindAtOnceWithinItsBytes) {
+    const std::uint64_t capacity = 16 * (256 * 4 + 256);
+    service::CodedReferences store(capacity);
+    const service::ReferenceKey key = HeldFrame(0, 0, 0)->key;
+    std::vector<std::thread> workers;
+    for (int w = 0; w < 4; ++w) {
+        workers.emplace_back([&, w] {
+            for (std::uint64_t i = 1; i <= 500; ++i) {
+                const std::uint64_t id = i * 4 + static_cast<std::uint64_t>(w);
+                store.Put(HeldFrame(id, 0, 256));
+                auto found = store.Find({id, id - 4}, key);
+                if (found != nullptr) EXPECT_EQ(found->values->values.size(), 256u);
+                EXPECT_LE(store.bytes(), capacity);
+            }
+        });
+    }
+    for (std::thread& t : workers) t.join();
+    EXPECT_LE(store.size(), 16u);
+    EXPECT_NE(service::NewFrameId(), service::NewFrameId());
 }
 
 TEST(CodedFrames, AnImageOfAnotherShapeThanAnnouncedOrCorruptIsRefusedNamingIt) {

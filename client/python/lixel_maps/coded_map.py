@@ -185,21 +185,24 @@ def read_header(data: bytes) -> CodedHeader:
     if not MIN_TILE <= tile <= MAX_TILE:
         raise _bad("tile", f"{tile} is outside [8, 1024]")
     if reserved_a != 0 or reserved_b != 0:
-        raise _bad("reserved", "not zero")
+        raise _bad("reserved", "bytes 18-19 and 72-75 must be zero")
     texels = width * height
     if exceptions > texels:
         raise _bad("exceptions", f"{exceptions}, more than the {texels} texels")
     if codec == Codec.EXACT and exceptions != 0:
         raise _bad("exceptions", "the exact codec has none")
     bound = quantised_error_bound(bits) if codec == Codec.QUANTISED else 0.0
-    if not error_bound == bound:  # a NaN is refused too
+    # Bit for bit: -0 is not the exact codec's 0, nor a NaN any bound.
+    if struct.pack("<d", error_bound) != struct.pack("<d", bound):
         raise _bad("error_bound", "not the bound its N states")
     if frame_id == 0:
         raise _bad("frame_id", "0 names no frame")
     if reference_id == 0 and keyframe_id != frame_id:
         raise _bad("keyframe_id", "a keyframe (no reference) is its own keyframe")
-    if reference_id != 0 and (keyframe_id == 0 or reference_id == frame_id):
-        raise _bad("reference_id", "a frame refers to another frame and a keyframe")
+    if reference_id != 0 and keyframe_id == 0:
+        raise _bad("keyframe_id", "0: a frame with a reference names the keyframe it starts at")
+    if reference_id != 0 and reference_id == frame_id:
+        raise _bad("reference_id", "the frame's own id: a frame refers to another frame")
     follow = len(data) - HEADER_BYTES
     if payload_bytes != follow:
         raise _bad("payload_bytes", f"{payload_bytes} stated, {follow} follow the header "

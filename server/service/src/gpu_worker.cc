@@ -162,11 +162,13 @@ namespace {
 // Every image of `maps` read back and coded as Render codes it (MAP_CODEC_QUANTISED at the
 // default N, a keyframe): the report's bytes per map.
 Result<bool> CodedMapBytes(GpuWorker& worker, const render::GpuScene& scene,
-                           const std::vector<render::RenderedMap>& maps, MaskTimes* times) {
+                           const std::vector<render::RenderedMap>& maps,
+                           const CancelCheck& cancelled, MaskTimes* times) {
     CodedReferences none(0);
     MapCoder coder(MapCodingRequest{}, none, scene.origin());
     const auto code = [&](const LightMap& map, v1::PassKind kind,
                           Result<render::FloatImage> image) -> Result<bool> {
+        if (cancelled()) return Cancelled();
         if (!image) return image.error();
         auto coded = coder.Code(map, kind, *image);
         if (!coded) return coded.error();
@@ -231,7 +233,9 @@ Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene&
     if (times != nullptr) times->readback_seconds = Seconds(start);
     if (auto ok = ReadPreviewInto(worker, *view, preview); !ok) return ok.error();
     if (job.map_bytes && times != nullptr) {
-        if (auto ok = CodedMapBytes(worker, scene, rendered, times); !ok) return ok.error();
+        if (auto ok = CodedMapBytes(worker, scene, rendered, cancelled, times); !ok) {
+            return ok.error();
+        }
     }
     return mask;
 }

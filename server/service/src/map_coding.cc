@@ -20,8 +20,13 @@ Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding&
         return Bad(field + ".codec", std::to_string(m.codec()) + " is not a MapCodec");
     }
     if (m.codec() == v1::MAP_CODEC_RAW) {
-        if (m.bits() != 0 || m.reference_frames_size() != 0 || m.keyframe()) {
-            return Bad(field + ".codec", "raw float32 takes no bits, references or keyframe");
+        // Raw float32 takes no coding setting: one set is a client that meant to code.
+        const std::pair<bool, const char*> settings[] = {
+            {m.bits() != 0, "bits"},    {m.zstd_level() != 0, "zstd_level"},
+            {m.tile() != 0, "tile"},    {m.reference_frames_size() != 0, "reference_frames"},
+            {m.keyframe(), "keyframe"}, {m.keyframe_interval() != 0, "keyframe_interval"}};
+        for (const auto& [set, name] : settings) {
+            if (set) return Bad(field + "." + name, "set, but the codec is raw float32");
         }
         return std::optional<MapCodingRequest>{};
     }
@@ -39,9 +44,9 @@ Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding&
         r.bits = static_cast<int>(m.bits());
     }
     if (m.zstd_level() != 0) {
-        if (m.zstd_level() < 1 || m.zstd_level() > 19) {
+        if (m.zstd_level() < 1 || m.zstd_level() > kMaxZstdLevel) {
             return Bad(field + ".zstd_level",
-                       std::to_string(m.zstd_level()) + " is outside [1, 19]");
+                       std::to_string(m.zstd_level()) + " is outside [1, 9]");
         }
         r.zstd_level = m.zstd_level();
     }
@@ -51,7 +56,7 @@ Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding&
         }
         r.tile = static_cast<int>(m.tile());
     }
-    if (m.reference_frames_size() > kMaxReferenceFrames) {
+    if (m.reference_frames_size() > codec::kMaxReferenceFrames) {
         return Bad(field + ".reference_frames",
                    std::to_string(m.reference_frames_size()) + " ids, at most 64");
     }
@@ -120,10 +125,19 @@ Result<std::string> MapCoder::Code(const LightMap& map, v1::PassKind kind,
     std::shared_ptr<const CodedReference> held;
     if (!request_.keyframe) held = references_.Find(request_.references, key);
     if (held && held->chain + 1 < request_.keyframe_interval) o.reference = held->values.get();
-    auto coded = encoder_.Encode(points ? codec::Content::kPoints : codec::Content::kDepth,
-                                 image.pixels.data(), static_cast<std::uint32_t>(image.width),
-                                 static_cast<std::uint32_t>(image.height), o);
+    const codec::Content content = points ? codec::Content::kPoints : codec::Content::kDepth;
+    const auto width = static_cast<std::uint32_t>(image.width);
+    const auto height = static_cast<std::uint32_t>(image.height);
+    auto coded = encoder_.Encode(content, image.pixels.data(), width, height, o);
     if (!coded) return coded.error();
+    // Many exceptions (texels outside [0, 1]) can make the quantised coding larger than a
+    // client's bound on a coded image; the exact codec always fits it.
+    if (coded->bytes.size() > codec::MaxCodedBytes(image.pixels.size() * sizeof(float)) &&
+        o.codec == codec::Codec::kQuantised) {
+        o.codec = codec::Codec::kExact;
+        coded = encoder_.Encode(content, image.pixels.data(), width, height, o);
+        if (!coded) return coded.error();
+    }
     auto next = std::make_shared<CodedReference>();
     next->key = key;
     next->chain = coded->header.reference_id != 0 ? held->chain + 1 : 0;

@@ -66,9 +66,10 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     }
     const std::uint64_t chunk = std::max<std::uint64_t>(1, state.options.chunk_bytes);
     // Coding an image holds, beside its float32 pixels: its values and residuals (4 bytes a
-    // texel each), the payload before zstd (at most 4) and the coded image (the raw size and
-    // zstd's bound on incompressible input, under 1 %, plus the header).
-    const std::uint64_t coded_room = coding->has_value() ? 4 * largest + largest / 64 + 4096 : 0;
+    // texel each), its exceptions (at most 8), the payload before zstd (at most 12 with them)
+    // and the coded image (codec::MaxCodedBytes).
+    const std::uint64_t coded_room =
+        coding->has_value() ? 6 * largest + codec::MaxCodedBytes(largest) : 0;
     if (grpc::Status held =
             reserve(header.ByteSizeLong() + largest + coded_room + std::min(chunk, largest));
         !held.ok()) {

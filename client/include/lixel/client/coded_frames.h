@@ -17,7 +17,8 @@ namespace lixel::client {
 
 class CodedFrames {
   public:
-    // Names the held frames in `encoding.reference_frames` (unless the caller named some).
+    // Names the held frames in `encoding.reference_frames` (unless the caller named some), at
+    // most codec::kMaxReferenceFrames of them.
     void NameIn(v1::MapEncoding* encoding) const;
 
     // Decodes image `index` of `header` from its coded bytes; errors name images[index].

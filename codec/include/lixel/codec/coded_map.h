@@ -43,6 +43,15 @@ inline constexpr int kMaxQuantisedBits = 24;
 inline constexpr int kMinTile = 8;
 inline constexpr int kMaxTile = 1024;
 inline constexpr std::uint32_t kMaxSide = 16385;  // a 16384² map's corner depth
+// RenderRequest.encoding.reference_frames: the most frame ids a request names.
+inline constexpr int kMaxReferenceFrames = 64;
+
+// The most bytes a coded image of `raw_bytes` as float32 takes on the wire: the exact codec
+// always fits (4 bytes a value, one a tile, zstd's bound on incompressible input, the header),
+// and Render codes an image exactly where the quantised coding would not (many exceptions).
+inline std::uint64_t MaxCodedBytes(std::uint64_t raw_bytes) {
+    return raw_bytes + raw_bytes / 32 + 8192;
+}
 
 // The fixed header every coded map starts with (docs/service.md, "Coded maps").
 struct CodedHeader {

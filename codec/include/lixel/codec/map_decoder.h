@@ -27,7 +27,7 @@ class MapDecoder {
   public:
     // `max_texels`: the most texels (times channels) one image may hold; larger ones are refused
     // before any allocation.
-    explicit MapDecoder(std::uint64_t max_texels = std::uint64_t{16385} * 16385 * 2);
+    explicit MapDecoder(std::uint64_t max_texels = std::uint64_t{kMaxSide} * kMaxSide * 2);
     ~MapDecoder();
     MapDecoder(const MapDecoder&) = delete;
     MapDecoder& operator=(const MapDecoder&) = delete;

@@ -27,7 +27,9 @@ struct MapCodingRequest {
     int keyframe_interval = 30;
 };
 
-inline constexpr int kMaxReferenceFrames = 64;
+// The highest zstd level a request may ask: above it zstd's tables grow past tens of MiB and a
+// large map takes seconds on a worker, within no call's budget.
+inline constexpr int kMaxZstdLevel = 9;
 
 // Nullopt for raw float32 (MAP_CODEC_RAW); errors name `field`.<member> and the reason.
 Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding& message,
