@@ -80,11 +80,19 @@ TEST(Faults, ClientsVanishingMidStreamLeaveTheServerServing) {
     service::ClientLimits& limits = server->service().state().limits;
     EXPECT_TRUE(Eventually([&] { return limits.clients() == 0; }, 30.0))
         << limits.calls("ipv4:127.0.0.1") << " calls still held";
+    // Each ended: CANCELLED ("the client stopped reading"), or OK where the transport had taken
+    // the stream's last message before its client left. Since plane maps hold only their
+    // footprints, BigRender is 9 messages (about 8 MiB), few enough for gRPC's flow-control
+    // window to take whole now and then on an idle machine (4 of 12 runs measured).
     const std::string metrics = server->service().state().metrics.Serialize();
-    const std::string counter = "lixel_requests_total{code=\"CANCELLED\",rpc=\"Render\"} ";
-    const auto at = metrics.find(counter);
-    ASSERT_NE(at, std::string::npos) << metrics.substr(0, 2000);
-    EXPECT_EQ(std::stod(metrics.substr(at + counter.size(), 32)), 8.0);
+    const auto count = [&](const std::string& code) {
+        const std::string counter =
+            "lixel_requests_total{code=\"" + code + "\",rpc=\"Render\"} ";
+        const auto at = metrics.find(counter);
+        return at == std::string::npos ? 0.0 : std::stod(metrics.substr(at + counter.size(), 32));
+    };
+    EXPECT_GE(count("CANCELLED"), 1.0) << metrics.substr(0, 2000);
+    EXPECT_EQ(count("CANCELLED") + count("OK"), 8.0) << metrics.substr(0, 2000);
     // The scene is still there (no re-upload needed) and a full Render still streams.
     auto stub = RawStub(Target(*server));
     grpc::ClientContext context;
