@@ -46,19 +46,6 @@ service::GpuWorker& Worker() {
     return *worker;
 }
 
-v1::PassKind KindOf(const service::ImageShape& shape) {
-    if (shape.corner_depth) return v1::PASS_CORNER_DEPTH;
-    switch (shape.pass) {
-        case Pass::kDepth:
-            return v1::PASS_DEPTH;
-        case Pass::kSecondDepth:
-            return v1::PASS_SECOND_DEPTH;
-        case Pass::kSilhouetteMap:
-            return v1::PASS_SILHOUETTE_MAP;
-    }
-    return v1::PASS_DEPTH;
-}
-
 // gRPC's gzip: each 1 MiB message deflated on its own.
 std::uint64_t GzipBytes(const std::vector<float>& pixels) {
     const auto* data = reinterpret_cast<const Bytef*>(pixels.data());
@@ -113,7 +100,7 @@ bool RunFrame(const std::string& id, const service::SceneRecord& record, v1::Pla
     v1::RenderHeader header;
     for (const service::ImageShape& s : shapes) {
         v1::MapImage* m = header.add_images();
-        m->set_pass(KindOf(s));
+        m->set_pass(service::PassKindOf(s.pass, s.corner_depth));
         m->set_width(static_cast<std::uint32_t>(s.width));
         m->set_height(static_cast<std::uint32_t>(s.height));
         m->set_coded(true);
@@ -128,7 +115,8 @@ bool RunFrame(const std::string& id, const service::SceneRecord& record, v1::Pla
         const render::FloatImage& image = images[i].image;
         const std::uint64_t raw = image.pixels.size() * sizeof(float);
         start = Clock::now();
-        auto coded = coder.Code(plan->maps.at(images[i].map_index).map, KindOf(shapes[i]), image);
+        auto coded = coder.Code(plan->maps.at(images[i].map_index).map,
+                                service::PassKindOf(shapes[i].pass, shapes[i].corner_depth), image);
         t.encode += Since(start);
         if (!coded) return *error = coded.error().Message(), false;
         start = Clock::now();

@@ -14,6 +14,19 @@ Error Bad(const std::string& field, const std::string& reason) { return Error{fi
 
 }  // namespace
 
+v1::PassKind PassKindOf(Pass pass, bool corner_depth) {
+    if (corner_depth) return v1::PASS_CORNER_DEPTH;
+    switch (pass) {
+        case Pass::kDepth:
+            return v1::PASS_DEPTH;
+        case Pass::kSecondDepth:
+            return v1::PASS_SECOND_DEPTH;
+        case Pass::kSilhouetteMap:
+            return v1::PASS_SILHOUETTE_MAP;
+    }
+    return v1::PASS_DEPTH;
+}
+
 Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding& m,
                                                           const std::string& field) {
     if (!v1::MapCodec_IsValid(m.codec())) {

@@ -9,20 +9,6 @@ namespace lixel::service {
 
 using namespace jobs;
 
-namespace {
-
-v1::PassKind PassKindOf(Pass pass, bool corner_depth) {
-    if (corner_depth) return v1::PASS_CORNER_DEPTH;
-    switch (pass) {
-        case Pass::kDepth: return v1::PASS_DEPTH;
-        case Pass::kSecondDepth: return v1::PASS_SECOND_DEPTH;
-        case Pass::kSilhouetteMap: return v1::PASS_SILHOUETTE_MAP;
-    }
-    return v1::PASS_DEPTH;
-}
-
-}  // namespace
-
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
                        const CancelCheck& cancelled,
                        const std::function<grpc::Status(std::uint64_t)>& reserve,

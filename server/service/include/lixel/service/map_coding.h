@@ -8,6 +8,7 @@
 #include <lixel/service/coded_references.h>
 #include <lixel/solver/light_map.h>
 #include <lixel/solver/result.h>
+#include <lixel/solver/scheduler.h>
 #include <lixel/v1/lixel.pb.h>
 
 #include <cstdint>
@@ -30,6 +31,10 @@ struct MapCodingRequest {
 // The highest zstd level a request may ask: above it zstd's tables grow past tens of MiB and a
 // large map takes seconds on a worker, within no call's budget.
 inline constexpr int kMaxZstdLevel = 9;
+
+// The wire's kind of a rendered image (MapImage.pass): the pass, or the silhouette map's corner
+// depth.
+v1::PassKind PassKindOf(Pass pass, bool corner_depth);
 
 // Nullopt for raw float32 (MAP_CODEC_RAW); errors name `field`.<member> and the reason.
 Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding& message,
