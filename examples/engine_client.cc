@@ -1,8 +1,9 @@
-// An engine that renders its own frames from what lixel's Render streams: for each frame of the
-// animated floor/wall room (scene::SequenceFrame: the shapes bounce, the camera orbits) it
-// uploads the frame's scene, asks Render for the plan and its maps, turns them into the client
-// shader kit's block and atlas (client::KitFrameOf), uploads those and its meshes to its own GL
-// context and draws its own view (lixel::engine), then writes the shaded image as a PNG.
+// An engine that renders its own frames from what a lixel Session streams: it uploads the
+// animated floor/wall room's meshes once (scene::SequenceFrame: the shapes bounce, the camera
+// orbits), opens one Session, and for each frame sends its camera, light and instances, reads
+// back the plan and its maps, turns them into the client shader kit's block and atlas
+// (client::KitFrameOf), uploads those to its own GL context, places its meshes by the same
+// instances and draws its own view (lixel::engine), then writes the shaded image as a PNG.
 // `lixel frames` runs the same loop with a check against View (lixel::engine::FrameLoop).
 //
 //   build/server/service/lixel_server --address=127.0.0.1:50051 &
@@ -10,6 +11,7 @@
 //                                      [--frames=60] [--size=512] [--out=out/engine_client]
 #include <lixel/client/client.h>
 #include <lixel/client/kit_frame.h>
+#include <lixel/client/session.h>
 #include <lixel/engine/egl_context.h>
 #include <lixel/engine/engine_view.h>
 #include <lixel/engine/frame_loop.h>
@@ -19,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -80,34 +83,49 @@ int main(int argc, char** argv) {
     scene::SequenceOptions sequence;
     sequence.frames = frames;
     sequence.viewport = {size, size};
+    std::unique_ptr<client::Session> session;
     for (int f = 0; f < frames; ++f) {
         auto scene = scene::SequenceFrame(scene_name, f, sequence);
         if (!scene) return Fail("scene", scene.error());
-        // The frame's meshes (floor_wall's shapes move): a new content-addressed scene id.
-        v1::Scene message;
-        service::EncodeScene(service::MakeSceneRecord(*scene), &message);
-        auto uploaded = (*client)->UploadScene(message);
-        if (!uploaded) return Fail("upload", uploaded.error());
+        // Everything relative to the meshes' centre as uploaded, maps and meshes alike.
+        const Vec3 origin = scene->UnposedBounds().Center();
+        if (session == nullptr) {
+            // The meshes, once: what moves is the frames' instances.
+            v1::Scene message;
+            service::EncodeScene(service::MakeSceneRecord(*scene), &message);
+            auto uploaded = (*client)->UploadScene(message);
+            if (!uploaded) return Fail("upload", uploaded.error());
+            v1::SessionOpen open;
+            open.mutable_plan()->set_scene_id(uploaded->scene_id());
+            open.mutable_plan()->set_lixel_budget(std::uint64_t{512} * 512);
+            auto opened = client::Session::Open(**client, open);
+            if (!opened) return Fail("session", opened.error());
+            session = std::move(opened).value();
+            if (auto ok = view->UploadMeshes(scene->meshes, origin); !ok) {
+                return Fail("meshes", ok.error());
+            }
+        }
+        // This frame's camera, light and instances; its plan and maps.
+        v1::PlanRequest changed;
+        service::EncodeMat4(scene->camera.Viewer(), changed.mutable_camera()->mutable_viewer());
+        changed.mutable_camera()->set_width(static_cast<std::uint32_t>(size));
+        changed.mutable_camera()->set_height(static_cast<std::uint32_t>(size));
+        service::EncodeVec4(scene->light, changed.mutable_light()->mutable_position());
+        service::EncodeInstances(*scene, &changed);
+        v1::SessionFrame frame;
+        frame.set_number(static_cast<std::uint64_t>(f) + 1);
+        *frame.mutable_camera() = changed.camera();
+        *frame.mutable_light() = changed.light();
+        *frame.mutable_instances()->mutable_instances() = changed.instances();
+        if (auto sent = session->Send(frame); !sent) return Fail("session", sent.error());
+        auto served = session->Next();
+        if (!served) return Fail("session", served.error());
+        if (served->refused) return Fail("frame", *served->refused);
+        const client::RenderedMaps* rendered = &served->maps;
 
-        // The plan for this frame's camera and light, and its maps.
-        v1::RenderRequest request;
-        v1::PlanRequest& plan = *request.mutable_plan();
-        plan.set_scene_id(uploaded->scene_id());
-        plan.set_lixel_budget(std::uint64_t{512} * 512);
-        service::EncodeMat4(scene->camera.Viewer(), plan.mutable_camera()->mutable_viewer());
-        plan.mutable_camera()->set_width(static_cast<std::uint32_t>(size));
-        plan.mutable_camera()->set_height(static_cast<std::uint32_t>(size));
-        service::EncodeVec4(scene->light, plan.mutable_light()->mutable_position());
-        auto rendered = (*client)->Render(request);
-        if (!rendered) return Fail("render", rendered.error());
-
-        // Everything relative to the scene's centre, maps and meshes alike.
-        const Vec3 origin = scene->Bounds().Center();
         auto kit = client::KitFrameOf(*rendered, client::KitDepth::kDepth, origin);
         if (!kit) return Fail("kit", kit.error());
-        if (auto ok = view->UploadMeshes(scene->meshes, origin); !ok) {
-            return Fail("meshes", ok.error());
-        }
+        if (auto ok = view->PlaceMeshes(scene->instances); !ok) return Fail("meshes", ok.error());
         if (auto ok = view->UploadKit(*kit); !ok) return Fail("maps", ok.error());
         engine::EngineCamera camera;
         camera.viewer = scene->camera.Viewer();

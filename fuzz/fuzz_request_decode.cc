@@ -2,7 +2,8 @@
 // picks the message (lixel.v1.SolveRequest, PlanRequest or Scene); the rest goes through
 // ParseFromArray and the decoders of proto_convert.h. Decoded PlanRequests with few objects and
 // planes are planned (PlanShadowMaps), and small SolveRequests solved (SolvePlaneMap), the way
-// the service's jobs do; PlanRequests naming a scene plan against a small cached scene.
+// the service's jobs do; PlanRequests naming a scene plan against a small cached scene, placing
+// its mesh by their instances.
 #include "fuzz_input.h"
 
 #include <lixel/service/proto_convert.h>
@@ -114,8 +115,18 @@ void FuzzPlan(const std::uint8_t* data, std::size_t size) {
     v1::PlanRequest request;
     if (!request.ParseFromArray(data, static_cast<int>(size))) return;
     const SceneRecord* scene = request.scene_id().empty() ? nullptr : &CachedScene();
-    auto decoded = DecodePlanRequest(request, scene, "plan");
+    // Instances are decoded too: each names a mesh and carries a matrix the checks must hold.
+    std::vector<MeshInstance> instances;
+    auto decoded = DecodePlanRequest(request, scene, "plan", &instances);
     if (!decoded) return;
+    for (const MeshInstance& instance : instances) {
+        if (scene == nullptr || instance.mesh >= scene->scene.meshes.size()) {
+            Fail("a decoded instance names no mesh of its scene");
+        }
+        if (!CheckInstanceMatrix(instance.object_to_world, "m").ok()) {
+            Fail("a decoded instance's matrix fails its own check");
+        }
+    }
     if (decoded->objects.size() > kMaxPlannedObjects ||
         decoded->planes.size() > kMaxPlannedPlanes) {
         return;

@@ -154,4 +154,40 @@ for harness, count in (("fuzz_solver", 5), ("fuzz_scheduler", 4)):
         data = bytearray(rng.randrange(256) for _ in range(96 + 64 * i))
         data[-1] = i  # the first byte consumed: which entry point (fuzz_solver)
         put(harness, "seed%d" % i, bytes(data))
+# fuzz_session_decode: SessionRequest messages read from the front, each length (two bytes, most
+# significant read first) and, after an accepted frame, a count of served ids (one byte) read from
+# the end.
+def session(messages):
+    front, reads = b"", []
+    for message, accepted in messages:
+        front += message
+        reads += [len(message) >> 8, len(message) & 0xFF]
+        if accepted:
+            reads.append(0)
+    return front + bytes(reversed(reads))
+
+
+identity = "object_to_world { m: [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1] }"
+lifted = "object_to_world { m: [1,0,0,0, 0,1,0,0, 0,0,1,0, 0.5,0.25,0,1] }"
+mirrored = "object_to_world { m: [-1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1] }"
+open_text = ('open { plan { scene_id: "fuzz" lixel_budget: 4096 fallback_floor: 1024 '
+             'camera %s light { position { x: 1 y: 6 z: 2 w: 1 } } coherence {} } '
+             'encoding { codec: MAP_CODEC_QUANTISED } max_frames_ahead: 2 }' % camera)
+frame_text = ('frame { number: %d instances { instances { mesh: "quad" %s } '
+              'instances { mesh: "triangle" %s } instances { mesh: "triangle" %s } } }')
+opened = encode("SessionRequest", open_text)
+put("fuzz_session_decode", "frames", session([
+    (opened, False),
+    (encode("SessionRequest", frame_text % (1, identity, lifted, mirrored)), True),
+    (encode("SessionRequest", "frame { number: 2 camera %s }" % camera), True),
+    (encode("SessionRequest", frame_text % (3, identity, identity, lifted)), True)]))
+put("fuzz_session_decode", "refusals", session([
+    (encode("SessionRequest", frame_text % (1, identity, lifted, mirrored)), False),
+    (opened, False),
+    (opened, False),
+    (encode("SessionRequest", frame_text % (5, identity, lifted, mirrored)), True),
+    (encode("SessionRequest", frame_text % (4, identity, lifted, mirrored)), False),
+    (encode("SessionRequest", 'frame { number: 6 instances { instances { mesh: "cube" } } }'),
+     False),
+    (encode("SessionRequest", "frame { number: 7 instances {} }"), True)]))
 print("corpus written under", os.path.join(root, "corpus"), file=sys.stderr)

@@ -15,7 +15,7 @@ jobs=${LIXEL_JOBS:-$(nproc)}
 harnesses=("$@")
 if ((${#harnesses[@]} == 0)); then
     harnesses=(fuzz_request_decode fuzz_solver fuzz_mesh_load fuzz_scheduler fuzz_upload
-               fuzz_map_decode)
+               fuzz_map_decode fuzz_session_decode)
 fi
 source "$root/scripts/lib/asan_build.sh"
 

@@ -17,6 +17,7 @@ packages=(
     prometheus-cpp-dev libssl-dev openssl python3-grpcio python3-protobuf
     libzstd-dev zlib1g-dev  # lixel::codec: coded maps (zstd), the header's CRC-32
     python3-numpy python3-zstandard  # client/python: the coded-map decoder
+    python3-venv python3-pip python3-setuptools python3-wheel  # its package, pip-installed
     clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer harnesses in fuzz/
 )
 

@@ -3,7 +3,7 @@
 # it with the thin client on the built-in default scene (the paper's floor/wall room): the plan,
 # the maps (OpenEXR + PNG), a view mask with its error against exact visibility, and the
 # error-vs-run-time report, every method over a 60-frame sequence of the animated room (flicker
-# and reallocations), and an engine client's own frames of it from what Render streams, checked
+# and reallocations), and an engine client's own frames of it from what one Session streams, checked
 # against View. Everything lands in out/ (or $LIXEL_OUT_DIR).
 #   LIXEL_FULL=1   sweep every built-in scene instead of the default one
 #   LIXEL_GL=osmesa  render through OSMesa instead of EGL

@@ -6,11 +6,13 @@
 layout(location = 0) in vec3 a_position;
 
 uniform mat4 u_clip;
+// The draw's object -> world, relative to the origin (gpu_scene.h, GpuDraw::model).
+uniform mat4 u_model = mat4(1.0);
 
 // The view pass's depth pre-pass runs this shader too; its shading pass (view.vert) tests
 // GL_EQUAL against these depths.
 invariant gl_Position;
 
 void main() {
-    gl_Position = u_clip * vec4(a_position, 1.0);
+    gl_Position = u_clip * (u_model * vec4(a_position, 1.0));
 }

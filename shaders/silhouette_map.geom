@@ -18,6 +18,8 @@ in vec3 v_position[];
 uniform mat4 u_lixel;   // relative position -> (x q, y q, d q, q), d the stored depth
 uniform vec4 u_light;   // relative to the origin: (l_xyz - l_w origin, l_w)
 uniform vec2 u_size;    // map width, height in lixels
+// The draw's instance turns orientation (GpuDraw::mirrored): counter-clockwise is its back.
+uniform bool u_mirrored = false;
 
 // Half-width and end extension of the quad, lixels: sqrt(2)/2 plus the corner margin.
 const float kHalfWidth = 0.75;
@@ -31,7 +33,7 @@ flat out float f_slack;
 
 bool faces_light(vec3 a, vec3 b, vec3 c) {
     vec3 n = cross(b - a, c - a);
-    return dot(n, u_light.xyz - u_light.w * a) > 0.0;
+    return (dot(n, u_light.xyz - u_light.w * a) > 0.0) != u_mirrored;
 }
 
 // Clips the homogeneous segment h0-h1 to q > 0 (in front of the light). Depth is not clipped:

@@ -18,6 +18,9 @@ uniform float u_max_bias;     // clip-depth units; caps the slope term near graz
 uniform float u_second_depth_bias;       // paper 003 §3.3: closed solids, 0 by default
 uniform float u_open_second_depth_bias;  // open surfaces: multiple of the depth's rounding
 uniform int u_receiver_open;             // the drawn surface is open (GpuMeshRange::closed)
+// The drawn instance receives shadows (GpuDraw::receives); one that does not is lit wherever it
+// faces the light, as exact visibility counts it (eval/ground_truth.h).
+uniform int u_receives = 1;
 uniform int u_pcf_radius;
 uniform int u_virtual_samples;
 uniform int u_tint_maps;
@@ -52,6 +55,10 @@ void main() {
         u_receiver_open != 0, u_pcf_radius, u_virtual_samples != 0);
     int map;
     float lit = lixel_shadow(kMethod, p, n, n_dot_l, settings, map);
+    if (u_receives == 0) {
+        map = -1;
+        lit = n_dot_l > 0.0 ? 1.0 : 0.0;
+    }
 #endif
     o_mask = lit;
     o_map = map;

@@ -5,6 +5,8 @@
 layout(location = 0) in vec3 a_position;
 
 uniform mat4 u_viewer;
+// The draw's object -> world, relative to the origin (gpu_scene.h, GpuDraw::model).
+uniform mat4 u_model = mat4(1.0);
 
 out vec3 v_position;
 // The depth pre-pass (depth.vert, u_clip = u_viewer) must write the same depths, bit for bit,
@@ -12,6 +14,8 @@ out vec3 v_position;
 invariant gl_Position;
 
 void main() {
-    v_position = a_position;
-    gl_Position = u_viewer * vec4(a_position, 1.0);
+    // The same expression as depth.vert's: u_clip * (u_model * position).
+    vec4 world = u_model * vec4(a_position, 1.0);
+    v_position = world.xyz;
+    gl_Position = u_viewer * world;
 }

@@ -1,4 +1,4 @@
-// lixel frames: an engine's own frames from what Render streams (lixel::engine), one shaded PNG
+// lixel frames: an engine's own frames from what a Session streams (lixel::engine), one shaded PNG
 // per frame and a contact sheet; with --check, each frame's mask against View's.
 #include <absl/flags/flag.h>
 #include <lixel/engine/frame_loop.h>

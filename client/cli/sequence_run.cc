@@ -53,21 +53,28 @@ Result<SequenceResult> RunSequence(
     const std::function<void(int, const std::string&)>& progress) {
     SequenceResult result;
     std::vector<MethodState> states(run.methods.size());
+    std::string scene_id;
     for (int frame = 0; frame < run.frames.frames; ++frame) {
         auto scene = scene::SequenceFrame(run.scene, frame, run.frames);
         if (!scene) return scene.error();
-        v1::Scene message;
-        service::EncodeScene(service::MakeSceneRecord(*scene), &message);
-        auto uploaded = client.UploadScene(message);
-        if (!uploaded) {
-            return Error{"frame " + std::to_string(frame), uploaded.error().Message()};
+        // The sequence's meshes are the same every frame (what moves, its instances place):
+        // uploaded once, and again by the client if the server evicts them.
+        if (scene_id.empty()) {
+            v1::Scene message;
+            service::EncodeScene(service::MakeSceneRecord(*scene), &message);
+            auto uploaded = client.UploadScene(message);
+            if (!uploaded) {
+                return Error{"frame " + std::to_string(frame), uploaded.error().Message()};
+            }
+            scene_id = uploaded->scene_id();
         }
         for (std::size_t k = 0; k < run.methods.size(); ++k) {
             const SequenceMethod& method = run.methods[k];
             MethodState& state = states[k];
             v1::ViewRequest request;
             v1::PlanRequest* plan = request.mutable_plan();
-            plan->set_scene_id(uploaded->scene_id());
+            plan->set_scene_id(scene_id);
+            service::EncodeInstances(*scene, plan);
             plan->set_lixel_budget(static_cast<std::uint64_t>(run.budget));
             plan->set_fallback_floor(static_cast<std::uint64_t>(run.fallback_floor));
             *plan->mutable_passes() = [&] {

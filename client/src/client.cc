@@ -4,7 +4,10 @@
 #include <chrono>
 #include <climits>
 #include <cstring>
+#include <optional>
 #include <thread>
+
+#include "map_stream.h"
 
 namespace lixel::client {
 
@@ -105,6 +108,12 @@ grpc::Status Client::WithRetries(const std::string& scene_id,
     return status;
 }
 
+Result<bool> Client::UploadAgain(const std::string& scene_id) {
+    const grpc::Status s = Reupload(scene_id);
+    if (!s.ok()) return StatusError(s);
+    return true;
+}
+
 grpc::Status Client::Reupload(const std::string& scene_id) {
     v1::SceneHeader header;
     std::string content;
@@ -189,141 +198,35 @@ Result<v1::PlanResponse> Client::Plan(const v1::PlanRequest& request) {
     return response;
 }
 
-namespace {
-
-// An image's size as float32, from its announced shape (sides checked first: at most
-// codec::kMaxSide, so the product fits).
-std::uint64_t RawBytes(const v1::MapImage& image) {
-    return std::uint64_t{image.width()} * image.height() *
-           (image.pass() == v1::PASS_SILHOUETTE_MAP ? 8 : 4);
-}
-
-// What is wrong with a Render header (a broken or hostile server), or "": every image's shape
-// within the largest a map has, raw images' sizes their shapes', coded images only when asked
-// for, and the sum of their float32 sizes within the client's receive limit.
-std::string CheckHeader(const v1::RenderHeader& header, bool coding, std::uint64_t limit) {
-    std::uint64_t announced = 0;
-    for (int i = 0; i < header.images_size(); ++i) {
-        const v1::MapImage& image = header.images(i);
-        const std::string field = "images[" + std::to_string(i) + "]: ";
-        const std::string shape =
-            std::to_string(image.width()) + " x " + std::to_string(image.height());
-        if (image.width() < 1 || image.width() > codec::kMaxSide || image.height() < 1 ||
-            image.height() > codec::kMaxSide) {
-            return field + shape + " is outside [1, 16385]²";
-        }
-        if (image.coded() && !coding) return field + "coded, but no encoding was asked for";
-        if (!image.coded() && image.bytes() != RawBytes(image)) {
-            return field + std::to_string(image.bytes()) + " bytes announced for " + shape +
-                   ", which has " + std::to_string(RawBytes(image));
-        }
-        announced += RawBytes(image);
-    }
-    if (announced > limit) {
-        return "header: " + std::to_string(announced) +
-               " bytes of maps announced, over max_receive_bytes = " + std::to_string(limit);
-    }
-    return "";
-}
-
-}  // namespace
-
 Result<RenderedMaps> Client::Render(
     const v1::RenderRequest& request,
     const std::function<void(std::uint64_t, std::uint64_t)>& progress, CodedFrames* frames) {
-    RenderedMaps out;
-    std::vector<std::string> coded;
-    v1::RenderRequest sent = request;
     const bool coding = request.encoding().codec() != v1::MAP_CODEC_RAW;
+    v1::RenderRequest sent = request;
     if (coding && frames != nullptr) frames->NameIn(sent.mutable_encoding());
+    std::optional<MapStream> stream;
     const grpc::Status s = WithRetries(request.plan().scene_id(), [&](grpc::ClientContext& c) {
-        out = RenderedMaps{};
-        coded.clear();
+        stream.emplace(coding, options_.max_receive_bytes);
         auto reader = stub_->Render(&c, sent);
         v1::RenderChunk chunk;
-        std::uint64_t total = 0;
-        std::uint64_t received = 0;
         // What a malformed stream did (a broken or hostile server): the call ends with it.
         std::string malformed;
-        const auto refuse = [&](std::string why) {
-            malformed = std::move(why);
-            c.TryCancel();
-        };
         while (malformed.empty() && reader->Read(&chunk)) {
             if (chunk.has_header()) {
-                if (out.header.images_size() > 0 || !out.images.empty()) {
-                    refuse("header: a second header in one stream");
-                    break;
-                }
-                out.header = chunk.header();
-                // Checked before anything is allocated for the images.
-                if (std::string why = CheckHeader(out.header, coding, options_.max_receive_bytes);
-                    !why.empty()) {
-                    refuse(std::move(why));
-                    break;
-                }
-                for (const v1::MapImage& image : out.header.images()) {
-                    out.images.emplace_back(image.coded() ? 0 : image.bytes() / sizeof(float));
-                    total += image.bytes();
-                }
-                coded.resize(out.images.size());
-                continue;
+                malformed = stream->Header(chunk.header());
+            } else {
+                malformed = stream->Chunk(chunk.chunk());
+                if (malformed.empty() && progress) progress(stream->received(), stream->total());
             }
-            const v1::MapChunk& piece = chunk.chunk();
-            if (piece.image_index() >= out.images.size()) {
-                refuse("chunk: image_index " + std::to_string(piece.image_index()) +
-                       " names no image of the header");
-                break;
-            }
-            received += piece.data().size();
-            const v1::MapImage& announced =
-                out.header.images(static_cast<int>(piece.image_index()));
-            if (announced.coded()) {
-                // Coded bytes arrive in order, each image within its bound.
-                std::string& bytes = coded[piece.image_index()];
-                const std::uint64_t limit = codec::MaxCodedBytes(RawBytes(announced));
-                if (piece.offset() != bytes.size() || bytes.size() + piece.data().size() > limit) {
-                    refuse("images[" + std::to_string(piece.image_index()) + "]: coded chunk at " +
-                           std::to_string(piece.offset()) +
-                           " is out of order or past the image's " + std::to_string(limit) +
-                           "-byte bound");
-                    break;
-                }
-                bytes += piece.data();
-                continue;
-            }
-            auto& image = out.images[piece.image_index()];
-            const std::size_t bytes = image.size() * sizeof(float);
-            if (piece.offset() + piece.data().size() > bytes) {
-                refuse("images[" + std::to_string(piece.image_index()) + "]: chunk at " +
-                       std::to_string(piece.offset()) + " runs past the image's " +
-                       std::to_string(bytes) + " bytes");
-                break;
-            }
-            std::memcpy(reinterpret_cast<char*>(image.data()) + piece.offset(), piece.data().data(),
-                        piece.data().size());
-            if (progress) progress(received, total);
+            if (!malformed.empty()) c.TryCancel();
         }
-        out.streamed_bytes = received;
         const grpc::Status finished = reader->Finish();
         if (!malformed.empty()) return grpc::Status(grpc::StatusCode::DATA_LOSS, malformed);
         return finished;
     });
     if (!s.ok()) return StatusError(s);
-    if (!coding) return out;
     CodedFrames own;
-    CodedFrames& decoder = frames != nullptr ? *frames : own;
-    std::vector<codec::IntegerImage> held;
-    for (int i = 0; i < out.header.images_size(); ++i) {
-        if (!out.header.images(i).coded()) continue;
-        auto decoded = decoder.Decode(out.header, i, coded[i]);
-        if (!decoded) return decoded.error();
-        out.images[i] = std::move(decoded->texels);
-        out.coded.push_back(decoded->header);
-        held.push_back(std::move(decoded->values));
-    }
-    decoder.Hold(std::move(held));
-    return out;
+    return stream->Finish(frames != nullptr ? *frames : own);
 }
 
 Result<v1::ViewResponse> Client::View(const v1::ViewRequest& request) {

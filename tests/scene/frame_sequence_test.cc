@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <lixel/scene/builtin_scenes.h>
 #include <lixel/scene/frame_sequence.h>
+#include <lixel/solver/homogeneous.h>
 
 #include <cmath>
 #include <numbers>
@@ -22,26 +23,47 @@ TEST(SequenceFrame, SameFrameSameSceneAndCamera) {
     EXPECT_EQ(a->camera.Viewer(), b->camera.Viewer());
 }
 
-TEST(SequenceFrame, FloorWallShapesBounceAndTheRoomHoldsStill) {
+TEST(SequenceFrame, FloorWallMeshesStayAndTheirInstancesBounce) {
     SequenceOptions options;
     auto first = SequenceFrame("floor_wall", 0, options);
     auto later = SequenceFrame("floor_wall", 10, options);
     ASSERT_TRUE(first.ok() && later.ok());
-    const Scene at_time = FloorWallScene(10 / options.fps);
+    // The meshes are the same every frame: an engine uploads them once.
+    ASSERT_EQ(first->meshes.size(), later->meshes.size());
     for (std::size_t i = 0; i < later->meshes.size(); ++i) {
-        EXPECT_EQ(later->meshes[i].positions, at_time.meshes[i].positions) << i;
+        EXPECT_EQ(first->meshes[i].positions, later->meshes[i].positions) << i;
     }
-    EXPECT_EQ(first->meshes[0].positions, later->meshes[0].positions);  // floor
-    EXPECT_EQ(first->meshes[1].positions, later->meshes[1].positions);  // wall
+    // Posed, each vertex is FloorWallScene's at that time up to float rounding (the instance
+    // lifts the shape resting on the floor by its bounce height).
+    const Scene at_time = FloorWallScene(10 / options.fps);
+    ASSERT_EQ(later->instances.size(), at_time.meshes.size());
+    for (std::size_t i = 0; i < later->instances.size(); ++i) {
+        const MeshInstance& instance = later->instances[i];
+        ASSERT_EQ(instance.mesh, i);
+        EXPECT_TRUE(CheckInstanceMatrix(instance.object_to_world, "m").ok());
+        const Mesh& rest = later->meshes[i];
+        ASSERT_EQ(rest.positions.size(), at_time.meshes[i].positions.size());
+        for (std::size_t v = 0; v < rest.positions.size(); ++v) {
+            const Vec3 placed =
+                (instance.object_to_world * Point(rest.positions[v].cast<double>())).head<3>();
+            const Vec3 baked = at_time.meshes[i].positions[v].cast<double>();
+            // Two float roundings of coordinates below 16 m: 2^-19 m each.
+            EXPECT_LE((placed - baked).cwiseAbs().maxCoeff(), 0x1p-18) << i << " " << v;
+        }
+    }
+    // Floor and wall hold still; at least three of the four shapes moved between the frames.
+    EXPECT_EQ(first->instances[0].object_to_world, Mat4::Identity());
+    EXPECT_EQ(later->instances[1].object_to_world, Mat4::Identity());
     int moved = 0;
-    for (std::size_t i = 2; i < later->meshes.size(); ++i) {
-        moved += first->meshes[i].positions != later->meshes[i].positions;
+    for (std::size_t i = 2; i < later->instances.size(); ++i) {
+        moved += first->instances[i].object_to_world != later->instances[i].object_to_world;
     }
     EXPECT_GE(moved, 3);
-    // A scene without animation keeps its meshes; only the camera moves.
+    // A scene without animation has no instances and keeps its meshes; only the camera moves.
     auto table0 = SequenceFrame("table_floor", 0, options);
     auto table9 = SequenceFrame("table_floor", 9, options);
     ASSERT_TRUE(table0.ok() && table9.ok());
+    EXPECT_TRUE(table0->instances.empty());
     for (std::size_t i = 0; i < table0->meshes.size(); ++i) {
         EXPECT_EQ(table0->meshes[i].positions, table9->meshes[i].positions);
     }

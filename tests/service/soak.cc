@@ -7,8 +7,8 @@
 // (not in ASan or TSan builds, whose shadow memory and quarantine make VmRSS no measure of lixel).
 #include <fcntl.h>
 #include <lixel/client/client.h>
-#include <lixel/scene/builtin_scenes.h>
 #include <lixel/render/context.h>
+#include <lixel/scene/builtin_scenes.h>
 #include <lixel/service/proto_convert.h>
 #include <lixel/service/server.h>
 #include <lixel/solver/camera.h>
@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "floor_solve.h"
+#include "sanitizer_build.h"
 
 namespace {
 
@@ -52,18 +53,6 @@ struct SoakOptions {
 };
 
 constexpr const char* kRpcs[] = {"Solve", "Render", "View"};
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
 
 struct Sample {
     int rpc;
@@ -425,8 +414,8 @@ int main(int argc, char** argv) {
             std::printf("unexpected %s: %s\n", key.c_str(), message.c_str());
         }
     }
-    if (kSanitized) std::printf("memory bound not checked: sanitizer build\n");
-    const bool memory_ok = kSanitized || growth <= limit;
+    if (lixel::testing::kSanitized) std::printf("memory bound not checked: sanitizer build\n");
+    const bool memory_ok = lixel::testing::kSanitized || growth <= limit;
     const bool pass = bad == 0 && memory_ok && lost_scenes == 0 && held == 0 && ok > 0;
     std::printf("lixel_soak: %s\n", pass ? "PASS" : "FAIL");
     return pass ? 0 : 1;

@@ -20,6 +20,9 @@ uniform float u_max_bias;
 uniform float u_second_depth_bias;
 uniform float u_open_second_depth_bias;
 uniform int u_receiver_open;
+// The drawn instance receives shadows; one that does not is lit wherever it faces the light
+// (lixel's view.frag does the same).
+uniform int u_receives = 1;
 uniform int u_pcf_radius;
 uniform int u_virtual_samples;
 
@@ -40,6 +43,7 @@ void main() {
         u_receiver_open != 0, u_pcf_radius, u_virtual_samples != 0);
     int map;
     float lit = lixel_shadow(kFilter, p, n, n_dot_l, settings, map);
+    if (u_receives == 0) lit = n_dot_l > 0.0 ? 1.0 : 0.0;
     o_mask = lit;
     vec3 colour = vec3(0.8) * (0.2 + 0.8 * max(n_dot_l, 0.0) * lit);
     o_colour = vec4(pow(colour, vec3(1.0 / 2.2)), 1.0);

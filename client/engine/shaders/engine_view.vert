@@ -6,11 +6,15 @@
 layout(location = 0) in vec3 a_position;
 
 uniform mat4 u_viewer;
+// The draw's object -> world, relative to the origin (RelativeObjectToWorld in float): lixel's
+// GpuDraw::model, the same expression as its passes'.
+uniform mat4 u_model = mat4(1.0);
 
 out vec3 v_position;
 invariant gl_Position;
 
 void main() {
-    v_position = a_position;
-    gl_Position = u_viewer * vec4(a_position, 1.0);
+    vec4 world = u_model * vec4(a_position, 1.0);
+    v_position = world.xyz;
+    gl_Position = u_viewer * world;
 }

@@ -271,6 +271,7 @@ Result<bool> EngineView::UploadMeshes(std::span<const Mesh> meshes, const Vec3& 
     ranges_ = std::move(ranges);
     origin_ = origin;
     has_meshes_ = true;
+    (void)PlaceMeshes({});
     if (auto ok = gl_.Check("gl"); !ok) return Error{"gl", "mesh upload: " + ok.error().reason};
     return true;
 }
@@ -363,6 +364,32 @@ Result<bool> EngineView::CheckDraw(const EngineCamera& camera, EngineFilter filt
     return true;
 }
 
+Result<bool> EngineView::PlaceMeshes(std::span<const MeshInstance> instances) {
+    std::vector<Placed> placed;
+    if (instances.empty()) {
+        for (std::size_t r = 0; r < ranges_.size(); ++r) {
+            placed.push_back({static_cast<std::uint32_t>(r), Eigen::Matrix4f::Identity(), true});
+        }
+    }
+    for (std::size_t i = 0; i < instances.size(); ++i) {
+        const MeshInstance& instance = instances[i];
+        const std::string field = "instances[" + std::to_string(i) + "]";
+        if (instance.mesh >= ranges_.size()) {
+            return Error{field + ".mesh", "mesh " + std::to_string(instance.mesh) + " >= " +
+                                              std::to_string(ranges_.size()) + " uploaded"};
+        }
+        if (auto ok = CheckInstanceMatrix(instance.object_to_world, field + ".object_to_world");
+            !ok) {
+            return ok.error();
+        }
+        placed.push_back({instance.mesh,
+                          RelativeObjectToWorld(instance.object_to_world, origin_).cast<float>(),
+                          instance.receives});
+    }
+    placed_ = std::move(placed);
+    return true;
+}
+
 void EngineView::SetUniforms(GLuint program, const EngineCamera& camera, const Vec4& light,
                              const Vec4& eye, const EngineShadowOptions& o) {
     const auto uniform = [&](const char* name) { return gl_.GetUniformLocation(program, name); };
@@ -407,9 +434,16 @@ void EngineView::DrawMeshes(GLuint program, const Viewport& viewport) {
     gl_.ClearNamedFramebufferfv(framebuffer_, GL_COLOR, 1, background);
     gl_.ClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &far);
     gl_.BindVertexArray(vao_);
-    const auto draw = [&](bool per_surface) {
-        for (const Range& r : ranges_) {
-            if (per_surface) gl_.ProgramUniform1i(program, receiver_open, r.closed ? 0 : 1);
+    const GLint receives = gl_.GetUniformLocation(program, "u_receives");
+    const auto draw = [&](GLuint drawing, bool per_surface) {
+        const GLint model = gl_.GetUniformLocation(drawing, "u_model");
+        for (const Placed& p : placed_) {
+            const Range& r = ranges_[p.range];
+            gl_.ProgramUniformMatrix4fv(drawing, model, 1, GL_FALSE, p.model.data());
+            if (per_surface) {
+                gl_.ProgramUniform1i(program, receiver_open, r.closed ? 0 : 1);
+                gl_.ProgramUniform1i(program, receives, p.receives ? 1 : 0);
+            }
             gl_.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(r.index_count), GL_UNSIGNED_INT,
                              reinterpret_cast<const void*>(std::uintptr_t{r.first_index} *
                                                            sizeof(std::uint32_t)));
@@ -418,12 +452,12 @@ void EngineView::DrawMeshes(GLuint program, const Viewport& viewport) {
     // Depth first, then shade the nearest surface only (GL_EQUAL; gl_Position is invariant).
     gl_.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     gl_.UseProgram(prepass_);
-    draw(false);
+    draw(prepass_, false);
     gl_.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     gl_.DepthFunc(GL_EQUAL);
     gl_.DepthMask(GL_FALSE);
     gl_.UseProgram(program);
-    draw(true);
+    draw(program, true);
     gl_.DepthMask(GL_TRUE);
     gl_.DepthFunc(GL_LESS);
     gl_.UseProgram(0);

@@ -151,6 +151,32 @@ FrameLoop::~FrameLoop() {
     if (context_) (void)context_->MakeCurrent();
 }
 
+Result<client::SessionFrame> FrameLoop::SessionRender(const v1::PlanRequest& plan) {
+    for (int attempt = 0;; ++attempt) {
+        if (session_ == nullptr) {
+            v1::SessionOpen open;
+            *open.mutable_plan() = plan;
+            open.mutable_plan()->mutable_coherence()->clear_previous();
+            if (!plan.has_coherence()) open.mutable_plan()->clear_coherence();
+            *open.mutable_encoding() = options_.encoding;
+            auto opened = client::Session::Open(*client_, open);
+            if (!opened) return opened.error();
+            session_ = std::move(opened).value();
+        }
+        v1::SessionFrame frame;
+        frame.set_number(next_number_++);
+        *frame.mutable_camera() = plan.camera();
+        *frame.mutable_light() = plan.light();
+        *frame.mutable_instances()->mutable_instances() = plan.instances();
+        auto sent = session_->Send(frame);
+        auto served = sent.ok() ? session_->Next() : Result<client::SessionFrame>(sent.error());
+        if (served.ok() || served.error().field != "NOT_FOUND" || attempt > 0) return served;
+        // Evicted: upload the meshes again from what this client sent, and open anew.
+        session_.reset();
+        if (auto again = client_->UploadAgain(plan.scene_id()); !again) return again.error();
+    }
+}
+
 Result<EngineFrame> FrameLoop::Run(int frame_index) {
     if (auto ok = context_->MakeCurrent(); !ok) return ok.error();
     scene::SequenceOptions sequence;
@@ -161,15 +187,23 @@ Result<EngineFrame> FrameLoop::Run(int frame_index) {
     EngineFrame out;
     out.frame = frame_index;
 
+    // The sequence's meshes are the same every frame (what moves is posed by its instances):
+    // uploaded once, on the first frame run. The client uploads them again by itself if the
+    // server evicts them.
     auto start = Clock::now();
-    v1::Scene message;
-    service::EncodeScene(service::MakeSceneRecord(*scene), &message);
-    auto uploaded = client_->UploadScene(message);
-    if (!uploaded) return Step("upload", uploaded.error());
+    if (scene_id_.empty()) {
+        v1::Scene message;
+        service::EncodeScene(service::MakeSceneRecord(*scene), &message);
+        auto uploaded = client_->UploadScene(message);
+        if (!uploaded) return Step("upload", uploaded.error());
+        scene_id_ = uploaded->scene_id();
+        out.uploaded_meshes = true;
+    }
     out.times.upload_scene = Since(start);
 
     v1::PlanRequest plan;
-    plan.set_scene_id(uploaded->scene_id());
+    plan.set_scene_id(scene_id_);
+    service::EncodeInstances(*scene, &plan);
     plan.set_lixel_budget(options_.budget);
     service::EncodeMat4(scene->camera.Viewer(), plan.mutable_camera()->mutable_viewer());
     plan.mutable_camera()->set_width(static_cast<std::uint32_t>(scene->camera.viewport.width));
@@ -177,23 +211,26 @@ Result<EngineFrame> FrameLoop::Run(int frame_index) {
     service::EncodeVec4(scene->light, plan.mutable_light()->mutable_position());
     plan.mutable_passes()->set_second_depth(options_.filter == EngineFilter::kSecondDepth);
     plan.mutable_passes()->set_silhouette_map(options_.filter == EngineFilter::kSilhouette);
-    if (options_.coherent) client::SetPreviousMaps(previous_plan_, plan.mutable_coherence());
+    // The session keeps the previous plan itself; the View check below sends it as Render
+    // would have to.
+    if (options_.coherent) plan.mutable_coherence();
     start = Clock::now();
-    v1::RenderRequest render_request;
-    *render_request.mutable_plan() = plan;
-    *render_request.mutable_encoding() = options_.encoding;
-    auto rendered = client_->Render(render_request, {}, &coded_frames_);
-    if (!rendered) return Step("render", rendered.error());
+    auto served = SessionRender(plan);
+    if (!served) return Step("render", served.error());
+    if (served->refused) return Step("render", *served->refused);
+    std::optional<client::RenderedMaps> rendered(std::move(served->maps));
     out.times.render = Since(start);
+    if (options_.coherent) client::SetPreviousMaps(previous_plan_, plan.mutable_coherence());
     previous_plan_ = rendered->header.plan();
     out.maps = rendered->header.plan().maps_size();
     out.lixels = rendered->header.plan().total_lixels();
     for (const auto& image : rendered->images) out.raw_bytes += image.size() * sizeof(float);
     out.streamed_bytes = rendered->streamed_bytes;
 
-    // lixel's GPU scene is relative to its bounds' centre; the same origin makes the engine's
-    // float positions and matrices the server's, bit for bit.
-    const Aabb bounds = scene->Bounds();
+    // lixel's GPU scene is relative to its meshes' bounds' centre (as uploaded, whatever the
+    // pose); the same origin makes the engine's float positions and matrices the server's, bit
+    // for bit.
+    const Aabb bounds = scene->UnposedBounds();
     const Vec3 origin =
         (bounds.min.array() <= bounds.max.array()).all() ? bounds.Center() : Vec3::Zero();
     start = Clock::now();
@@ -204,7 +241,12 @@ Result<EngineFrame> FrameLoop::Run(int frame_index) {
     out.times.kit_frame = Since(start);
 
     start = Clock::now();
-    if (auto ok = view_.UploadMeshes(scene->meshes, origin); !ok) return Step("upload", ok.error());
+    if (out.uploaded_meshes) {
+        if (auto ok = view_.UploadMeshes(scene->meshes, origin); !ok) {
+            return Step("upload", ok.error());
+        }
+    }
+    if (auto ok = view_.PlaceMeshes(scene->instances); !ok) return Step("upload", ok.error());
     if (auto ok = view_.UploadKit(*kit); !ok) return Step("upload", ok.error());
     view_.Finish();
     out.times.gl_upload = Since(start);

@@ -117,10 +117,21 @@ Hit ResolveHit(const Setup& s, const Vec3& origin, const Vec3& direction, const 
                float tfar) {
     Hit h;
     if (hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
-    const float* v = s.scene->vertices[hit.geomID];
-    const std::uint32_t* idx =
-        s.scene->indices[hit.geomID] + 3 * static_cast<std::size_t>(hit.primID);
-    auto vertex = [&](std::uint32_t i) { return Vec3(v[3 * i], v[3 * i + 1], v[3 * i + 2]); };
+    const RayScene::Impl& scene = *s.scene;
+    // Instanced: the triangle's vertices carried to the world in double by its instance.
+    const bool instanced = scene.meshes != nullptr;
+    const std::uint32_t object = instanced ? hit.instID[0] : hit.geomID;
+    const std::uint32_t mesh = instanced ? scene.instances[object].mesh : hit.geomID;
+    const float* v = instanced ? scene.meshes->vertices[mesh] : scene.vertices[mesh];
+    const std::uint32_t* idx = (instanced ? scene.meshes->indices[mesh] : scene.indices[mesh]) +
+                               3 * static_cast<std::size_t>(hit.primID);
+    const Mat4* place = instanced ? &scene.instances[object].object_to_world : nullptr;
+    auto vertex = [&](std::uint32_t i) {
+        const Vec3 p(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+        return place == nullptr
+                   ? p
+                   : Vec3(place->topLeftCorner<3, 3>() * p + place->topRightCorner<3, 1>());
+    };
     const Vec3 a = vertex(idx[0]), b = vertex(idx[1]), c = vertex(idx[2]);
     Vec3 n = (b - a).cross(c - a);
     const double len = n.norm();
@@ -133,9 +144,15 @@ Hit ResolveHit(const Setup& s, const Vec3& origin, const Vec3& direction, const 
     const Vec4 clip = s.viewer * Point(h.x);
     if (clip.w() <= 0 || clip.z() > kClipDepthFar * clip.w()) return h;  // beyond the far plane
     h.visible = true;
-    h.object = static_cast<std::int32_t>(hit.geomID);
+    h.object = static_cast<std::int32_t>(object);
     h.primitive = static_cast<std::int32_t>(hit.primID);
     return h;
+}
+
+// Whether the visible point's instance receives shadows (always, in a flat scene).
+bool Receives(const Setup& s, const Hit& h) {
+    return s.scene->meshes == nullptr ||
+           s.scene->instances[static_cast<std::size_t>(h.object)].receives;
 }
 
 // Facing test against the light: +1 faces it, -1 faces away, 0 within the offset (undecided).
@@ -261,6 +278,10 @@ void TraceTile(const Setup& s, int x0, int y0, GroundTruth& out, Counters& count
                 out.state[i] = facing < 0 ? Truth::kShadow : Truth::kUndecided;
                 continue;
             }
+            if (!Receives(s, h)) {
+                out.state[i] = Truth::kLit;  // no shadow falls on it: lit where it faces the light
+                continue;
+            }
             ShadowRays(s, h, &shadow[static_cast<std::size_t>(shadow_count) * kShadowRaysPerPixel]);
             shadow_pixel[shadow_count++] = i;
         }
@@ -269,9 +290,10 @@ void TraceTile(const Setup& s, int x0, int y0, GroundTruth& out, Counters& count
     const int rays = shadow_count * kShadowRaysPerPixel;
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     if (stream) {
-        rtcOccluded1M(scene, &context, shadow.data(), static_cast<unsigned>(rays), sizeof(RTCRay));
+        rtcOccluded1M(s.scene->shadow_scene, &context, shadow.data(), static_cast<unsigned>(rays),
+                      sizeof(RTCRay));
     } else {
-        for (int r = 0; r < rays; ++r) rtcOccluded1(scene, &context, &shadow[r]);
+        for (int r = 0; r < rays; ++r) rtcOccluded1(s.scene->shadow_scene, &context, &shadow[r]);
     }
     counters.shadow += rays;
     for (int j = 0; j < shadow_count; ++j) {
@@ -384,12 +406,13 @@ Result<GroundTruth> ComputeGroundTruth(const RayScene& scene, const TruthRequest
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.primary_rays = counters.primary;
     out.shadow_rays = counters.shadow;
-    if (!scene.impl().last_error.empty()) return Error{"embree", scene.impl().last_error};
+    if (!scene.impl().last_error().empty()) return Error{"embree", scene.impl().last_error()};
     return out;
 }
 
 Result<GroundTruth> ComputeGroundTruth(const scene::Scene& scene, const TruthOptions& options) {
-    auto rays = RayScene::Build(scene.meshes);
+    auto rays = scene.instances.empty() ? RayScene::Build(scene.meshes)
+                                        : RayScene::Build(scene.meshes, scene.instances);
     if (!rays) return rays.error();
     TruthRequest request;
     request.viewer = scene.camera.Viewer();

@@ -44,6 +44,7 @@ Result<DepthPass> DepthPass::Create(GlContext& context) {
     context.gl().NamedFramebufferReadBuffer(fbo, GL_NONE);
     DepthPass pass(context, std::move(program.value()), GlFramebuffer(context.gl(), fbo));
     pass.clip_location_ = pass.program_.Uniform("u_clip");
+    pass.model_location_ = pass.program_.Uniform("u_model");
     return pass;
 }
 
@@ -87,9 +88,15 @@ Result<bool> DepthPass::Render(const GpuScene& scene, const LightMap& map, FaceS
     gl.ClearNamedFramebufferfv(framebuffer_.id(), GL_DEPTH, 0, &far);
     gl.UseProgram(program_.id());
     gl.ProgramUniformMatrix4fv(program_.id(), clip_location_, 1, GL_FALSE, transform.clip.data());
-    gl.FrontFace(transform.light_facing_winding);  // GL_FRONT = facing the light
     gl.BindVertexArray(scene.triangles());
-    for (const GpuMeshRange& range : scene.ranges()) {
+    for (const GpuDraw& draw : scene.draws()) {
+        if (!draw.casts) continue;
+        const GpuMeshRange& range = scene.ranges()[draw.range];
+        // GL_FRONT = facing the light; a mirrored instance turns its triangles' winding.
+        gl.FrontFace(!draw.mirrored                             ? transform.light_facing_winding
+                     : transform.light_facing_winding == GL_CCW ? GL_CW
+                                                                : GL_CCW);
+        gl.ProgramUniformMatrix4fv(program_.id(), model_location_, 1, GL_FALSE, draw.model.data());
         FaceSelection mesh_faces = faces;
         if (faces == FaceSelection::kSecondDepth) {
             mesh_faces = range.closed ? FaceSelection::kAwayFacing : FaceSelection::kBoth;

@@ -88,6 +88,7 @@ Result<GpuScene> UploadScene(GlContext& context, std::span<const Mesh> meshes, c
         scene.ranges_.push_back(std::move(range));
     }
     scene.candidates_ = SilhouetteCandidates::Build(positions, adjacency, neighbours);
+    scene.Pose({}).value();  // each mesh once, in place
     const GlApi& gl = context.gl();
     scene.positions_ = MakeBuffer(gl, positions.data(), positions.size() * sizeof(float));
     scene.indices_ = MakeBuffer(gl, indices.data(), indices.size() * sizeof(std::uint32_t));
@@ -97,6 +98,37 @@ Result<GpuScene> UploadScene(GlContext& context, std::span<const Mesh> meshes, c
     scene.adjacency_vao_ = MakeVertexArray(gl, scene.positions_, scene.adjacency_indices_);
     if (auto ok = context.Check("scene upload"); !ok) return ok.error();
     return scene;
+}
+
+Result<bool> GpuScene::Pose(std::span<const MeshInstance> instances) {
+    if (instances.empty()) {
+        draws_.assign(ranges_.size(), GpuDraw{});
+        for (std::size_t r = 0; r < ranges_.size(); ++r) {
+            draws_[r].range = static_cast<std::uint32_t>(r);
+        }
+        posed_ = false;
+        return true;
+    }
+    std::vector<GpuDraw> draws;
+    draws.reserve(instances.size());
+    for (std::size_t i = 0; i < instances.size(); ++i) {
+        const MeshInstance& instance = instances[i];
+        if (instance.mesh >= ranges_.size()) {
+            return Error{"instances[" + std::to_string(i) + "].mesh",
+                         "mesh " + std::to_string(instance.mesh) +
+                             " >= " + std::to_string(ranges_.size()) + " meshes"};
+        }
+        GpuDraw draw;
+        draw.range = instance.mesh;
+        draw.model = RelativeObjectToWorld(instance.object_to_world, origin_).cast<float>();
+        draw.mirrored = Mirrors(instance.object_to_world);
+        draw.casts = instance.casts;
+        draw.receives = instance.receives;
+        draws.push_back(draw);
+    }
+    draws_ = std::move(draws);
+    posed_ = true;
+    return true;
 }
 
 }  // namespace lixel::render

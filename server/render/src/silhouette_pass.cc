@@ -76,10 +76,13 @@ Result<bool> SilhouettePass::Render(const GpuScene& scene, const LightMap& map, 
     gl.UseProgram(program);
     gl.BindTextureUnit(0, target.corners.texture.id());
     std::size_t drawn = 0;
-    if (options.cull_to_candidates) {
+    const GLint model = program_.Uniform("u_model");
+    const GLint mirrored = program_.Uniform("u_mirrored");
+    if (options.cull_to_candidates && !scene.posed()) {
         // One draw of the candidates in scene order: the primitive sequence of the per-mesh
         // draws below with the triangles that emit nothing taken out, so every texel is written
-        // by the same last edge.
+        // by the same last edge. The candidates hold the buffer's positions: a posed scene
+        // draws every instance's adjacency instead.
         scene.silhouette_candidates().Select(relative_light, selected_);
         drawn = selected_.size() / 6;
         if (drawn > 0) {
@@ -96,12 +99,19 @@ Result<bool> SilhouettePass::Render(const GpuScene& scene, const LightMap& map, 
         }
     } else {
         gl.BindVertexArray(scene.adjacency());
-        for (const GpuMeshRange& range : scene.ranges()) {
+        for (const GpuDraw& draw : scene.draws()) {
+            if (!draw.casts) continue;
+            const GpuMeshRange& range = scene.ranges()[draw.range];
+            gl.ProgramUniformMatrix4fv(program, model, 1, GL_FALSE, draw.model.data());
+            gl.ProgramUniform1i(program, mirrored, draw.mirrored ? 1 : 0);
             gl.DrawElements(GL_TRIANGLES_ADJACENCY, static_cast<GLsizei>(range.adjacency_count),
                             GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(range.first_adjacency * sizeof(GLuint)));
             drawn += range.adjacency_count / 6;
         }
+        const Mat4f identity = Mat4f::Identity();
+        gl.ProgramUniformMatrix4fv(program, model, 1, GL_FALSE, identity.data());
+        gl.ProgramUniform1i(program, mirrored, 0);
     }
     gl.BindVertexArray(0);
     gl.BindTextureUnit(0, 0);

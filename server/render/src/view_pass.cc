@@ -296,10 +296,17 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
     gl.ClearNamedFramebufferiv(fbo, GL_COLOR, 2, no_map);
     gl.ClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &far);
     gl.BindVertexArray(scene.triangles());
-    // `per_surface`: tell the shading program whether each draw's surface is open.
-    const auto draw_scene = [&](bool per_surface) {
-        for (const GpuMeshRange& range : scene.ranges()) {
-            if (per_surface) gl.ProgramUniform1i(program, receiver_open, range.closed ? 0 : 1);
+    // Each draw placed by its model matrix in `drawing` (the pre-pass or the shading program);
+    // `per_surface`: tell the shading program whether each draw's surface is open and receives.
+    const GLint receives = shader.Uniform("u_receives");
+    const auto draw_scene = [&](GLuint drawing, GLint model, bool per_surface) {
+        for (const GpuDraw& draw : scene.draws()) {
+            const GpuMeshRange& range = scene.ranges()[draw.range];
+            gl.ProgramUniformMatrix4fv(drawing, model, 1, GL_FALSE, draw.model.data());
+            if (per_surface) {
+                gl.ProgramUniform1i(program, receiver_open, range.closed ? 0 : 1);
+                gl.ProgramUniform1i(program, receives, draw.receives ? 1 : 0);
+            }
             gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count),
                             GL_UNSIGNED_INT,
                             reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
@@ -313,12 +320,12 @@ Result<bool> ViewPass::Render(const GpuScene& scene, const ViewRequest& request,
                                viewer.data());
     gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     gl.UseProgram(prepass);
-    draw_scene(false);
+    draw_scene(prepass, depth_prepass_.Uniform("u_model"), false);
     gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     gl.DepthFunc(GL_EQUAL);
     gl.DepthMask(GL_FALSE);
     gl.UseProgram(program);
-    draw_scene(true);
+    draw_scene(program, shader.Uniform("u_model"), true);
     gl.DepthMask(GL_TRUE);
     gl.DepthFunc(GL_LESS);
     gl.BindVertexArray(0);

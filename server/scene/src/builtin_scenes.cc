@@ -5,6 +5,7 @@
 #include <lixel/solver/homogeneous.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -56,9 +57,8 @@ std::vector<Vec2> RefinedProfile(const std::vector<Vec2>& profile, int per_span)
     return out;
 }
 
-}  // namespace
-
-Scene FloorWallScene(double time) {
+// The room with each shape lifted `lift[i]` above its resting height (sphere, box, torus, cone).
+Scene FloorWallRoom(const std::array<double, 4>& lift) {
     Scene scene;
     scene.name = "floor_wall";
     // Floor x in [-10, 10], z in [-5, 10]; wall z = -5, x in [-10, 10], y in [0, 8].
@@ -66,17 +66,15 @@ Scene FloorWallScene(double time) {
     scene.meshes.push_back(MakeQuad("wall", Vec3(-10, 0, -5), Vec3(20, 0, 0), Vec3(0, 8, 0), 4));
 
     const double ball = 0.8;
-    scene.meshes.push_back(MakeSphere(
-        "sphere", Vec3(-2.0, ball + BounceHeight(time, 1.3, 1.5, 0.0), -1.0), ball, 24, 48));
+    scene.meshes.push_back(MakeSphere("sphere", Vec3(-2.0, ball + lift[0], -1.0), ball, 24, 48));
     const double cube = 0.6;
-    const double cube_y = BounceHeight(time, 1.1, 1.2, 0.35);
+    const double cube_y = lift[1];
     scene.meshes.push_back(MakeBox("box", Aabb{Vec3(1.0 - cube, cube_y, -2.5 - cube),
                                                Vec3(1.0 + cube, cube_y + 2 * cube, -2.5 + cube)}));
     const double tube = 0.25;
-    scene.meshes.push_back(MakeTorus(
-        "torus", Vec3(2.5, tube + BounceHeight(time, 0.9, 1.0, 0.6), 1.5), 0.7, tube, 48, 24));
-    scene.meshes.push_back(MakeLathe("cone", Vec3(-0.5, BounceHeight(time, 1.7, 2.0, 0.15), 1.8),
-                                     {{0.6, 0.0}, {0.0, 1.4}}, 48));
+    scene.meshes.push_back(MakeTorus("torus", Vec3(2.5, tube + lift[2], 1.5), 0.7, tube, 48, 24));
+    scene.meshes.push_back(
+        MakeLathe("cone", Vec3(-0.5, lift[3], 1.8), {{0.6, 0.0}, {0.0, 1.4}}, 48));
 
     scene.planes = {Floor(), {"wall", Vec4(0.0, 0.0, 1.0, 5.0), {}}};
     scene.camera.eye = Vec3(0.0, 3.0, 8.0);
@@ -86,6 +84,26 @@ Scene FloorWallScene(double time) {
     scene.camera.far = 100.0;
     scene.camera.viewport = {1024, 1024};
     scene.light = Point(Vec3(4.0, 9.0, 3.0));
+    return scene;
+}
+
+// Each shape's bounce (period, apex, phase) at `time`: sphere, box, torus, cone.
+std::array<double, 4> FloorWallLift(double time) {
+    return {BounceHeight(time, 1.3, 1.5, 0.0), BounceHeight(time, 1.1, 1.2, 0.35),
+            BounceHeight(time, 0.9, 1.0, 0.6), BounceHeight(time, 1.7, 2.0, 0.15)};
+}
+
+}  // namespace
+
+Scene FloorWallScene(double time) { return FloorWallRoom(FloorWallLift(time)); }
+
+Scene FloorWallAnimated(double time) {
+    Scene scene = FloorWallRoom({0.0, 0.0, 0.0, 0.0});
+    scene.instances = IdentityInstances(scene.meshes.size());
+    const std::array<double, 4> lift = FloorWallLift(time);
+    for (std::size_t shape = 0; shape < lift.size(); ++shape) {
+        scene.instances[2 + shape].object_to_world(1, 3) = lift[shape];  // meshes 2.. are shapes
+    }
     return scene;
 }
 

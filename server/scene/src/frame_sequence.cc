@@ -55,8 +55,9 @@ Camera SequenceCamera(const Camera& base, int frame, const SequenceOptions& opti
 
 Result<Scene> SequenceFrame(const std::string& name, int frame, const SequenceOptions& options) {
     if (auto ok = CheckOptions(frame, options); !ok) return ok.error();
-    Result<Scene> scene = name == "floor_wall" ? Result<Scene>(FloorWallScene(frame / options.fps))
-                                               : BuiltinScene(name);
+    Result<Scene> scene = name == "floor_wall"
+                              ? Result<Scene>(FloorWallAnimated(frame / options.fps))
+                              : BuiltinScene(name);
     if (!scene) return scene.error();
     scene->camera = SequenceCamera(scene->camera, frame, options);
     return scene;

@@ -49,6 +49,17 @@ void CodedReferences::Put(std::shared_ptr<const CodedReference> reference) {
     bytes_ += bytes;
 }
 
+void CodedReferences::Forget(const std::vector<std::uint64_t>& ids) {
+    std::lock_guard lock(mutex_);
+    for (std::uint64_t id : ids) {
+        const auto held = held_.find(id);
+        if (held == held_.end()) continue;
+        bytes_ -= BytesOf(*held->second.reference);
+        order_.erase(held->second.order);
+        held_.erase(held);
+    }
+}
+
 std::uint64_t CodedReferences::bytes() const {
     std::lock_guard lock(mutex_);
     return bytes_;

@@ -65,21 +65,29 @@ Result<bool> RebuildGpuWorker(GpuWorker& worker) {
 }
 
 Result<std::shared_ptr<render::GpuScene>> SceneOnGpu(GpuWorker& worker, const std::string& id,
-                                                     const SceneRecord& record) {
+                                                     const SceneRecord& record,
+                                                     std::span<const MeshInstance> instances) {
+    const auto posed =
+        [&](std::shared_ptr<render::GpuScene> scene) -> Result<std::shared_ptr<render::GpuScene>> {
+        if (auto ok = scene->Pose(instances); !ok) {
+            return Error{"plan." + ok.error().field, ok.error().reason};
+        }
+        return scene;
+    };
     for (auto it = worker.scenes.begin(); it != worker.scenes.end(); ++it) {
         if (it->first == id) {
             worker.scenes.splice(worker.scenes.begin(), worker.scenes, it);
-            return worker.scenes.front().second;
+            return posed(worker.scenes.front().second);
         }
     }
-    const Aabb bounds = record.scene.Bounds();
+    const Aabb bounds = record.scene.UnposedBounds();
     const Vec3 origin = (bounds.min.array() <= bounds.max.array()).all() ? bounds.Center()
                                                                          : Vec3::Zero();
     auto uploaded = render::UploadScene(*worker.context, record.scene.meshes, origin);
     if (!uploaded) return Error{"scene." + uploaded.error().field, uploaded.error().reason};
     worker.scenes.emplace_front(id, std::make_shared<render::GpuScene>(std::move(uploaded).value()));
     while (worker.scenes.size() > kGpuScenesPerWorker) worker.scenes.pop_back();
-    return worker.scenes.front().second;
+    return posed(worker.scenes.front().second);
 }
 
 std::vector<ImageShape> PlannedImages(const Plan& plan) {

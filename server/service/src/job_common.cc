@@ -59,16 +59,23 @@ Error InPlan(const Error& error) {
 grpc::Status CheckPlanObjects(const ServiceState& state, const v1::PlanRequest& plan,
                               const SceneRecord* scene, const std::string& field) {
     const std::uint64_t limit = PlanObjectLimit(state.options);
-    const std::uint64_t count = scene != nullptr ? scene->scene.meshes.size()
-                                                 : static_cast<std::uint64_t>(plan.objects_size());
+    // Checked before anything is decoded: a scene's objects are its instances when the request
+    // places them, else its meshes.
+    const bool placed = scene != nullptr && plan.instances_size() > 0;
+    const std::uint64_t count = placed ? static_cast<std::uint64_t>(plan.instances_size())
+                                : scene != nullptr
+                                    ? scene->scene.meshes.size()
+                                    : static_cast<std::uint64_t>(plan.objects_size());
     if (count <= limit) return grpc::Status::OK;
-    return Exhausted(field + (scene != nullptr ? ".scene_id: the scene's " : ".objects: ") +
-                     std::to_string(count) + (scene != nullptr ? " meshes" : " objects") +
-                     ", over the limit max_plan_objects = " + std::to_string(limit) +
-                     (state.options.max_plan_objects == 0
-                          ? " (memory_cap_bytes / " + std::to_string(kPlanBytesPerObject >> 10) +
-                                " KiB)"
-                          : std::string()));
+    const std::string what = placed ? ".instances: " + std::to_string(count) + " instances"
+                             : scene != nullptr
+                                 ? ".scene_id: the scene's " + std::to_string(count) + " meshes"
+                                 : ".objects: " + std::to_string(count) + " objects";
+    return Exhausted(
+        field + what + ", over the limit max_plan_objects = " + std::to_string(limit) +
+        (state.options.max_plan_objects == 0
+             ? " (memory_cap_bytes / " + std::to_string(kPlanBytesPerObject >> 10) + " KiB)"
+             : std::string()));
 }
 
 Result<Plan> PlanPolling(PlanRequest& request, const CancelCheck& cancelled) {

@@ -41,6 +41,19 @@ Metrics::Metrics(const std::string& address)
                         .Help("Bytes held by the scene cache")
                         .Register(*registry_)
                         .Add({});
+    auto& frames = prometheus::BuildCounter()
+                       .Name("lixel_session_frames_total")
+                       .Help("Session frames, by outcome (served or skipped)")
+                       .Register(*registry_);
+    session_frames_ = &frames.Add({{"outcome", "served"}});
+    session_frames_skipped_ = &frames.Add({{"outcome", "skipped"}});
+    session_frame_seconds_ =
+        &prometheus::BuildHistogram()
+             .Name("lixel_session_frame_seconds")
+             .Help("Session frame latency in seconds, from its arrival to its last message written")
+             .Register(*registry_)
+             .Add({}, prometheus::Histogram::BucketBoundaries{0.001, 0.003, 0.01, 0.03, 0.1, 0.3,
+                                                              1.0, 3.0, 10.0});
     if (!address.empty()) {
         exposer_ = std::make_unique<prometheus::Exposer>(address);
         exposer_->RegisterCollectable(registry_);
@@ -52,6 +65,11 @@ void Metrics::Request(const std::string& rpc, const std::string& code, double se
     static const prometheus::Histogram::BucketBoundaries kBuckets = {
         0.0001, 0.0003, 0.001, 0.003, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0};
     latency_->Add({{"rpc", rpc}}, kBuckets).Observe(seconds);
+}
+
+void Metrics::SessionFrame(double seconds) {
+    session_frames_->Increment();
+    session_frame_seconds_->Observe(seconds);
 }
 
 std::string Metrics::Serialize() const {

@@ -10,7 +10,8 @@ grpc::Status PlanJob(ServiceState& state, const v1::PlanRequest& request,
     std::shared_ptr<const SceneRecord> scene;
     if (auto s = FindScene(state, request, false, "plan", &scene); !s.ok()) return s;
     if (auto s = CheckPlanObjects(state, request, scene.get(), "plan"); !s.ok()) return s;
-    auto decoded = DecodePlanRequest(request, scene.get(), "plan");
+    std::vector<MeshInstance> instances;  // the plan needs only their objects
+    auto decoded = DecodePlanRequest(request, scene.get(), "plan", &instances);
     if (!decoded) return InvalidArgument(decoded.error());
     if (cancelled && cancelled()) return CancelledStatus();
     auto plan = PlanPolling(decoded.value(), cancelled);

@@ -259,12 +259,19 @@ SceneRecord MakeSceneRecord(scene::Scene scene) {
                  m.name.size() + AdjacencyBytesBound(m);
     }
     record.bytes = bytes;
+    record.mesh_bounds = scene.MeshBounds();
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+        const auto [it, fresh] =
+            record.mesh_index.emplace(scene.meshes[m].name, static_cast<std::uint32_t>(m));
+        if (!fresh) it->second = kAmbiguousMesh;
+    }
     record.scene = std::move(scene);
     return record;
 }
 
 Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const SceneRecord* record,
-                                      const std::string& field) {
+                                      const std::string& field,
+                                      std::vector<MeshInstance>* instances) {
     const scene::Scene* scene = record != nullptr ? &record->scene : nullptr;
     PlanRequest out;
     if (message.has_camera()) {
@@ -294,7 +301,18 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
     }
     if (out.planes.empty() && scene != nullptr) out.planes = scene->planes;
 
-    if (scene != nullptr) {
+    if (message.instances_size() > 0 && (record == nullptr || instances == nullptr)) {
+        return Error{field + ".instances", record == nullptr
+                                               ? "need a scene_id: instances place its meshes"
+                                               : "not taken by this call"};
+    }
+    if (scene != nullptr && message.instances_size() > 0) {
+        auto placed = DecodeInstances(message.instances(), *record, field + ".instances");
+        if (!placed) return placed.error();
+        *instances = std::move(placed).value();
+        out.objects = scene::InstanceObjects(scene->meshes, record->mesh_bounds, *instances);
+    } else if (scene != nullptr) {
+        if (instances != nullptr) instances->clear();
         out.objects = scene->Objects();
     } else {
         for (int i = 0; i < message.objects_size(); ++i) {

@@ -1,6 +1,7 @@
 // Render: the plan, then each map's images streamed as they are read back.
 #include <lixel/service/map_coding.h>
 
+#include <chrono>
 #include <cstdio>
 
 #include "job_common.h"
@@ -11,17 +12,24 @@ using namespace jobs;
 
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
                        const CancelCheck& cancelled,
-                       const std::function<grpc::Status(std::uint64_t)>& reserve,
-                       RenderFeed& feed) {
+                       const std::function<grpc::Status(std::uint64_t)>& reserve, RenderFeed& feed,
+                       RenderReport* report) {
+    using Clock = std::chrono::steady_clock;
+    const auto seconds = [](Clock::time_point since) {
+        return std::chrono::duration<double>(Clock::now() - since).count();
+    };
+    auto started = Clock::now();
     std::shared_ptr<const SceneRecord> scene;
     if (auto s = FindScene(state, request.plan(), true, "plan", &scene); !s.ok()) return s;
     if (auto s = CheckPlanObjects(state, request.plan(), scene.get(), "plan"); !s.ok()) return s;
-    auto decoded = DecodePlanRequest(request.plan(), scene.get(), "plan");
+    std::vector<MeshInstance> instances;
+    auto decoded = DecodePlanRequest(request.plan(), scene.get(), "plan", &instances);
     if (!decoded) return InvalidArgument(decoded.error());
     auto coding = DecodeMapEncoding(request.encoding(), "encoding");
     if (!coding) return InvalidArgument(coding.error());
     auto plan = PlanPolling(decoded.value(), cancelled);
     if (!plan) return PlanFailed(plan.error());
+    if (report != nullptr) report->plan_seconds = seconds(started);
     const std::uint64_t bytes = PlanBytes(*plan);
     if (bytes > state.options.memory_cap_bytes) {
         return Exhausted("plan: its maps need " + std::to_string(bytes) + " bytes, over the " +
@@ -37,6 +45,7 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     v1::RenderHeader* h = header.mutable_header();
     EncodePlan(*plan, h->mutable_plan());
     h->mutable_plan()->set_instance(state.options.instance);
+    if (report != nullptr) report->plan = h->plan();
     std::uint64_t largest = 0;
     double total = 0.0;
     for (const ImageShape& shape : shapes) {
@@ -63,9 +72,10 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     }
     if (auto s = GpuUnavailable(worker); !s.ok()) return s;
     if (cancelled()) return CancelledStatus();
-    auto gpu_scene = SceneOnGpu(worker, request.plan().scene_id(), *scene);
+    auto gpu_scene = SceneOnGpu(worker, request.plan().scene_id(), *scene, instances);
     if (!gpu_scene) return InvalidArgument(gpu_scene.error());
     if (!feed.PutHeader(std::move(header))) return CancelledStatus();
+    started = Clock::now();
 
     std::size_t next = 0;
     bool mismatch = false;
@@ -97,11 +107,18 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
             if (!coder) {
                 return feed.PutImage(static_cast<std::uint32_t>(next++), std::move(image.image));
             }
+            const auto coding_started = Clock::now();
             auto coded = coder->Code(plan->maps.at(shape.map_index).map,
                                      PassKindOf(shape.pass, shape.corner_depth), image.image);
             if (!coded) {
                 coding_failed = coded.error();
                 return false;
+            }
+            if (report != nullptr) {
+                report->encode_seconds += seconds(coding_started);
+                if (auto header = codec::ReadHeader(*coded); header.ok()) {
+                    report->coded_frame_ids.push_back(header->frame_id);
+                }
             }
             coded_spare = std::move(image.image.pixels);
             return feed.PutCoded(static_cast<std::uint32_t>(next++), std::move(coded).value());
@@ -129,6 +146,7 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
                                 std::to_string(shapes.size()) + " images");
     }
     state.metrics.MapsRendered(static_cast<double>(shapes.size()), total);
+    if (report != nullptr) report->passes_seconds = seconds(started) - report->encode_seconds;
     return grpc::Status::OK;
 }
 

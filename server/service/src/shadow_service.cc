@@ -1,12 +1,13 @@
 // The gRPC reactors: authorise, queue the job on the pool, answer, log and count.
-#include <lixel/service/shadow_service.h>
-
 #include <lixel/service/access.h>
+#include <lixel/service/shadow_service.h>
 #include <lixel/service/upload_assembler.h>
 
 #include <chrono>
 #include <cstdio>
 #include <string_view>
+
+#include "session_reactor.h"
 
 namespace lixel::service {
 
@@ -392,6 +393,11 @@ grpc::ServerReadReactor<v1::SceneChunk>* ShadowService::UploadScene(
 grpc::ServerWriteReactor<v1::RenderChunk>* ShadowService::Render(
     grpc::CallbackServerContext* context, const v1::RenderRequest* request) {
     return new RenderReactor(*this, context, request);
+}
+
+grpc::ServerBidiReactor<v1::SessionRequest, v1::SessionResponse>* ShadowService::Session(
+    grpc::CallbackServerContext* context) {
+    return NewSessionReactor(*this, context);
 }
 
 grpc::ServerUnaryReactor* ShadowService::View(grpc::CallbackServerContext* context,

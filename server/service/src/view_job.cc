@@ -18,25 +18,45 @@ using namespace jobs;
 
 namespace {
 
+// Each scene's BVH, built once: flat for requests without instances; for instanced ones, each
+// mesh's own BVH, which every pose's top level (RayScene::Place, built per call) places.
 class RaySceneCache {
 public:
-    Result<std::shared_ptr<const eval::RayScene>> Get(const std::string& id,
-                                                      const SceneRecord& record) {
-        std::lock_guard lock(mutex_);
-        for (const auto& [key, scene] : entries_) {
-            if (key == id) return scene;
-        }
-        auto built = eval::RayScene::Build(record.scene.meshes);
-        if (!built) return built.error();
-        auto scene = std::make_shared<const eval::RayScene>(std::move(built).value());
-        entries_.emplace_back(id, scene);
-        if (entries_.size() > 4) entries_.erase(entries_.begin());
-        return scene;
-    }
+  Result<std::shared_ptr<const eval::RayScene>> Get(const std::string& id,
+                                                    const SceneRecord& record,
+                                                    std::span<const MeshInstance> instances) {
+      std::shared_ptr<const eval::RayScene> meshes;
+      {
+          std::lock_guard lock(mutex_);
+          auto& entries = instances.empty() ? flat_ : instanced_;
+          for (const auto& [key, scene] : entries) {
+              if (key == id) {
+                  if (instances.empty()) return scene;
+                  meshes = scene;
+                  break;
+              }
+          }
+          if (meshes == nullptr) {
+              auto built = instances.empty()
+                               ? eval::RayScene::Build(record.scene.meshes)
+                               : eval::RayScene::Build(record.scene.meshes, instances);
+              if (!built) return built.error();
+              auto scene = std::make_shared<const eval::RayScene>(std::move(built).value());
+              entries.emplace_back(id, scene);
+              if (entries.size() > 4) entries.erase(entries.begin());
+              return scene;
+          }
+      }
+      // Outside the lock: only this pose's top level, over the shared meshes' BVHs.
+      auto placed = meshes->Place(instances);
+      if (!placed) return placed.error();
+      return std::make_shared<const eval::RayScene>(std::move(placed).value());
+  }
 
 private:
     std::mutex mutex_;
-    std::vector<std::pair<std::string, std::shared_ptr<const eval::RayScene>>> entries_;
+    std::vector<std::pair<std::string, std::shared_ptr<const eval::RayScene>>> flat_;
+    std::vector<std::pair<std::string, std::shared_ptr<const eval::RayScene>>> instanced_;
 };
 
 RaySceneCache& RayScenes() {
@@ -140,13 +160,14 @@ grpc::Status TimeBaselines(GpuWorker& worker, const render::GpuScene& gpu_scene,
 // The mask against Embree's exact visibility (the scene's BVH built once and cached): the truth
 // and the evaluation in `response`, the stages "ray_scene" and "truth" in `times`.
 grpc::Status Evaluate(const std::string& scene_id, const SceneRecord& scene_record,
-                      const PlanRequest& decoded, const MaskJob& job, const render::FloatImage& mask_image,
+                      std::span<const MeshInstance> instances, const PlanRequest& decoded,
+                      const MaskJob& job, const render::FloatImage& mask_image,
                       std::vector<std::pair<std::string, double>>& times,
                       v1::ViewResponse* response) {
     // The scene's BVH is built once and cached: a stage of its own, so "truth" times the
     // same work on every call.
     auto start = Clock::now();
-    auto rays = RayScenes().Get(scene_id, scene_record);
+    auto rays = RayScenes().Get(scene_id, scene_record, instances);
     if (!rays) return InvalidArgument(rays.error());
     times.emplace_back("ray_scene", Since(start));
     start = Clock::now();
@@ -268,8 +289,16 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     const bool volumes = request.filter() == v1::FILTER_VOLUMES ||
                          request.filter() == v1::FILTER_SMOOTH_VOLUMES;
     if (auto s = CheckPlanObjects(state, plan_message, scene.get(), "plan"); !s.ok()) return s;
-    auto decoded = DecodePlanRequest(plan_message, scene.get(), "plan");
+    std::vector<MeshInstance> instances;
+    auto decoded = DecodePlanRequest(plan_message, scene.get(), "plan", &instances);
     if (!decoded) return InvalidArgument(decoded.error());
+    if (volumes && !instances.empty()) {
+        // The volumes' edge patches, caps and smooth silhouettes are built over the uploaded
+        // positions, with no per-instance light yet.
+        return InvalidArgument(Error{"plan.instances",
+                                     "the volumes filters draw the scene as "
+                                     "uploaded and take no instances"});
+    }
     // The view pass reads every map from one atlas, each inside a border (view_pass.h).
     decoded->max_texture_size =
         std::min(decoded->max_texture_size, kMaxImageSide - 2 * render::kAtlasBorder);
@@ -304,7 +333,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     }
     if (auto s = GpuUnavailable(worker); !s.ok()) return s;
     if (cancelled()) return CancelledStatus();
-    auto gpu_scene = SceneOnGpu(worker, plan_message.scene_id(), *scene);
+    auto gpu_scene = SceneOnGpu(worker, plan_message.scene_id(), *scene, instances);
     if (!gpu_scene) return InvalidArgument(gpu_scene.error());
     MaskTimes mask_times;
     render::Rgb8Image preview;
@@ -355,8 +384,8 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
 
     if (request.evaluate()) {
         if (cancelled()) return CancelledStatus();
-        if (auto s = Evaluate(plan_message.scene_id(), *scene, *decoded, job, *mask, times,
-                              response);
+        if (auto s = Evaluate(plan_message.scene_id(), *scene, instances, *decoded, job, *mask,
+                              times, response);
             !s.ok()) {
             return s;
         }

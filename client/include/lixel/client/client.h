@@ -77,7 +77,12 @@ public:
 
     grpc::Channel& channel() { return *channel_; }
 
-private:
+    // Uploads `scene_id` again from the content this client uploaded it with (a session whose
+    // scene was evicted: NOT_FOUND); NOT_FOUND when this client never uploaded it.
+    Result<bool> UploadAgain(const std::string& scene_id);
+
+  private:
+    friend class Session;
     Client(ClientOptions options, std::shared_ptr<grpc::Channel> channel);
     void Prepare(grpc::ClientContext& context) const;
     // Runs `call` with retries; re-uploads `scene_id` on NOT_FOUND.

@@ -11,6 +11,7 @@
 #include <lixel/client/kit_frame.h>
 #include <lixel/client/kit_uploader.h>
 #include <lixel/solver/mesh.h>
+#include <lixel/solver/mesh_instance.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/types.h>
 
@@ -85,7 +86,15 @@ class EngineView {
     // lixel's passes upload theirs), into the view's two buffers, whose storage is given anew
     // each call (the frame's scene may differ from the last). Errors name the mesh
     // ("meshes[1].indices[7]").
+    // The meshes are drawn each once, in place, until PlaceMeshes places them.
     Result<bool> UploadMeshes(std::span<const Mesh> meshes, const Vec3& origin);
+
+    // Places the uploaded meshes for the next draws (mesh_instance.h), uploading nothing but
+    // matrices: each instance's mesh < the meshes uploaded ("instances[i].mesh"), its matrix
+    // usable (CheckInstanceMatrix, "instances[i].object_to_world"). Empty: each mesh once, in
+    // place. The model matrices are lixel's (RelativeObjectToWorld against the same origin), so
+    // a frame drawn here places every vertex as the server's passes did.
+    Result<bool> PlaceMeshes(std::span<const MeshInstance> instances);
 
     // The frame's maps (KitUploader::Upload); its origin must be the meshes' ("origin").
     Result<bool> UploadKit(const client::KitFrame& frame);
@@ -110,6 +119,11 @@ class EngineView {
         std::uint32_t first_index = 0;
         std::uint32_t index_count = 0;
         bool closed = false;
+    };
+    struct Placed {
+        std::uint32_t range = 0;
+        Eigen::Matrix4f model = Eigen::Matrix4f::Identity();  // relative object -> world
+        bool receives = true;
     };
     EngineView(const client::GlFunctions& gl, client::KitUploader uploader)
         : gl_(gl), uploader_(std::move(uploader)) {}
@@ -139,6 +153,7 @@ class EngineView {
     GLuint depth_ = 0;   // GL_DEPTH_COMPONENT32F
     Viewport target_size_;
     std::vector<Range> ranges_;
+    std::vector<Placed> placed_;  // what DrawMeshes draws
     Vec3 origin_ = Vec3::Zero();
     bool has_meshes_ = false;
     bool has_kit_ = false;

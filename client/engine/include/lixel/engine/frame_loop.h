@@ -1,11 +1,13 @@
-// The engine client's frame loop: for each frame of a scene::SequenceFrame sequence, upload that
-// frame's scene, call Render for the plan and its maps, build the kit's frame (KitFrameOf), upload
-// it and the meshes to the engine's own GL context and draw the engine's own view. With `check`,
-// also call View for the same plan and filter (METHOD_PLANE_OPTIMAL, evaluate) and compare the
-// engine's mask with the server's and both with the exact visibility View returns.
+// The engine client's frame loop: for each frame of a scene::SequenceFrame sequence, send that
+// frame's camera, light and instances through one Session stream (the meshes uploaded once, on the
+// first frame), read back its plan and maps, build the kit's frame (KitFrameOf), upload it to the
+// engine's own GL context, place the meshes there by the same instances and draw the engine's own
+// view. With `check`, also call View for the same plan and filter (METHOD_PLANE_OPTIMAL, evaluate)
+// and compare the engine's mask with the server's and both with the exact visibility View returns.
 #pragma once
 
 #include <lixel/client/client.h>
+#include <lixel/client/session.h>
 #include <lixel/engine/egl_context.h>
 #include <lixel/engine/engine_view.h>
 #include <lixel/solver/result.h>
@@ -27,18 +29,18 @@ struct FramesOptions {
     EngineFilter filter = EngineFilter::kDepth;
     EngineShadowOptions shadow;
     bool check = false;  // also call View and compare (FrameCheck)
-    // Frame-coherent planning (FrameCoherence with the server's defaults): each frame's request
-    // carries the previous frame's maps, so map sizes, and with them the atlas, stay put.
+    // Frame-coherent planning (FrameCoherence with the server's defaults): the session plans
+    // each frame against the previous one's maps, so map sizes, and with them the atlas, stay put.
     bool coherent = false;
-    // How Render codes the maps (docs/service.md, "Coded maps"); unset: raw float32. With a
-    // codec, each frame names the previous frame's images, so unchanged maps cost little.
+    // How the session codes the maps (docs/service.md, "Coded maps"); unset: raw float32. With a
+    // codec, the server codes against the previous frame's images, so unchanged maps cost little.
     v1::MapEncoding encoding;
 };
 
 // Wall-clock seconds of the engine's own frame, on the client.
 struct EngineFrameTimes {
-    double upload_scene = 0.0;   // UploadScene of the frame's meshes
-    double render = 0.0;         // the Render call: plan, maps, transfer and reassembly
+    double upload_scene = 0.0;   // UploadScene of the meshes: the first frame only
+    double render = 0.0;         // the session frame: plan, maps, transfer and reassembly
     double kit_frame = 0.0;      // KitFrameOf: decoding, atlas packing, the block
     double gl_upload = 0.0;      // meshes and KitUploader::Upload, finished (glFinish)
     double draw_readback = 0.0;  // EngineView::Draw: pre-pass, shading pass, read-back
@@ -98,6 +100,9 @@ struct EngineFrame {
     std::uint64_t streamed_bytes = 0;      // map bytes Render streamed (coded, when coded)
     std::uint64_t raw_bytes = 0;           // the same maps as float32
     std::int64_t atlas_reallocations = 0;  // KitUploader's, since the loop started
+    // This frame uploaded the meshes (to the server and the engine's GL): the loop's first frame
+    // only; every later one sends its instances' matrices alone.
+    bool uploaded_meshes = false;
     std::optional<FrameCheck> check;
 };
 
@@ -122,6 +127,11 @@ class FrameLoop {
     const FramesOptions& options() const { return options_; }
 
   private:
+    // The frame's maps through the session (opened from `plan` when there is none): its
+    // camera, light and instances sent, its plan and decoded maps read back. A scene the server
+    // evicted is uploaded again and the session opened anew, once.
+    Result<client::SessionFrame> SessionRender(const v1::PlanRequest& plan);
+
     FrameLoop(client::Client& client, FramesOptions options, std::unique_ptr<EglContext> context,
               EngineView view)
         : client_(&client),
@@ -132,7 +142,12 @@ class FrameLoop {
     client::Client* client_;
     FramesOptions options_;
     v1::PlanResponse previous_plan_;  // the last frame's, for FramesOptions::coherent
-    client::CodedFrames coded_frames_;  // the last frame's decoded images, for temporal coding
+    std::string scene_id_;            // the sequence's meshes, uploaded on the first frame run
+    // The loop's Session stream, opened on the first frame (its settings are the options',
+    // which do not change) and again after its scene was evicted; it decodes the coded maps and
+    // keeps the previous plan itself.
+    std::unique_ptr<client::Session> session_;
+    std::uint64_t next_number_ = 1;  // session frame numbers grow even when Run repeats a frame
     std::unique_ptr<EglContext> context_;
     EngineView view_;
 };

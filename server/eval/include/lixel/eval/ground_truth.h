@@ -9,6 +9,7 @@
 #include <lixel/eval/image.h>
 #include <lixel/scene/scene.h>
 #include <lixel/solver/mesh.h>
+#include <lixel/solver/mesh_instance.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/scheduler.h>
 #include <lixel/solver/types.h>
@@ -20,12 +21,25 @@
 
 namespace lixel::eval {
 
-// Triangle meshes in an Embree BVH (robust, high build quality). Geometry id i is meshes[i].
-// Thread-safe for queries once built; move-only.
+struct MeshScenes;  // ray_scene_impl.h
+
+// Triangle meshes in an Embree BVH (robust), flat or instanced. Flat: every triangle in one BVH
+// (high build quality), geometry id i is meshes[i]. Instanced (mesh_instance.h): each mesh a
+// BVH of its own, built once, and a top level of instances over them, instance id i placing
+// instances[i]; Place builds another pose's top level alone (Embree's instanced geometry), and
+// the truth's `object` is then the instance index. Thread-safe for queries once built;
+// move-only.
 class RayScene {
   public:
     // Refuses out-of-range indices and non-finite positions, naming meshes[i].
     static Result<RayScene> Build(std::span<const Mesh> meshes);
+    // The meshes' own BVHs and `instances`' top level. Also refuses an instance's mesh out of
+    // range or its matrix (CheckInstanceMatrix), naming instances[i].
+    static Result<RayScene> Build(std::span<const Mesh> meshes,
+                                  std::span<const MeshInstance> instances);
+    // The same meshes placed by another pose: builds the top level only. Refused on a flat
+    // scene (field "instances").
+    Result<RayScene> Place(std::span<const MeshInstance> instances) const;
 
     RayScene(RayScene&&) noexcept;
     RayScene& operator=(RayScene&&) noexcept;
@@ -33,12 +47,16 @@ class RayScene {
 
     struct Impl;
     const Impl& impl() const { return *impl_; }
-    // Union of the meshes' bounds, world units.
+    // Union of the meshes' bounds (instanced: of the instances' bounds), world units.
     const Aabb& bounds() const;
+    // Triangles traced: instanced, each instance counts its mesh's.
     std::int64_t triangles() const;
+    bool instanced() const;
 
   private:
     explicit RayScene(std::unique_ptr<Impl> impl);
+    static Result<RayScene> Place(std::shared_ptr<const MeshScenes> meshes,
+                                  std::span<const MeshInstance> instances);
     std::unique_ptr<Impl> impl_;
 };
 
@@ -83,7 +101,7 @@ struct GroundTruth {
     std::vector<Truth> state;
     std::vector<Vec3> position;           // visible point, world units, on its triangle's plane
     std::vector<Eigen::Vector3f> normal;  // unit geometric normal, facing the viewer
-    std::vector<std::int32_t> object;     // mesh index, -1 where empty
+    std::vector<std::int32_t> object;     // mesh (instanced: instance) index, -1 where empty
     std::vector<std::int32_t> primitive;  // triangle index in that mesh, -1 where empty
     std::vector<std::int8_t> plane;       // plane of interest the point lies on, -1 if none
 

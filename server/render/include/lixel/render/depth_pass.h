@@ -46,8 +46,9 @@ class DepthPass {
   public:
     static Result<DepthPass> Create(GlContext& context);
 
-    // Renders the scene's depth into `target`, reallocating its texture only when the size
-    // changes. Errors name the map ("map.width") or carry the GL debug message.
+    // Renders the depth of the scene's casting draws (GpuScene::draws) into `target`,
+    // reallocating its texture only when the size changes. Errors name the map ("map.width") or
+    // carry the GL debug message.
     Result<bool> Render(const GpuScene& scene, const LightMap& map, FaceSelection faces,
                         DepthMap& target);
 
@@ -61,6 +62,7 @@ class DepthPass {
     Program program_;
     GlFramebuffer framebuffer_;
     GLint clip_location_ = -1;
+    GLint model_location_ = -1;
 };
 
 // The map is drawable: finite matrix, sides in [1, min(kMaxImageSide, max texture size)].

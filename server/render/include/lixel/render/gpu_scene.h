@@ -7,6 +7,7 @@
 #include <lixel/render/gl_objects.h>
 #include <lixel/render/silhouette_candidates.h>
 #include <lixel/solver/mesh.h>
+#include <lixel/solver/mesh_instance.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/types.h>
 
@@ -29,6 +30,20 @@ struct GpuMeshRange {
     bool closed = false;
 };
 
+// One draw of a mesh as the scene's pose places it (GpuScene::Pose). Every pass draws the
+// draws, not the ranges: a vertex's position relative to the origin is model * (its buffer
+// position, 1), in the vertex stage (u_model).
+struct GpuDraw {
+    std::uint32_t range = 0;  // into GpuScene::ranges()
+    // Object -> world, both relative to the origin: [A | A o + t - o] for an instance's linear
+    // part A, translation t and the scene's origin o, in double, then float. The identity for a
+    // mesh in place, exactly, so an unposed scene draws bit for bit as it always did.
+    Mat4f model = Mat4f::Identity();
+    bool mirrored = false;  // det A < 0: the passes turn the winding they call front
+    bool casts = true;      // drawn into the light's maps
+    bool receives = true;   // shadowed in the view
+};
+
 class GpuScene {
   public:
     const Vec3& origin() const noexcept { return origin_; }
@@ -42,6 +57,17 @@ class GpuScene {
     // their own index lists, and the CPU copy of the adjacency that picks them per light.
     GLuint positions() const noexcept { return positions_.id(); }
     const SilhouetteCandidates& silhouette_candidates() const noexcept { return candidates_; }
+    // The draws of the current pose, in instance order; one per range, in place, until posed.
+    const std::vector<GpuDraw>& draws() const noexcept { return draws_; }
+    // Whether the pose is other than each mesh once in place (passes that precomputed
+    // something over the buffer's positions, the silhouette candidates, use it only when not).
+    bool posed() const noexcept { return posed_; }
+
+    // Places the meshes for the passes that follow (mesh_instance.h), uploading nothing: each
+    // instance's mesh index must be < ranges().size() (refused naming instances[i].mesh), its
+    // matrix checked by the caller (CheckInstanceMatrix). Empty: each mesh once, in place. A
+    // scene is posed by each job that draws it (one worker thread at a time holds it).
+    Result<bool> Pose(std::span<const MeshInstance> instances);
 
   private:
     friend Result<GpuScene> UploadScene(GlContext&, std::span<const Mesh>, const Vec3&);
@@ -49,6 +75,8 @@ class GpuScene {
     std::vector<GpuMeshRange> ranges_;
     std::size_t triangles_ = 0;
     int boundary_edges_ = 0;
+    std::vector<GpuDraw> draws_;
+    bool posed_ = false;
     SilhouetteCandidates candidates_;
     GlBuffer positions_;
     GlBuffer indices_;

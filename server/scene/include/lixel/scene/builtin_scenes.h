@@ -16,6 +16,12 @@ namespace lixel::scene {
 // them (each bounces with its own period); time 0 is the default view.
 Scene FloorWallScene(double time = 0.0);
 
+// The same room as meshes that never change and a pose per time (what a live engine sends):
+// the shapes built resting on the floor, each lifted by its bounce height at `time` through its
+// instance (floor and wall in place). The shapes' meshes are FloorWallScene's at a bounce height
+// of 0, so a posed frame matches FloorWallScene(time) up to float rounding of the vertices.
+Scene FloorWallAnimated(double time = 0.0);
+
 // The paper's table/floor configuration: a table top (bounded plane of interest, a convex
 // polygon) over a floor (infinite plane, second priority), with casters on the table.
 Scene TableFloorScene();

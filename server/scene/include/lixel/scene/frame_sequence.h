@@ -23,7 +23,8 @@ struct SequenceOptions {
 };
 
 // The scene `name` (BuiltinScene) at frame `frame` of `options`: floor_wall's shapes bounce
-// (FloorWallScene(frame / fps)), the other scenes hold still; the camera moves along the path in
+// (FloorWallAnimated(frame / fps): the same meshes every frame, posed by Scene::instances), the
+// other scenes hold still (no instances); the camera moves along the path in
 // every scene. Errors name the field: "scene", "frame", "frames", "fps", "orbit_degrees",
 // "dolly", "viewport".
 Result<Scene> SequenceFrame(const std::string& name, int frame, const SequenceOptions& options);

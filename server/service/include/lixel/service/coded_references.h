@@ -47,6 +47,10 @@ class CodedReferences {
     // capacity (one larger than the capacity is not held).
     void Put(std::shared_ptr<const CodedReference> reference);
 
+    // Drops the frames `ids` (a session's frames its client no longer holds: a session keeps
+    // only its last frame's references, so its memory stays flat). Ids not held are ignored.
+    void Forget(const std::vector<std::uint64_t>& ids);
+
     std::uint64_t bytes() const;
     std::size_t size() const;
 

@@ -11,14 +11,15 @@
 #include <lixel/solver/result.h>
 #include <lixel/solver/scheduler.h>
 #include <lixel/volumes/gl/volume_pass.h>
-#include <lixel/volumes/smooth_silhouette.h>
 #include <lixel/volumes/gl/volume_scene.h>
+#include <lixel/volumes/smooth_silhouette.h>
 
 #include <atomic>
 #include <functional>
 #include <list>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -53,9 +54,12 @@ Result<bool> RebuildGpuWorker(GpuWorker& worker);
 // point into it.
 void StopGpuWorker(GpuWorker& worker);
 
-// The scene on this worker's GPU, uploading it (relative to its bounds' centre) when absent.
+// The scene on this worker's GPU, uploading it (relative to its bounds' centre) when absent,
+// posed by `instances` (GpuScene::Pose; empty: each mesh once, in place). Every job that draws
+// poses it: the worker's scenes carry the last job's pose.
 Result<std::shared_ptr<render::GpuScene>> SceneOnGpu(GpuWorker& worker, const std::string& id,
-                                                     const SceneRecord& record);
+                                                     const SceneRecord& record,
+                                                     std::span<const MeshInstance> instances = {});
 
 // True when the request was cancelled or ran past its deadline.
 using CancelCheck = std::function<bool()>;

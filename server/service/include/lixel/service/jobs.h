@@ -61,10 +61,19 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
 // image's chunks of options.chunk_bytes as soon as it is read back, one image on the host at a
 // time. `reserve(bytes)` is asked for the call's peak (the header plus its largest image and one
 // chunk) before anything is rendered; a refusal is the job's status. Does not Finish the feed.
+// With `report`, what a session keeps of the frame: its plan, the coded images' frame ids (the
+// next frame's references) and the job's stage times.
+struct RenderReport {
+    v1::PlanResponse plan;
+    std::vector<std::uint64_t> coded_frame_ids;
+    double plan_seconds = 0.0;
+    double passes_seconds = 0.0;  // the map passes and read-back, coding excluded
+    double encode_seconds = 0.0;
+};
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
                        const CancelCheck& cancelled,
-                       const std::function<grpc::Status(std::uint64_t)>& reserve,
-                       RenderFeed& feed);
+                       const std::function<grpc::Status(std::uint64_t)>& reserve, RenderFeed& feed,
+                       RenderReport* report = nullptr);
 // The same stream collected into `stream` (tests, and callers that want it whole).
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
                        const CancelCheck& cancelled, std::vector<v1::RenderChunk>* stream);

@@ -25,6 +25,10 @@ public:
         maps_rendered_->Increment(maps);
         bytes_rendered_->Increment(bytes);
     }
+    // A session's frame: served (its maps streamed, OK or refused) with its latency from
+    // arrival to its last message written, or skipped (superseded while the client ran ahead).
+    void SessionFrame(double seconds);
+    void SessionFramesSkipped(double frames) { session_frames_skipped_->Increment(frames); }
     void CacheLookup(bool hit) { (hit ? cache_hits_ : cache_misses_)->Increment(); }
     void CacheBytes(double bytes) { cache_bytes_->Set(bytes); }
 
@@ -44,6 +48,9 @@ private:
     prometheus::Counter* cache_hits_;
     prometheus::Counter* cache_misses_;
     prometheus::Gauge* cache_bytes_;
+    prometheus::Counter* session_frames_;
+    prometheus::Counter* session_frames_skipped_;
+    prometheus::Histogram* session_frame_seconds_;
 };
 
 }  // namespace lixel::service

@@ -4,20 +4,21 @@
 #pragma once
 
 #include <lixel/scene/scene.h>
+#include <lixel/service/scene_adjacency.h>
+#include <lixel/service/smooth_volume_cache.h>
 #include <lixel/solver/cascades.h>
 #include <lixel/solver/light_map.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/scheduler.h>
 #include <lixel/solver/types.h>
-#include <lixel/service/scene_adjacency.h>
-#include <lixel/service/smooth_volume_cache.h>
 #include <lixel/v1/lixel.pb.h>
 #include <lixel/volumes/smooth_silhouette.h>
 
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace lixel::service {
@@ -79,7 +80,12 @@ struct SceneRecord {
     std::shared_ptr<const SmoothVolumeCache> smooth_volume = std::make_shared<SmoothVolumeCache>();
     // What the cache charges: the decoded size, and the adjacency's bound from the start.
     std::uint64_t bytes = 0;
+    // Each mesh's bounds in its own coordinates (instances carry them, mesh_instance.h), and
+    // its index by name for Instance.mesh (kAmbiguousMesh where names repeat).
+    std::vector<Aabb> mesh_bounds;
+    std::unordered_map<std::string, std::uint32_t> mesh_index;
 };
+inline constexpr std::uint32_t kAmbiguousMesh = 0xFFFFFFFFu;
 
 // Builds the record of a built-in or loaded scene, its default viewer from its look-at camera.
 SceneRecord MakeSceneRecord(scene::Scene scene);
@@ -87,8 +93,19 @@ SceneRecord MakeSceneRecord(scene::Scene scene);
 // A PlanRequest for the solver. With a scene, objects point into `scene`'s meshes (which must
 // outlive the result) and its planes, camera and light fill what the message leaves out. The
 // number of objects is the caller's to bound first (the service: PlanObjectLimit).
+// With `instances` given, a request's instances (empty when it has none) are decoded into it
+// and the objects are theirs (scene::InstanceObjects); instances without a scene, or a caller
+// that takes none, are refused naming field.instances.
 Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const SceneRecord* scene,
-                                      const std::string& field);
+                                      const std::string& field,
+                                      std::vector<MeshInstance>* instances = nullptr);
+
+// A request's instances against its scene (errors name field[i].mesh, field[i].object_to_world).
+Result<std::vector<MeshInstance>> DecodeInstances(
+    const google::protobuf::RepeatedPtrField<v1::Instance>& instances, const SceneRecord& record,
+    const std::string& field);
+// `scene`'s instances as a request carries them, each naming its mesh.
+void EncodeInstances(const scene::Scene& scene, v1::PlanRequest* out);
 
 // A lixel.v1.Scene into meshes, planes, camera and light; checks sizes, indices and finiteness.
 Result<SceneRecord> DecodeScene(const v1::Scene& message, const std::string& field);

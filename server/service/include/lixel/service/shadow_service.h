@@ -38,6 +38,8 @@ public:
     grpc::ServerUnaryReactor* Silhouettes(grpc::CallbackServerContext* context,
                                           const v1::SilhouettesRequest* request,
                                           v1::SilhouettesResponse* response) override;
+    grpc::ServerBidiReactor<v1::SessionRequest, v1::SessionResponse>* Session(
+        grpc::CallbackServerContext* context) override;
 
     ServiceState& state() noexcept { return state_; }
     // Whether some worker has had a working GL context.

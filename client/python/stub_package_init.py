@@ -1,0 +1,1 @@
+"""Generated from proto/lixel/v1/lixel.proto by the build (protoc and grpc_python_plugin)."""
