@@ -1,6 +1,6 @@
 // The frame-sequence report's driver (`lixel sequence`, docs/frames.md): for every frame of a
-// scene::SequenceFrame sequence it uploads that frame's scene and asks View, evaluated and with
-// its cost baselines, for every method; frame-coherent methods send back the maps the previous
+// scene::SequenceFrame sequence (its meshes uploaded once; each frame's instances in its
+// requests) it asks View, evaluated and with its cost baselines, for every method; frame-coherent methods send back the maps the previous
 // frame's View reported (ViewResponse.plan) as FrameCoherence. No files: tests drive it against
 // an in-process server.
 #pragma once

@@ -125,8 +125,34 @@ TEST(InstancePass, AMovedMirroredOrTwicePlacedMeshDrawsAsThatMeshUploadedWhereIt
         for (float d : a.pixels) covered += d > 0.0f;
         EXPECT_GT(covered, map.width * map.height / 4);
     }
-    // The spheres' second depth is their far side (the mirrored one's winding turned with the
-    // mirror, as the baked copy's was): well behind the first depth on their texels.
+    // The mirrored sphere alone: its second depth is its far side (its winding turned with the
+    // mirror, as the baked copy's was), texel for texel but on its outline; culling the wrong
+    // side would draw its near side on every texel it covers.
+    {
+        std::vector<MeshInstance> alone = {again};
+        ASSERT_TRUE(posed.Pose(alone).ok());
+        GpuScene baked_alone = Upload({Moved(s.meshes[1], mirrored)}, s.origin);
+        const FloatImage a = Depth(posed, map, FaceSelection::kSecondDepth);
+        const FloatImage b = Depth(baked_alone, map, FaceSelection::kSecondDepth);
+        int covered = 0, apart = 0;
+        for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+            if (a.pixels[i] <= 0.0f || b.pixels[i] <= 0.0f) continue;
+            ++covered;
+            apart += std::abs(a.pixels[i] - b.pixels[i]) > 1e-5f;
+        }
+        const FloatImage first_alone = Depth(posed, map, FaceSelection::kBoth);
+        int behind_first = 0;
+        for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+            behind_first += a.pixels[i] > 0.0f && a.pixels[i] < first_alone.pixels[i] - 1e-5f;
+        }
+        // 344 texels covered, 0 apart and 344 behind; with the winding left unturned, 344 apart
+        // and none behind.
+        EXPECT_GT(covered, 150);
+        EXPECT_LE(apart, covered / 10);
+        EXPECT_GE(behind_first, covered * 9 / 10);
+        ASSERT_TRUE(posed.Pose(instances).ok());
+    }
+    // The spheres' second depth is their far side: well behind the first depth on their texels.
     const FloatImage second = Depth(posed, map, FaceSelection::kSecondDepth);
     const FloatImage first = Depth(posed, map, FaceSelection::kBoth);
     int behind = 0;

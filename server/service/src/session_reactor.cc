@@ -101,7 +101,6 @@ class SessionReactor final
         std::optional<v1::SessionResponse> message;  // or a message to write
         Clock::time_point arrived = Clock::now();
         std::shared_ptr<RenderFeed> feed;  // once its job started
-        bool job_done = false;
         RenderReport report;
         std::optional<Clock::time_point> first_write;
     };
@@ -219,7 +218,6 @@ class SessionReactor final
                 {
                     std::lock_guard lock(mutex_);
                     item.report = std::move(report);
-                    item.job_done = true;
                     job_running_ = false;
                     if (s.ok()) {
                         service_.state().coded_references.Forget(
