@@ -54,6 +54,7 @@ std::string MapStream::Header(const v1::RenderHeader& header) {
         total_ += image.bytes();
     }
     coded_.resize(maps_.images.size());
+    raw_bytes_.assign(maps_.images.size(), 0);
     return "";
 }
 
@@ -78,13 +79,29 @@ std::string MapStream::Chunk(const v1::MapChunk& piece) {
     }
     auto& image = maps_.images[piece.image_index()];
     const std::size_t bytes = image.size() * sizeof(float);
-    if (piece.offset() + piece.data().size() > bytes) {
+    // Both sides checked apart: offset + size can wrap around past 2^64.
+    if (piece.offset() > bytes || piece.data().size() > bytes - piece.offset()) {
         return "images[" + std::to_string(piece.image_index()) + "]: chunk at " +
                std::to_string(piece.offset()) + " runs past the image's " + std::to_string(bytes) +
                " bytes";
     }
     std::memcpy(reinterpret_cast<char*>(image.data()) + piece.offset(), piece.data().data(),
                 piece.data().size());
+    raw_bytes_[piece.image_index()] += piece.data().size();
+    return "";
+}
+
+std::string MapStream::Incomplete() const {
+    if (!has_header_) return "no header before the frame's end";
+    for (int i = 0; i < maps_.header.images_size(); ++i) {
+        const v1::MapImage& image = maps_.header.images(i);
+        if (image.coded()) continue;  // the decoder checks a coded image's size
+        if (raw_bytes_[static_cast<std::size_t>(i)] != image.bytes()) {
+            return "images[" + std::to_string(i) +
+                   "]: " + std::to_string(raw_bytes_[static_cast<std::size_t>(i)]) + " of its " +
+                   std::to_string(image.bytes()) + " bytes arrived";
+        }
+    }
     return "";
 }
 

@@ -21,6 +21,9 @@ class MapStream {
     std::string Header(const v1::RenderHeader& header);
     std::string Chunk(const v1::MapChunk& chunk);
 
+    // "" once the header came and every raw image's bytes arrived, else what is missing.
+    std::string Incomplete() const;
+
     std::uint64_t received() const noexcept { return maps_.streamed_bytes; }
     std::uint64_t total() const noexcept { return total_; }
 
@@ -33,6 +36,7 @@ class MapStream {
     const std::uint64_t limit_;
     RenderedMaps maps_;
     std::vector<std::string> coded_;
+    std::vector<std::uint64_t> raw_bytes_;  // bytes received per raw image
     std::uint64_t total_ = 0;
     bool has_header_ = false;
 };

@@ -96,6 +96,9 @@ Result<SessionFrame> Session::Next() {
                     static_cast<grpc::StatusCode>(out.done.code()), out.done.message()));
                 return out;
             }
+            if (std::string why = maps->Incomplete(); !why.empty()) {
+                return malformed("frame " + std::to_string(number) + ": " + why);
+            }
             auto decoded = maps->Finish(frames_);
             if (!decoded)
                 return malformed("frame " + std::to_string(number) + ": " +

@@ -18,6 +18,9 @@ Result<bool> CheckInstanceMatrix(const Mat4& m, const std::string& field) {
         if (!std::isfinite(m.data()[i])) {
             return Error{field, "m[" + std::to_string(i) + "] is not finite"};
         }
+        if (std::abs(m.data()[i]) > kMaxInstanceEntry) {
+            return Error{field, "m[" + std::to_string(i) + "] is beyond 1e15 in magnitude"};
+        }
     }
     if (m(3, 0) != 0.0 || m(3, 1) != 0.0 || m(3, 2) != 0.0 || m(3, 3) != 1.0) {
         return Error{field, "not affine: its last row must be exactly (0, 0, 0, 1)"};

@@ -301,6 +301,9 @@ TEST(HostileServer, MalformedOrCorruptCodedMapsAreRefusedNamingTheImageNeverMisd
     refused(RenderFrom({HeaderOf(40, 30, true), ChunkOf(8, bytes)}), "DATA_LOSS");
     refused(RenderFrom({HeaderOf(2, 2, true), ChunkOf(0, std::string(9000, 'x'))}), "DATA_LOSS");
     refused(RenderFrom({HeaderOf(40, 30, false), ChunkOf(4795, "0123456789")}), "DATA_LOSS");
+    // An offset whose sum with the chunk's size wraps past 2^64 (to 6, inside the image).
+    refused(RenderFrom({HeaderOf(40, 30, false), ChunkOf(~std::uint64_t{0} - 3, "0123456789")}),
+            "runs past the image's 4800 bytes");
     v1::RenderChunk huge = HeaderOf(16384, 16384, true);
     for (int i = 0; i < 4; ++i) *huge.mutable_header()->add_images() = huge.header().images(0);
     refused(RenderFrom({huge}), "max_receive_bytes");

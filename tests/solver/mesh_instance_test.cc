@@ -112,6 +112,13 @@ TEST(MeshInstance, RefusesNonFiniteProjectiveAndSingularMatricesNamingTheField) 
     Mat4 infinite = Mat4::Identity();
     infinite(0, 0) = std::numeric_limits<double>::infinity();
     EXPECT_NE(refused(infinite).find("m[0] is not finite"), std::string::npos);
+    Mat4 huge = Mat4::Identity();
+    huge(0, 0) = 1e300;  // finite, but its bounds and its float model matrix would not be
+    huge(1, 1) = huge(2, 2) = 1e300;
+    EXPECT_NE(refused(huge).find("m[0] is beyond 1e15"), std::string::npos) << refused(huge);
+    Mat4 far_away = Mat4::Identity();
+    far_away(2, 3) = -2e15;
+    EXPECT_NE(refused(far_away).find("m[14] is beyond 1e15"), std::string::npos);
     Mat4 projective = Mat4::Identity();
     projective(3, 2) = 0.5;
     EXPECT_NE(refused(projective).find("not affine"), std::string::npos);

@@ -11,6 +11,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <utility>
 
 #include "job_common.h"
 
@@ -59,7 +60,7 @@ class SessionReactor final
                 input_done_ = true;  // the client is done sending (or gone)
             } else {
                 TakeLocked(request_);
-                read_more = !failed_ && !finished_;
+                read_more = ReadMoreLocked();
             }
         }
         if (read_more) StartRead(&request_);
@@ -78,21 +79,44 @@ class SessionReactor final
                 grpc::Status(grpc::StatusCode::CANCELLED, "stream: the client stopped reading")));
             return;
         }
+        bool read_more = false;
         {
             std::lock_guard lock(mutex_);
             writing_ = false;
+            // Reading paused while the output was full: what was written made room.
+            if (read_paused_ && items_.size() < kMaxUnwritten) {
+                read_paused_ = false;
+                read_more = !failed_ && !finished_;
+            }
         }
+        if (read_more) StartRead(&request_);
         WriteNext();
     }
 
     void OnCancel() override {
         cancelled_ = true;
         CloseFeeds();
+        WriteNext();  // with no job running and no write outstanding, that finishes the call
     }
 
     void OnDone() override { Release(); }
 
   private:
+    // Output items (frames waiting or being written, dones, notices) past which the session
+    // reads no further message until some are written: a client that sends and never reads
+    // holds a bounded share of the server's memory (with frames past max_frames_ahead skipped).
+    static constexpr std::size_t kMaxUnwritten = kMaxFramesAhead + 16;
+
+    // Whether to read the next message now; else reading waits for OnWriteDone.
+    bool ReadMoreLocked() {
+        if (failed_ || finished_) return false;
+        if (items_.size() >= kMaxUnwritten) {
+            read_paused_ = true;
+            return false;
+        }
+        return true;
+    }
+
     // One entry of the stream's output, in order: a frame to run and write, or a message
     // written as it is (a refused frame's done, a notice).
     struct Item {
@@ -181,10 +205,15 @@ class SessionReactor final
         }
     }
 
-    // Starts the first frame not started when no job runs and at most one frame's output waits
-    // ahead of it (so a session holds at most two frames' images: one written, one rendered).
+    // Starts the first frame not started when no job runs and at most one started frame's
+    // output is still being written (so a session holds at most two frames' images: one
+    // written, one rendered). A frame the queue refuses becomes its done, and the next is tried.
     void StartNextFrame() {
         std::lock_guard lock(mutex_);
+        StartNextFrameLocked();
+    }
+
+    void StartNextFrameLocked() {
         if (job_running_ || failed_ || cancelled_ || finished_) return;
         int unwritten_jobs = 0;
         for (Item& item : items_) {
@@ -193,9 +222,9 @@ class SessionReactor final
                 continue;
             }
             if (!item.request) continue;
-            if (unwritten_jobs >= 1) return;
+            if (unwritten_jobs >= 2) return;
             StartLocked(item);
-            return;
+            if (job_running_) return;
         }
     }
 
@@ -215,6 +244,19 @@ class SessionReactor final
                     service_.state(), service_.gpu(worker), request,
                     [this] { return cancelled_.load() || context_->IsCancelled(); },
                     [this](std::uint64_t bytes) { return Reserve(bytes); }, *feed, &report);
+                // A client that took nothing for stream_idle_seconds: its write never completes,
+                // so the call is cancelled (OnWriteDone(false) then finishes it with the stall).
+                // While this job runs the call is not finished (Done defers), so the context
+                // is alive.
+                const bool stalled = s.error_message().rfind("stream:", 0) == 0;
+                if (stalled) {
+                    {
+                        std::lock_guard lock(mutex_);
+                        stalled_ = s;  // before the cancel: OnWriteDone(false) reports it
+                    }
+                    context_->TryCancel();
+                }
+                std::optional<grpc::Status> deferred;
                 {
                     std::lock_guard lock(mutex_);
                     item.report = std::move(report);
@@ -223,13 +265,12 @@ class SessionReactor final
                         service_.state().coded_references.Forget(
                             session_.Served(item.report.plan, item.report.coded_frame_ids));
                     }
-                    if (s.error_message().rfind("stream:", 0) == 0) stalled_ = s;
+                    deferred = std::exchange(deferred_, std::nullopt);
                 }
                 feed->Finish(s);
-                // A client that took nothing for stream_idle_seconds: its write never completes,
-                // so the call is cancelled (OnWriteDone(false) then finishes it with the stall).
-                if (s.error_message().rfind("stream:", 0) == 0) context_->TryCancel();
+                if (deferred) Done(*deferred);
                 StartNextFrame();
+                WriteNext();
                 Release();
             });
         if (!queued) {
@@ -263,6 +304,11 @@ class SessionReactor final
     void WriteNext() {
         std::unique_lock lock(mutex_);
         if (writing_ || finished_) return;
+        if (cancelled_ && !job_running_) {
+            lock.unlock();
+            Done(grpc::Status(grpc::StatusCode::CANCELLED, "session: cancelled"));
+            return;
+        }
         while (!items_.empty()) {
             Item& item = items_.front();
             if (item.message) {
@@ -277,7 +323,12 @@ class SessionReactor final
                 items_.pop_front();
                 continue;
             }
-            if (item.feed == nullptr) return;  // not started yet
+            if (item.feed == nullptr) {  // not started yet: start it if nothing runs
+                if (job_running_) return;
+                StartNextFrameLocked();
+                if (item.feed == nullptr && !item.message) return;
+                continue;
+            }
             grpc::Status status;
             switch (item.feed->Next(&chunk_, &status)) {
                 case RenderFeed::Step::kIdle:
@@ -344,13 +395,22 @@ class SessionReactor final
         }
     }
 
+    // Finishes the call, or, while a job runs, closes the feeds and leaves the finish to the
+    // job's end: a job reads the call's context, which gRPC frees once the call is done.
     void Done(const grpc::Status& status) {
-        if (finished_.exchange(true)) return;
-        CloseFeeds();
         std::string scene_id;
         std::uint64_t frames = 0;
         {
             std::lock_guard lock(mutex_);
+            if (finished_) return;
+            for (Item& item : items_) {
+                if (item.feed) item.feed->Close();
+            }
+            if (job_running_) {
+                if (!deferred_) deferred_ = status;
+                return;
+            }
+            finished_ = true;
             scene_id = session_.scene_id();
             frames = frames_;
             // No later frame of this session names its last references.
@@ -380,9 +440,11 @@ class SessionReactor final
     bool failed_ = false;
     std::optional<grpc::Status> failure_;
     std::optional<grpc::Status> stalled_;  // a frame's job found the client reading nothing
+    std::optional<grpc::Status> deferred_;  // Done while a job ran: finished at its end
+    bool read_paused_ = false;              // no read outstanding until output is written
     std::uint64_t frames_ = 0;
     std::atomic<bool> cancelled_{false};
-    std::atomic<bool> finished_{false};
+    std::atomic<bool> finished_{false};  // set under the lock; read without it by jobs' checks
     std::atomic<int> owners_{1};  // gRPC until OnDone, and each running job
     std::mutex reserve_mutex_;
     std::uint64_t reserved_ = 0;

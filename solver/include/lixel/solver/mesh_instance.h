@@ -31,10 +31,15 @@ std::vector<MeshInstance> IdentityInstances(std::size_t meshes);
 // inverse (the light in object space) lose every digit float keeps.
 inline constexpr double kMinInstanceConditioning = 1e-6;
 
-// An instance matrix is usable: every entry finite, the last row exactly (0, 0, 0, 1) (affine:
-// no projective instance), and the linear part's singular values within
-// kMinInstanceConditioning of each other. Errors name `field` ("plan.instances[3].object_to_world")
-// and the reason.
+// The largest entry an instance matrix may hold: far past any scene's scale (1e15 m is a
+// tenth of a light year), and small enough that a mesh's bounds carried by it stay finite
+// in double and the passes' float model matrices stay finite.
+inline constexpr double kMaxInstanceEntry = 1e15;
+
+// An instance matrix is usable: every entry finite and within kMaxInstanceEntry, the last row
+// exactly (0, 0, 0, 1) (affine: no projective instance), and the linear part's singular values
+// within kMinInstanceConditioning of each other. Errors name `field`
+// ("plan.instances[3].object_to_world") and the reason.
 Result<bool> CheckInstanceMatrix(const Mat4& m, const std::string& field);
 
 // The axis-aligned box of `box` carried by the affine `m`: the bounds of its eight corners,
