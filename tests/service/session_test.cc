@@ -28,9 +28,9 @@ struct Room {
     std::string scene_id;
 };
 
-Room StartRoom(const std::string& instance, service::ServerOptions options = {}) {
+// A server on its own loopback port (SmallServerOptions: port 0) with the room's meshes.
+Room StartRoom(const service::ServerOptions& options) {
     Room r;
-    if (options.service.instance.empty()) options = SmallServerOptions(instance);
     r.server = StartServer(options);
     if (r.server == nullptr) return r;
     r.client = Connect(Target(*r.server));
@@ -43,6 +43,8 @@ Room StartRoom(const std::string& instance, service::ServerOptions options = {})
     if (uploaded.ok()) r.scene_id = uploaded->scene_id();
     return r;
 }
+
+Room StartRoom(const std::string& instance) { return StartRoom(SmallServerOptions(instance)); }
 
 // Frame f of the animated room (a moving camera, bouncing shapes) as a session frame.
 v1::SessionFrame FrameOf(int f, std::uint64_t number, int frames = 60) {
@@ -309,7 +311,7 @@ TEST(Session, AnEvictedSceneEndsTheSessionWithNotFoundNamingIt) {
     room.instances.clear();
     // One room, not two: the cache charges each its record's bytes.
     options.service.scene_cache_bytes = service::MakeSceneRecord(room).bytes * 3 / 2;
-    Room r = StartRoom("session-evicted", options);
+    Room r = StartRoom(options);
     ASSERT_FALSE(r.scene_id.empty());
     auto session = client::Session::Open(*r.client, OpenFor(r.scene_id));
     ASSERT_TRUE(session.ok());
@@ -339,7 +341,7 @@ TEST(Session, AClientThatStopsReadingIsEndedAndTheServerServesOthers) {
     service::ServerOptions options = SmallServerOptions("session-stalled");
     options.service.stream_idle_seconds = 0.5;
     options.service.chunk_bytes = 4096;  // many messages a frame: flow control fills up
-    Room r = StartRoom("session-stalled", options);
+    Room r = StartRoom(options);
     ASSERT_FALSE(r.scene_id.empty());
     auto stub = RawStub(Target(*r.server));
     RawSession raw(*stub);
