@@ -117,18 +117,26 @@ void SmallScene(benchmark::internal::Benchmark* b) {
     b->ArgName("tris")->Arg(100'000)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 }
 
-// Frames through one session; `moved` picks what each frame changes.
-void RunSession(benchmark::State& state, bool move_instance) {
-    const long triangles = state.range(0);
-    Uploaded(triangles);
-    const scene::Scene& s = Server().scenes.at(triangles);
+// A frame-coherent session on sphere_grid at `triangles`; null (the benchmark skipped with the
+// reason) when it cannot open.
+std::unique_ptr<client::Session> OpenSession(benchmark::State& state, long triangles) {
     v1::SessionOpen open;
     *open.mutable_plan() = PlanOf(triangles);
     auto session = client::Session::Open(*Server().client, open);
     if (!session) {
         state.SkipWithError(session.error().Message().c_str());
-        return;
+        return nullptr;
     }
+    return std::move(session).value();
+}
+
+// Frames through one session; `moved` picks what each frame changes.
+void RunSession(benchmark::State& state, bool move_instance) {
+    const long triangles = state.range(0);
+    Uploaded(triangles);
+    const scene::Scene& s = Server().scenes.at(triangles);
+    auto session = OpenSession(state, triangles);
+    if (!session) return;
     int f = 0;
     std::map<std::string, double> stages;
     for (auto _ : state) {
@@ -139,8 +147,8 @@ void RunSession(benchmark::State& state, bool move_instance) {
         } else {
             *frame.mutable_camera() = CameraAt(s, f);
         }
-        auto sent = (*session)->Send(frame);
-        auto got = (*session)->Next();
+        auto sent = session->Send(frame);
+        auto got = session->Next();
         if (!got || got->refused) {
             state.SkipWithError(got ? got->refused->Message().c_str()
                                     : got.error().Message().c_str());
@@ -151,7 +159,7 @@ void RunSession(benchmark::State& state, bool move_instance) {
     for (const auto& [stage, seconds] : stages) {
         state.counters[stage + "_ms"] = 1e3 * seconds / static_cast<double>(state.iterations());
     }
-    (void)(*session)->Close();
+    (void)session->Close();
 }
 
 void BM_SessionMovedCamera(benchmark::State& state) { RunSession(state, false); }
@@ -242,32 +250,27 @@ void BM_SessionPipelined(benchmark::State& state) {
     const long triangles = state.range(0);
     Uploaded(triangles);
     const scene::Scene& s = Server().scenes.at(triangles);
-    v1::SessionOpen open;
-    *open.mutable_plan() = PlanOf(triangles);
-    auto session = client::Session::Open(*Server().client, open);
-    if (!session) {
-        state.SkipWithError(session.error().Message().c_str());
-        return;
-    }
+    auto session = OpenSession(state, triangles);
+    if (!session) return;
     int sent = 0;
     const auto send = [&] {
         v1::SessionFrame frame;
         frame.set_number(static_cast<std::uint64_t>(++sent));
         *frame.mutable_camera() = CameraAt(s, sent);
-        return (*session)->Send(frame).ok();
+        return session->Send(frame).ok();
     };
     send();
     std::uint64_t skipped = 0;
     for (auto _ : state) {
         send();
-        auto got = (*session)->Next();
+        auto got = session->Next();
         if (!got || got->refused) {
             state.SkipWithError("session frame failed");
             return;
         }
         skipped += got->skipped.size();
     }
-    (void)(*session)->Close();
+    (void)session->Close();
     state.counters["frames_per_s"] =
         benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
     state.counters["skipped"] = static_cast<double>(skipped);
