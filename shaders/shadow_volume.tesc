@@ -13,7 +13,9 @@ in vec3 v_position[];
 out vec3 tc_position[];
 patch out int tc_multiplicity;
 
-uniform vec4 u_light;  // relative to the scene's origin; w = 1 point, w = 0 direction
+// Relative to the scene's origin, in the drawn instance's object space (the light carried back
+// by its model matrix); w = 1 point, w = 0 direction.
+uniform vec4 u_light;
 uniform int u_record;  // 1: write each patch's multiplicity to lixel_multiplicities
 uniform int u_patch_base;  // patches drawn before this draw call
 

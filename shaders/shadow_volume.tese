@@ -12,6 +12,9 @@ in vec3 tc_position[];
 patch in int tc_multiplicity;
 
 uniform mat4 u_viewer;  // relative position -> clip
+// The instance's object -> world, relative to the origin (render::GpuDraw::model): the patch's
+// points and u_light are in its object space, so the side is extruded there and carried whole.
+uniform mat4 u_model = mat4(1.0);
 uniform vec4 u_light;
 
 vec4 corner(int id, vec3 a, vec3 b) {
@@ -30,5 +33,5 @@ void main() {
     int column = int(round(gl_TessCoord.x * float(segments)));
     vec4 p0 = corner(lixel_extrusion_corner(column, 0), a, b);
     vec4 p1 = corner(lixel_extrusion_corner(column, 1), a, b);
-    gl_Position = u_viewer * mix(p0, p1, gl_TessCoord.y);
+    gl_Position = u_viewer * (u_model * mix(p0, p1, gl_TessCoord.y));
 }

@@ -11,6 +11,8 @@ layout(triangle_strip, max_vertices = 6) out;
 in vec3 v_position[];
 
 uniform mat4 u_viewer;
+// As in shadow_volume.tese: the triangle and u_light are in the instance's object space.
+uniform mat4 u_model = mat4(1.0);
 uniform vec4 u_light;
 
 void main() {
@@ -30,12 +32,12 @@ void main() {
         p[2] = t;
     }
     for (int k = 0; k < 3; ++k) {
-        gl_Position = u_viewer * vec4(p[k], 1.0);
+        gl_Position = u_viewer * (u_model * vec4(p[k], 1.0));
         EmitVertex();
     }
     EndPrimitive();
     for (int k = 0; k < 3; ++k) {
-        gl_Position = u_viewer * lixel_at_infinity(p[(3 - k) % 3], u_light);
+        gl_Position = u_viewer * (u_model * lixel_at_infinity(p[(3 - k) % 3], u_light));
         EmitVertex();
     }
     EndPrimitive();

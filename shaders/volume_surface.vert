@@ -5,11 +5,17 @@
 layout(location = 0) in vec3 a_position;
 
 uniform mat4 u_viewer;
+// The drawn instance's object -> world, both relative to the origin (render::GpuDraw::model);
+// the identity for a mesh in place, which leaves every position exactly as it was.
+uniform mat4 u_model = mat4(1.0);
 
 out vec3 v_position;
 invariant gl_Position;
 
 void main() {
-    v_position = a_position;
-    gl_Position = u_viewer * vec4(a_position, 1.0);
+    // The same expression as the caps' light faces (volume_caps.geom), so a cap rasterises to
+    // its surface's depth.
+    vec4 world = u_model * vec4(a_position, 1.0);
+    v_position = world.xyz;
+    gl_Position = u_viewer * world;
 }

@@ -1,6 +1,7 @@
 // Mesh instances: their matrices' checks and transformed bounds (mesh_instance.h).
 #include <lixel/solver/mesh_instance.h>
 
+#include <Eigen/LU>
 #include <Eigen/SVD>
 #include <cmath>
 #include <limits>
@@ -61,5 +62,16 @@ Mat4 RelativeObjectToWorld(const Mat4& m, const Vec3& origin) {
 }
 
 bool Mirrors(const Mat4& m) { return m.topLeftCorner<3, 3>().determinant() < 0.0; }
+
+Vec4 ObjectSpaceLight(const Mat4& m, const Vec4& light) {
+    // m^-1 = [A^-1 | -A^-1 t]: a solve, not an explicit inverse, and w carried as given.
+    const Eigen::PartialPivLU<Mat3> lu(m.topLeftCorner<3, 3>());
+    const Vec3 xyz = lu.solve(light.head<3>() - light.w() * m.topRightCorner<3, 1>());
+    return Vec4(xyz.x(), xyz.y(), xyz.z(), light.w());
+}
+
+double LargestStretch(const Mat4& m) {
+    return Eigen::JacobiSVD<Mat3>(m.topLeftCorner<3, 3>()).singularValues()[0];
+}
 
 }  // namespace lixel

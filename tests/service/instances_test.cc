@@ -175,8 +175,10 @@ TEST_F(InstanceRefusals, EveryBadInstanceIsRefusedNamingItsFieldAndTheSceneStays
     ExpectRefused(too_many, "plan.instances: 9 instances, over the limit max_plan_objects = 8",
                   grpc::StatusCode::RESOURCE_EXHAUSTED);
 
-    ExpectRefused(Good(), "plan.instances: the volumes filters", grpc::StatusCode::INVALID_ARGUMENT,
-                  v1::FILTER_VOLUMES);
+    // The volumes take instances like every filter, and refuse the same bad ones.
+    EXPECT_TRUE(View(Good(), v1::FILTER_VOLUMES).ok());
+    ExpectRefused(unknown, "plan.instances[3].mesh", grpc::StatusCode::INVALID_ARGUMENT,
+                  v1::FILTER_SMOOTH_VOLUMES);
 
     // Instances need a scene: on bounds alone there are no meshes to place.
     v1::PlanRequest bounds_only = Good();

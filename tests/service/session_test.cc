@@ -9,6 +9,7 @@
 #include <lixel/scene/frame_sequence.h>
 
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <thread>
 
@@ -251,7 +252,19 @@ TEST(Session, BadMessagesAreRefusedNamingTheFieldAndTheSessionGoesOnWhereItCan) 
                             o.mutable_encoding()->set_zstd_level(30);
                             return o;
                         }(),
-                        std::string("open.encoding.zstd_level")}}) {
+                        std::string("open.encoding.zstd_level")},
+              std::pair{[&] {
+                            v1::SessionOpen o = OpenFor(r.scene_id);
+                            o.mutable_view()->mutable_plan()->set_scene_id(r.scene_id);
+                            return o;
+                        }(),
+                        std::string("open.view.plan: must be unset")},
+              std::pair{[&] {
+                            v1::SessionOpen o = OpenFor(r.scene_id);
+                            o.mutable_view()->set_filter(static_cast<v1::Filter>(99));
+                            return o;
+                        }(),
+                        std::string("open.view.filter: unknown value 99")}}) {
             RawSession raw(*stub);
             raw.Send(OpenMessage(open));
             raw.stream->WritesDone();
@@ -412,6 +425,87 @@ TEST(Session, SixHundredFramesOfTheAnimatedRoomKeepTheServersMemoryFlat) {
     }
     std::printf("resident after 60 frames %.1f MiB, peak over 540 more %.1f MiB\n",
                 after_warm_up / 1048576.0, peak / 1048576.0);
+}
+
+// The frame as one View call, with the view's settings: what a view session's frame must equal
+// when the session keeps no previous plan.
+v1::ViewRequest ViewOf(const v1::SessionOpen& open, const v1::SessionFrame& frame) {
+    v1::ViewRequest request = open.view();
+    *request.mutable_plan() = RenderOf(open, frame, nullptr).plan();
+    return request;
+}
+
+std::vector<float> MaskOf(const v1::ViewResponse& view) {
+    std::vector<float> mask(view.mask().size() / sizeof(float));
+    std::memcpy(mask.data(), view.mask().data(), mask.size() * sizeof(float));
+    return mask;
+}
+
+// A session opened with a view answers every frame of the moving room with its mask: one
+// PASS_MASK image bit for bit View's for the same frame, the maps the method drew in the header,
+// and the rest of View's answer (evaluation against ray casting) in the frame's done.
+TEST(Session, AViewSessionAnswersEachFrameWithTheMaskViewGivesForIt) {
+    Room r = StartRoom("session-view");
+    ASSERT_FALSE(r.scene_id.empty());
+    v1::SessionOpen open = OpenFor(r.scene_id, false);
+    open.mutable_view()->set_method(v1::METHOD_PLANE_OPTIMAL);
+    open.mutable_view()->set_filter(v1::FILTER_PCF);
+    open.mutable_view()->set_evaluate(true);
+    auto session = client::Session::Open(*r.client, open);
+    ASSERT_TRUE(session.ok()) << session.error().Message();
+    for (int f = 0; f < 4; ++f) {
+        const v1::SessionFrame frame = FrameOf(7 * f, 1 + f);
+        ASSERT_TRUE((*session)->Send(frame).ok());
+        auto got = (*session)->Next();
+        ASSERT_TRUE(got.ok()) << got.error().Message();
+        ASSERT_FALSE(got->refused) << got->refused->Message();
+        ASSERT_EQ(got->maps.header.images_size(), 1);
+        const v1::MapImage& image = got->maps.header.images(0);
+        EXPECT_EQ(image.pass(), v1::PASS_MASK);
+        EXPECT_EQ(image.width(), static_cast<std::uint32_t>(kSide));
+        auto view = r.client->View(ViewOf(open, frame));
+        ASSERT_TRUE(view.ok()) << view.error().Message();
+        EXPECT_EQ(got->maps.images[0], MaskOf(*view)) << "frame " << f;
+        EXPECT_EQ(got->maps.header.plan().maps_size(), view->plan().maps_size());
+        ASSERT_TRUE(got->done.has_view());
+        EXPECT_TRUE(got->done.view().mask().empty());  // streamed as the image instead
+        EXPECT_GT(got->done.view().evaluation().decided_pixels(), 4000u);
+        EXPECT_EQ(got->done.view().evaluation().wrong_pixels(), view->evaluation().wrong_pixels());
+        const auto times = Timings(got->done);
+        EXPECT_GT(times.at("plan"), 0.0);
+        EXPECT_GT(times.at("passes"), 0.0);
+    }
+    EXPECT_TRUE((*session)->Close().ok());
+}
+
+// Exact shadow volumes of the moving room through a session, the masks coded: lossless (each
+// decoded mask is View's bit for bit), and a still camera over a still scene sends the second
+// mask as temporal tiles of the first.
+TEST(Session, AViewSessionsVolumeMasksComeCodedLosslesslyAndTemporalWhenNothingMoves) {
+    Room r = StartRoom("session-view-coded");
+    ASSERT_FALSE(r.scene_id.empty());
+    v1::SessionOpen open = OpenFor(r.scene_id, false);
+    open.mutable_view()->set_filter(v1::FILTER_VOLUMES);
+    open.mutable_encoding()->set_codec(v1::MAP_CODEC_QUANTISED);
+    auto session = client::Session::Open(*r.client, open);
+    ASSERT_TRUE(session.ok()) << session.error().Message();
+    std::vector<std::uint64_t> bytes;
+    for (const auto& [f, number] : {std::pair{5, 1}, std::pair{5, 2}, std::pair{11, 3}}) {
+        const v1::SessionFrame frame = FrameOf(f, static_cast<std::uint64_t>(number));
+        ASSERT_TRUE((*session)->Send(frame).ok());
+        auto got = (*session)->Next();
+        ASSERT_TRUE(got.ok()) << got.error().Message();
+        ASSERT_FALSE(got->refused) << got->refused->Message();
+        ASSERT_EQ(got->maps.coded.size(), 1u);
+        EXPECT_EQ(got->maps.coded[0].reference_id != 0, number == 2) << "frame " << number;
+        auto view = r.client->View(ViewOf(open, frame));
+        ASSERT_TRUE(view.ok()) << view.error().Message();
+        EXPECT_EQ(got->maps.images[0], MaskOf(*view)) << "frame " << number;
+        bytes.push_back(got->maps.streamed_bytes);
+    }
+    EXPECT_LT(bytes[1] * 4, bytes[0]) << bytes[0] << " " << bytes[1];
+    EXPECT_LT(bytes[0], static_cast<std::uint64_t>(kSide * kSide * 4 / 4));
+    EXPECT_TRUE((*session)->Close().ok());
 }
 
 }  // namespace

@@ -150,5 +150,59 @@ TEST(MeshInstance, IdentityInstancesPlaceEachMeshOnceCastingAndReceiving) {
     }
 }
 
+// The light in object space is the world light carried back: m times it gives the light again
+// (to a few ulps of the matrix's scale), w is kept exactly, the identity is exact, and every
+// orientation test (paper 001's det[B - A; C - A; l_xyz - l_w A]) of a placed triangle against
+// it has the world test's sign times det m's, over seeded random poses, point and directional.
+TEST(MeshInstance, ObjectSpaceLightKeepsEveryOrientationTestUpToTheMirror) {
+    std::mt19937_64 rng(90817);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const auto orient = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec4& l) {
+        Mat3 d;
+        d.row(0) = b - a;
+        d.row(1) = c - a;
+        d.row(2) = l.head<3>() - l.w() * a;
+        return d.determinant();
+    };
+    int decided = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const Mat4 m = RandomPose(rng);
+        const double w = trial % 2 == 0 ? 1.0 : 0.0;
+        const Vec4 light(5e4 * unit(rng), 5e4 * unit(rng), 5e4 * unit(rng), w);
+        const Vec4 object = ObjectSpaceLight(m, light);
+        EXPECT_EQ(object.w(), w);
+        const Vec4 back = m * object;
+        const double scale = m.cwiseAbs().maxCoeff() * object.head<3>().cwiseAbs().maxCoeff() +
+                             light.head<3>().cwiseAbs().maxCoeff();
+        EXPECT_LE((back - light).cwiseAbs().maxCoeff(), 1e-12 * scale) << "trial " << trial;
+        const Vec3 a(unit(rng), unit(rng), unit(rng)), b(unit(rng), unit(rng), unit(rng)),
+            c(unit(rng), unit(rng), unit(rng));
+        const auto place = [&](const Vec3& p) {
+            return Vec3(m.topLeftCorner<3, 3>() * p + m.topRightCorner<3, 1>());
+        };
+        const double in_object = orient(a, b, c, object);
+        const double in_world = orient(place(a), place(b), place(c), light);
+        // Only clear decisions: the two determinants are computed in double on different
+        // coordinates, so one within rounding of zero may differ in sign.
+        const double size = (b - a).norm() * (c - a).norm() * (object.head<3>().norm() + 1.0);
+        if (std::abs(in_object) < 1e-6 * size) continue;
+        ++decided;
+        EXPECT_EQ(in_world > 0.0, (in_object > 0.0) != Mirrors(m)) << "trial " << trial;
+    }
+    EXPECT_GT(decided, 1900);
+    const Vec4 light(3.0, -2.0, 7.5, 1.0);
+    EXPECT_EQ(ObjectSpaceLight(Mat4::Identity(), light), light);
+}
+
+TEST(MeshInstance, LargestStretchIsTheLinearPartsLargestSingularValue) {
+    Mat4 m = Mat4::Identity();
+    m.topLeftCorner<3, 3>() =
+        Eigen::AngleAxisd(0.7, Vec3(1.0, 2.0, 3.0).normalized()).toRotationMatrix() *
+        Vec3(2.0, -3.0, 0.5).asDiagonal();
+    m.topRightCorner<3, 1>() = Vec3(1e3, -4.0, 9.0);  // translation stretches nothing
+    EXPECT_NEAR(LargestStretch(m), 3.0, 1e-14);
+    EXPECT_EQ(LargestStretch(Mat4::Identity()), 1.0);
+}
+
 }  // namespace
 }  // namespace lixel

@@ -51,6 +51,18 @@ class Frame:
     skipped: list  # frames the server skipped since the last frame returned
     streamed_bytes: int  # map bytes as they came over the wire
     error: Optional[tuple] = None  # (grpc.StatusCode, message) when the server refused the frame
+    # A session opened with a view (SessionOpen.view): View's answer but the mask and the plan
+    # (evaluation, preview, maps, lixels, View's own stage times).
+    view: Optional[pb.ViewResponse] = None
+
+    @property
+    def mask(self) -> Optional[np.ndarray]:
+        """The frame's view mask (float32 (height, width), lit fraction, -1 where no surface),
+        when the session was opened with a view."""
+        for meta, texels in self.images:
+            if getattr(meta, "pass") == pb.PASS_MASK:
+                return texels
+        return None
 
 
 class Session:
@@ -130,7 +142,7 @@ class Session:
                     return Frame(number, pb.PlanResponse(), [], timings, skipped, streamed,
                                  (_status(done.code), done.message))
                 return Frame(number, header.plan, self._decode(header, parts), timings, skipped,
-                             streamed)
+                             streamed, None, done.view if done.HasField("view") else None)
         raise StopIteration
 
     def _decode(self, header: pb.RenderHeader, parts: list[bytearray]) -> list:

@@ -250,8 +250,10 @@ Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene&
 
 Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string& id,
                                             const SceneRecord& record,
-                                            const render::GpuScene& scene, const MaskJob& job,
-                                            MaskTimes* times, render::Rgb8Image* preview) {
+                                            const render::GpuScene& scene,
+                                            std::span<const MeshInstance> instances,
+                                            const MaskJob& job, MaskTimes* times,
+                                            render::Rgb8Image* preview) {
     auto start = std::chrono::steady_clock::now();
     if (worker.volume_pass == nullptr) {
         auto pass = volumes::gl::VolumePass::Create(*worker.context);
@@ -281,7 +283,7 @@ Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string
     std::optional<volumes::gl::GpuVolumeMesh> smooth;
     if (job.smooth) {
         auto cached = record.smooth_volume->Get(record.scene.meshes, patches->adjacency(),
-                                                job.light, *job.smooth);
+                                                instances, job.light, *job.smooth);
         if (!cached) return Error{"scene." + cached.error().field, cached.error().reason};
         if (times != nullptr) times->smooth_build_seconds = cached->build_seconds;
         start = std::chrono::steady_clock::now();

@@ -124,7 +124,9 @@ Result<std::string> MapCoder::Code(const LightMap& map, v1::PassKind kind,
                                    const render::FloatImage& image) {
     const bool points = kind == v1::PASS_SILHOUETTE_MAP;
     codec::EncodeOptions o;
-    o.codec = points ? codec::Codec::kExact : request_.depth_codec;
+    // A session's view mask is a lit fraction, not a depth: no bias absorbs its rounding, so it
+    // goes lossless, as the silhouette points do.
+    o.codec = points || kind == v1::PASS_MASK ? codec::Codec::kExact : request_.depth_codec;
     if (o.codec == codec::Codec::kQuantised) {
         o.bits = request_.bits != 0
                      ? request_.bits

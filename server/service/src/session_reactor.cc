@@ -238,12 +238,20 @@ class SessionReactor final
         job_running_ = true;
         owners_.fetch_add(1);
         const bool queued = service_.pool().TrySubmit(
-            [this, &item, feed = item.feed, request = *item.request](int worker) {
+            [this, &item, feed = item.feed, request = *item.request,
+             view = session_.view() ? std::optional(session_.ViewOf(*item.request))
+                                    : std::nullopt](int worker) {
                 RenderReport report;
-                const grpc::Status s = RenderJob(
-                    service_.state(), service_.gpu(worker), request,
-                    [this] { return cancelled_.load() || context_->IsCancelled(); },
-                    [this](std::uint64_t bytes) { return Reserve(bytes); }, *feed, &report);
+                const auto cancelled = [this] {
+                    return cancelled_.load() || context_->IsCancelled();
+                };
+                const auto reserve = [this](std::uint64_t bytes) { return Reserve(bytes); };
+                // A session opened with a view answers each frame with its mask.
+                const grpc::Status s =
+                    view ? ViewFrameJob(service_.state(), service_.gpu(worker), *view,
+                                        request.encoding(), cancelled, reserve, *feed, &report)
+                         : RenderJob(service_.state(), service_.gpu(worker), request, cancelled,
+                                     reserve, *feed, &report);
                 // A client that took nothing for stream_idle_seconds: its write never completes,
                 // so the call is cancelled (OnWriteDone(false) then finishes it with the stall).
                 // While this job runs the call is not finished (Done defers), so the context
@@ -361,6 +369,7 @@ class SessionReactor final
             done->set_code(static_cast<int>(status.error_code()));
             done->set_message(status.error_message());
             if (status.ok()) {
+                if (session_.view()) *done->mutable_view() = std::move(item.report.view);
                 AddTime(done, "plan", item.report.plan_seconds);
                 AddTime(done, "passes", item.report.passes_seconds);
                 AddTime(done, "encode", item.report.encode_seconds);

@@ -30,6 +30,19 @@ grpc::Status SessionState::Open(const v1::SessionOpen& open) {
     if (auto coding = DecodeMapEncoding(open.encoding(), "open.encoding"); !coding) {
         return Refused(coding.error().Message());
     }
+    if (open.has_view()) {
+        const v1::ViewRequest& view = open.view();
+        if (view.has_plan()) {
+            return Refused("open.view.plan: must be unset: each frame's plan is the session's");
+        }
+        if (!v1::Filter_IsValid(view.filter())) {
+            return Refused("open.view.filter: unknown value " + std::to_string(view.filter()));
+        }
+        if (!v1::Method_IsValid(view.method())) {
+            return Refused("open.view.method: unknown value " + std::to_string(view.method()));
+        }
+        view_ = view;
+    }
     base_ = open.plan();
     encoding_ = open.encoding();
     encoding_.clear_reference_frames();  // the session names its own
@@ -59,6 +72,12 @@ grpc::Status SessionState::Frame(const v1::SessionFrame& frame, const PlanCheck&
     *request->mutable_plan() = base_;
     *request->mutable_encoding() = encoding_;
     return grpc::Status::OK;
+}
+
+v1::ViewRequest SessionState::ViewOf(const v1::RenderRequest& frame) const {
+    v1::ViewRequest request = view_.value_or(v1::ViewRequest());
+    *request.mutable_plan() = frame.plan();
+    return request;
 }
 
 void SessionState::Started(v1::RenderRequest* request) const {

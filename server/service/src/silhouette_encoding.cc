@@ -4,7 +4,9 @@
 #include <lixel/volumes/multiplicity.h>
 #include <lixel/volumes/smooth_volume.h>
 
+#include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lixel::service {
@@ -78,6 +80,93 @@ Result<std::uint64_t> EncodeSmoothSilhouette(std::uint32_t mesh_index, const Mes
         bytes += kCapTriangleWireBytes;
     }
     return bytes;
+}
+
+SilhouetteMarks MarksOf(const v1::SilhouettesResponse& response) {
+    return {response.edges_size(), response.facings_size(), response.loops_size(),
+            response.smooth_caps_size()};
+}
+
+namespace {
+
+Vec3 Decode(const v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+// Lixel's vertex order (paper 001 Eq. 1): by x, then y, then z.
+bool Before(const Vec3& a, const Vec3& b) {
+    if (a.x() != b.x()) return a.x() < b.x();
+    if (a.y() != b.y()) return a.y() < b.y();
+    return a.z() < b.z();
+}
+
+}  // namespace
+
+void PlaceSilhouettes(const SilhouetteMarks& from, std::uint32_t instance, const Mat4& m,
+                      v1::SilhouettesResponse* response) {
+    const bool in_place = m == Mat4::Identity();
+    const bool mirrored = Mirrors(m);
+    const Mat3 linear = m.topLeftCorner<3, 3>();
+    const Mat3 normals = linear.inverse().transpose();
+    const auto place = [&](v1::Vec3* v) {
+        EncodeVec3(linear * Decode(*v) + m.topRightCorner<3, 1>(), v);
+    };
+    for (int i = from.edges; i < response->edges_size(); ++i) {
+        v1::SilhouetteEdge* e = response->mutable_edges(i);
+        e->set_instance(instance);
+        if (in_place) continue;
+        place(e->mutable_a());
+        place(e->mutable_b());
+        // A mirror turns which winding faces the light, so the sides run the other way.
+        int multiplicity = mirrored ? -e->multiplicity() : e->multiplicity();
+        if (Before(Decode(e->b()), Decode(e->a()))) {
+            e->mutable_a()->Swap(e->mutable_b());
+            multiplicity = -multiplicity;
+        }
+        e->set_multiplicity(multiplicity);
+    }
+    for (int i = from.facings; i < response->facings_size(); ++i) {
+        v1::MeshFacings* f = response->mutable_facings(i);
+        f->set_instance(instance);
+        if (!mirrored) continue;
+        for (char& c : *f->mutable_facing()) c = static_cast<char>(-static_cast<std::int8_t>(c));
+    }
+    for (int i = from.loops; i < response->loops_size(); ++i) {
+        v1::SilhouetteLoop* loop = response->mutable_loops(i);
+        loop->set_instance(instance);
+        if (in_place) continue;
+        for (v1::SilhouettePoint& p : *loop->mutable_points()) {
+            place(p.mutable_position());
+            place(p.mutable_base());
+            EncodeVec3((normals * Decode(p.normal())).normalized(), p.mutable_normal());
+        }
+        if (!mirrored) continue;
+        // Reversed, segment j of the new loop is segment n - 2 - j of the old one, run
+        // backwards (mod n when the loop is closed); a crease flag marks its point's segment.
+        auto& points = *loop->mutable_points();
+        const int n = points.size();
+        std::vector<bool> corner(static_cast<std::size_t>(n));
+        for (int k = 0; k < n; ++k) corner[static_cast<std::size_t>(k)] = points[k].corner();
+        std::reverse(points.begin(), points.end());
+        for (int j = 0; j < n; ++j) {
+            const int old = n - 2 - j;
+            const bool has_segment = loop->closed() || old >= 0;
+            points[j].set_corner(has_segment && corner[static_cast<std::size_t>((old + n) % n)]);
+        }
+    }
+    for (int i = from.caps; i < response->smooth_caps_size(); ++i) {
+        v1::SmoothCap* cap = response->mutable_smooth_caps(i);
+        cap->set_instance(instance);
+        if (in_place) continue;
+        auto& t = *cap->mutable_triangles();
+        for (int k = 0; k + 8 < t.size(); k += 9) {
+            for (int c = 0; c < 3; ++c) {
+                const Vec3 p = linear * Vec3(t[k + 3 * c], t[k + 3 * c + 1], t[k + 3 * c + 2]) +
+                               m.topRightCorner<3, 1>();
+                for (int j = 0; j < 3; ++j) t[k + 3 * c + j] = p[j];
+            }
+            if (!mirrored) continue;
+            for (int j = 0; j < 3; ++j) std::swap(t[k + 3 + j], t[k + 6 + j]);
+        }
+    }
 }
 
 }  // namespace lixel::service

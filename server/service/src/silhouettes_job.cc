@@ -1,11 +1,15 @@
 // Silhouettes: a scene's silhouette edges for a light, with their multiplicities.
-#include "job_common.h"
-
 #include <lixel/service/silhouette_encoding.h>
 #include <lixel/volumes/edge_adjacency.h>
 #include <lixel/volumes/multiplicity.h>
 #include <lixel/volumes/scene_volume.h>
 #include <lixel/volumes/smooth_silhouette.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "job_common.h"
 
 namespace lixel::service {
 
@@ -37,15 +41,43 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
     auto adjacency = scene->adjacency->Get(scene->scene.meshes);
     if (!adjacency) return InvalidArgument(Error{"scene." + adjacency.error().field,
                                                  adjacency.error().reason});
+    // The meshes as placed: the request's instances, or each mesh once, in place.
+    std::vector<MeshInstance> placed;
+    if (request.instances_size() > 0) {
+        const std::uint64_t limit = PlanObjectLimit(state.options);
+        if (static_cast<std::uint64_t>(request.instances_size()) > limit) {
+            return Exhausted(
+                "instances: " + std::to_string(request.instances_size()) +
+                " instances, over the limit max_plan_objects = " + std::to_string(limit));
+        }
+        auto decoded = DecodeInstances(request.instances(), *scene, "instances");
+        if (!decoded) return InvalidArgument(decoded.error());
+        placed = std::move(decoded).value();
+    } else {
+        placed = IdentityInstances(scene->scene.meshes.size());
+    }
     std::uint64_t bytes = 0;
-    for (std::size_t i = 0; i < scene->scene.meshes.size(); ++i) {
+    for (std::size_t k = 0; k < placed.size(); ++k) {
+        const MeshInstance& instance = placed[k];
+        if (!instance.casts) continue;
+        const std::size_t i = instance.mesh;
         const Mesh& mesh = scene->scene.meshes[i];
         const auto index = static_cast<std::uint32_t>(i);
         const volumes::EdgeAdjacency& edges = (**adjacency)[i];
         if (cancelled && cancelled()) return CancelledStatus();  // between meshes
+        // Each mesh's geometry on its own coordinates, against the light carried there.
+        const Mat4& m = instance.object_to_world;
+        const bool in_place = m == Mat4::Identity();
+        const Vec4 object_light = in_place ? light : ObjectSpaceLight(m, light);
+        const SilhouetteMarks marks = MarksOf(*response);
         // The meshes FILTER_SMOOTH_VOLUMES draws smooth (scene_volume.h), and only those.
         if (request.smooth() && volumes::IsSmoothCaster(mesh)) {
-            auto added = EncodeSmoothSilhouette(index, mesh, edges, light, *smooth,
+            volumes::SmoothOptions object_options = *smooth;
+            if (!in_place) {
+                object_options.epsilon /= LargestStretch(m);
+                object_options.normal_offset /= LargestStretch(m);
+            }
+            auto added = EncodeSmoothSilhouette(index, mesh, edges, object_light, object_options,
                                                 request.caps(), response);
             if (!added) {
                 return InvalidArgument(Error{"scene.meshes[" + std::to_string(i) + "]." +
@@ -54,8 +86,10 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
             }
             bytes += *added;
         } else {
-            bytes += EncodeRobustSilhouette(index, mesh, edges, light, request.caps(), response);
+            bytes +=
+                EncodeRobustSilhouette(index, mesh, edges, object_light, request.caps(), response);
         }
+        PlaceSilhouettes(marks, static_cast<std::uint32_t>(k), m, response);
         if (bytes > state.options.max_response_bytes) {
             return Exhausted("silhouettes: over the " +
                              std::to_string(state.options.max_response_bytes) +

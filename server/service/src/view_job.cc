@@ -279,7 +279,8 @@ void AddMaskTimes(const MaskJob& job, const MaskTimes& mask_times,
 }  // namespace
 
 grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
-                     const CancelCheck& cancelled, v1::ViewResponse* response) {
+                     const CancelCheck& cancelled, v1::ViewResponse* response,
+                     v1::PlanResponse* scheduled) {
     response->set_instance(state.options.instance);
     std::shared_ptr<const SceneRecord> scene;
     if (auto s = FindScene(state, request.plan(), true, "plan", &scene); !s.ok()) return s;
@@ -292,13 +293,6 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     std::vector<MeshInstance> instances;
     auto decoded = DecodePlanRequest(plan_message, scene.get(), "plan", &instances);
     if (!decoded) return InvalidArgument(decoded.error());
-    if (volumes && !instances.empty()) {
-        // The volumes' edge patches, caps and smooth silhouettes are built over the uploaded
-        // positions, with no per-instance light yet.
-        return InvalidArgument(Error{"plan.instances",
-                                     "the volumes filters draw the scene as "
-                                     "uploaded and take no instances"});
-    }
     // The view pass reads every map from one atlas, each inside a border (view_pass.h).
     decoded->max_texture_size =
         std::min(decoded->max_texture_size, kMaxImageSide - 2 * render::kAtlasBorder);
@@ -326,6 +320,10 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         return s;
     }
     times.emplace_back("plan", Since(start));
+    if (scheduled != nullptr) {
+        EncodePlan(*plan, scheduled);
+        scheduled->set_instance(state.options.instance);
+    }
     const std::uint64_t bytes = ViewBytes(job, pixels);
     if (bytes > state.options.memory_cap_bytes) {
         return Exhausted("plan: its maps and mask need " + std::to_string(bytes) +
@@ -338,10 +336,10 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     MaskTimes mask_times;
     render::Rgb8Image preview;
     render::Rgb8Image* const want_preview = request.preview() ? &preview : nullptr;
-    auto mask = volumes ? RenderVolumeMask(worker, plan_message.scene_id(), *scene, **gpu_scene,
-                                           job, &mask_times, want_preview)
-                        : RenderMask(worker, **gpu_scene, job, cancelled, &mask_times,
-                                     want_preview);
+    auto mask = volumes
+                    ? RenderVolumeMask(worker, plan_message.scene_id(), *scene, **gpu_scene,
+                                       instances, job, &mask_times, want_preview)
+                    : RenderMask(worker, **gpu_scene, job, cancelled, &mask_times, want_preview);
     if (!mask) {
         if (cancelled()) return CancelledStatus();
         // The maps together larger than the view pass takes (more than it holds, or more than

@@ -25,8 +25,10 @@ struct SessionFrame {
     // The frame's status: OK with its maps, or the server's refusal of this frame (the code's
     // name as Error's field, as StatusError gives it), after which the session goes on.
     std::optional<Error> refused;
+    // Its maps; for a session opened with a view (SessionOpen.view), one PASS_MASK image, the
+    // frame's view mask (float32 lit fraction per pixel, -1 where no surface).
     RenderedMaps maps;
-    v1::FrameDone done;  // its stage times
+    v1::FrameDone done;  // its stage times; with a view, done.view holds the rest of View's answer
 };
 
 class Session {

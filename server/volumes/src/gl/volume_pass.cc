@@ -3,6 +3,7 @@
 // writes on, texture unit 0 unbound) after each call.
 #include <lixel/render/map_transform.h>
 #include <lixel/solver/camera.h>
+#include <lixel/solver/mesh_instance.h>
 #include <lixel/volumes/gl/volume_pass.h>
 #include <lixel/volumes/gl/volume_shaders.h>
 #include <lixel/volumes/multiplicity.h>
@@ -93,8 +94,7 @@ Result<VolumePass> VolumePass::Create(render::GlContext& context) {
     return pass;
 }
 
-void VolumePass::DrawPatches(const VolumeScene& volumes, std::span<const CountingMode> modes,
-                             std::optional<CountingMode> mode) {
+void VolumePass::DrawPatches(const VolumeScene& volumes, std::optional<std::uint32_t> mesh) {
     const render::GlApi& gl = context_->gl();
     const GLuint p = sides_.id();
     gl.BindVertexArray(volumes.patches());
@@ -103,7 +103,7 @@ void VolumePass::DrawPatches(const VolumeScene& volumes, std::span<const Countin
         const auto per_patch = static_cast<std::size_t>(group.vertices);
         const std::size_t group_index = first_index;
         first_index += group.patches * per_patch;
-        if (mode && modes[group.mesh] != *mode) continue;
+        if (mesh && group.mesh != *mesh) continue;
         const std::size_t chunk =
             patch_indices_per_draw_ == 0
                 ? group.patches
@@ -121,16 +121,35 @@ void VolumePass::DrawPatches(const VolumeScene& volumes, std::span<const Countin
     }
 }
 
+std::vector<VolumePass::CasterDraw> VolumePass::Casters(const render::GpuScene& surfaces,
+                                                        const Vec4& light_world) {
+    const Vec4 light = render::RelativePoint(light_world, surfaces.origin());
+    std::vector<CasterDraw> casters;
+    for (const render::GpuDraw& draw : surfaces.draws()) {
+        if (!draw.casts) continue;
+        CasterDraw caster;
+        caster.mesh = draw.range;
+        caster.model = draw.model;
+        caster.mirrored = draw.mirrored;
+        // The light carried back through the float matrix the GPU places the points with, so
+        // facing and extrusion are decided on exactly the geometry drawn; the identity (a mesh
+        // in place) carries it exactly.
+        caster.light = ObjectSpaceLight(draw.model.cast<double>(), light).cast<float>();
+        casters.push_back(caster);
+    }
+    return casters;
+}
+
 void VolumePass::DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
-                             std::span<const CountingMode> modes, CountingMode mode,
-                             const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
-                             VolumeRenderInfo& info) {
+                             std::span<const CasterDraw> casters, CountingMode mode, float front,
+                             const Eigen::Matrix4f& viewer, VolumeRenderInfo& info) {
     const render::GlApi& gl = context_->gl();
     const bool caps = mode == CountingMode::kZFail;
     if (volume != nullptr) {
-        if (modes.empty() || modes[0] != mode) return;
+        if (info.modes.empty() || info.modes[0] != mode) return;
         const GLuint p = mesh_.id();
         gl.UseProgram(p);
+        gl.ProgramUniform1f(p, mesh_.Uniform("u_front"), front);
         gl.ProgramUniformMatrix4fv(p, mesh_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
         gl.BindVertexArray(volume->vertex_array());
         gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(volume->side_indices()), GL_UNSIGNED_INT,
@@ -146,31 +165,39 @@ void VolumePass::DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* vo
         }
         return;
     }
-    GLuint p = sides_.id();
-    gl.UseProgram(p);
-    gl.ProgramUniformMatrix4fv(p, sides_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
-    gl.ProgramUniform4fv(p, sides_.Uniform("u_light"), 1, light.data());
-    gl.ProgramUniform1i(p, sides_.Uniform("u_record"), 0);
-    DrawPatches(volumes, modes, mode);
-    for (const PatchGroup& group : volumes.patch_groups()) {
-        if (modes[group.mesh] == mode) info.patches += group.patches;
-    }
-    if (!caps) return;
-    p = caps_.id();
-    gl.UseProgram(p);
-    gl.ProgramUniformMatrix4fv(p, caps_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
-    gl.ProgramUniform4fv(p, caps_.Uniform("u_light"), 1, light.data());
-    gl.Enable(GL_POLYGON_OFFSET_FILL);
-    api_.PolygonOffset(kCapOffsetFactor, kCapOffsetUnits);
-    gl.BindVertexArray(volumes.caps());
-    for (std::size_t m = 0; m < volumes.cap_ranges().size(); ++m) {
-        const CapRange& range = volumes.cap_ranges()[m];
-        if (modes[m] != mode || range.triangles == 0) continue;
+    const GLuint sp = sides_.id();
+    const GLuint cp = caps_.id();
+    gl.ProgramUniformMatrix4fv(sp, sides_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
+    gl.ProgramUniform1i(sp, sides_.Uniform("u_record"), 0);
+    gl.ProgramUniformMatrix4fv(cp, caps_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
+    for (std::size_t c = 0; c < casters.size(); ++c) {
+        if (info.modes[c] != mode) continue;
+        const CasterDraw& caster = casters[c];
+        // A mirror turns every face's screen winding, so each face's contribution turns too.
+        const float sign = caster.mirrored ? -front : front;
+        for (const render::Program* program : {&sides_, &caps_}) {
+            const GLuint id = program->id();
+            gl.ProgramUniform1f(id, program->Uniform("u_front"), sign);
+            gl.ProgramUniformMatrix4fv(id, program->Uniform("u_model"), 1, GL_FALSE,
+                                       caster.model.data());
+            gl.ProgramUniform4fv(id, program->Uniform("u_light"), 1, caster.light.data());
+        }
+        gl.UseProgram(sp);
+        DrawPatches(volumes, caster.mesh);
+        for (const PatchGroup& group : volumes.patch_groups()) {
+            if (group.mesh == caster.mesh) info.patches += group.patches;
+        }
+        const CapRange& range = volumes.cap_ranges()[caster.mesh];
+        if (!caps || range.triangles == 0) continue;
+        gl.UseProgram(cp);
+        gl.Enable(GL_POLYGON_OFFSET_FILL);
+        api_.PolygonOffset(kCapOffsetFactor, kCapOffsetUnits);
+        gl.BindVertexArray(volumes.caps());
         gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * range.triangles), GL_UNSIGNED_INT,
                         reinterpret_cast<const void*>(3 * range.first_triangle * sizeof(GLuint)));
+        gl.Disable(GL_POLYGON_OFFSET_FILL);
         info.cap_triangles += range.triangles;
     }
-    gl.Disable(GL_POLYGON_OFFSET_FILL);
 }
 
 Result<VolumeRenderInfo> VolumePass::Render(const render::GpuScene& surfaces,
@@ -193,13 +220,26 @@ bool UsesMode(const VolumeRenderInfo& info, CountingMode mode) {
     return std::find(info.modes.begin(), info.modes.end(), mode) != info.modes.end();
 }
 
+// A draw's object -> world matrix in world coordinates (its model matrix is relative to the
+// origin on both sides): T(o) model T(-o), in double.
+Mat4 WorldMatrix(const render::GpuDraw& draw, const Vec3& origin) {
+    Mat4 m = draw.model.cast<double>();
+    m.topRightCorner<3, 1>() += origin - m.topLeftCorner<3, 3>() * origin;
+    return m;
+}
+
 // Which counting, per caster: z-pass only for casters that cannot reach the eye or the near
-// rectangle (counting_mode.h). A CPU-built volume is one caster, its occluders the scene's meshes
-// and its own finite triangles.
-Result<bool> ChooseModes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
+// rectangle (counting_mode.h). A posed draw is tested on its mesh's own coordinates against the
+// light and the viewer carried there (the hull's incidences are affine invariants). A CPU-built
+// volume is one caster, its occluders the posed meshes and its own finite triangles.
+Result<bool> ChooseModes(const render::GpuScene& surfaces, const VolumeScene& volumes,
+                         const GpuVolumeMesh* volume, std::size_t casters,
                          const VolumeRequest& request, VolumeRenderInfo& info) {
-    const std::size_t casters = volume != nullptr ? 1 : volumes.adjacency().size();
-    if (request.counting == CountingChoice::kAuto) {
+    const std::size_t count = volume != nullptr ? 1 : casters;
+    if (request.counting != CountingChoice::kAuto) {
+        info.modes.assign(count, request.counting == CountingChoice::kZPass ? CountingMode::kZPass
+                                                                            : CountingMode::kZFail);
+    } else if (!surfaces.posed()) {
         std::vector<const EdgeAdjacency*> meshes;
         for (const EdgeAdjacency& a : volumes.adjacency()) meshes.push_back(&a);
         if (volume == nullptr) {
@@ -209,16 +249,28 @@ Result<bool> ChooseModes(const VolumeScene& volumes, const GpuVolumeMesh* volume
         } else {
             auto mode = ChooseCountingMode(meshes, request.light, request.viewer);
             if (!mode) return mode.error();
-            if (*mode == CountingMode::kZPass) {
-                mode = ChooseCountingMode(volume->source(), request.light, request.viewer);
-                if (!mode) return mode.error();
-            }
             info.modes = {*mode};
         }
     } else {
-        info.modes.assign(casters, request.counting == CountingChoice::kZPass
-                                       ? CountingMode::kZPass
-                                       : CountingMode::kZFail);
+        for (const render::GpuDraw& draw : surfaces.draws()) {
+            if (!draw.casts) continue;
+            const Mat4 m = WorldMatrix(draw, surfaces.origin());
+            const EdgeAdjacency* mesh = &volumes.adjacency()[draw.range];
+            auto mode = ChooseCountingMode(std::span<const EdgeAdjacency* const>(&mesh, 1),
+                                           ObjectSpaceLight(m, request.light), request.viewer * m);
+            if (!mode) return mode.error();
+            info.modes.push_back(*mode);
+        }
+        if (volume != nullptr) {
+            info.modes = {UsesMode(info, CountingMode::kZFail) ? CountingMode::kZFail
+                                                               : CountingMode::kZPass};
+        }
+    }
+    if (volume != nullptr && request.counting == CountingChoice::kAuto &&
+        info.modes[0] == CountingMode::kZPass) {
+        auto mode = ChooseCountingMode(volume->source(), request.light, request.viewer);
+        if (!mode) return mode.error();
+        info.modes = {*mode};
     }
     info.mode = UsesMode(info, CountingMode::kZFail) ? CountingMode::kZFail : CountingMode::kZPass;
     if (volume != nullptr && info.mode == CountingMode::kZFail && volume->cap_indices() == 0 &&
@@ -280,9 +332,14 @@ Result<bool> VolumePass::AttachTargets(const Viewport& size, render::ViewImages&
 
 void VolumePass::DrawSurfaces(const render::GpuScene& surfaces) {
     const render::GlApi& gl = context_->gl();
-    gl.UseProgram(surface_.id());
+    const GLuint p = surface_.id();
+    gl.UseProgram(p);
     gl.BindVertexArray(surfaces.triangles());
-    for (const render::GpuMeshRange& range : surfaces.ranges()) {
+    for (const render::GpuDraw& draw : surfaces.draws()) {
+        const render::GpuMeshRange& range = surfaces.ranges()[draw.range];
+        gl.ProgramUniformMatrix4fv(p, surface_.Uniform("u_model"), 1, GL_FALSE, draw.model.data());
+        gl.ProgramUniform1i(p, surface_.Uniform("u_receives"), draw.receives ? 1 : 0);
+        gl.ProgramUniform1i(p, surface_.Uniform("u_casts"), draw.casts ? 1 : 0);
         gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.index_count), GL_UNSIGNED_INT,
                         reinterpret_cast<const void*>(range.first_index * sizeof(GLuint)));
     }
@@ -296,7 +353,7 @@ void VolumePass::DrawSurfaces(const render::GpuScene& surfaces) {
 // keeps the dark caps and the sides' far ends, at infinity, from being clipped. Each caster's
 // count is exact for its own volumes, so the sum is too.
 void VolumePass::CountVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
-                              const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
+                              std::span<const CasterDraw> casters, const Eigen::Matrix4f& viewer,
                               VolumeRenderInfo& info) {
     const render::GlApi& gl = context_->gl();
     gl.BindFramebuffer(GL_FRAMEBUFFER, count_framebuffer_.id());
@@ -310,16 +367,13 @@ void VolumePass::CountVolumes(const VolumeScene& volumes, const GpuVolumeMesh* v
         if (!UsesMode(info, mode)) continue;
         const bool zfail = mode == CountingMode::kZFail;
         const float sign = zfail ? -1.0f : 1.0f;  // added by front faces; back faces add -sign
-        for (const render::Program* program : {&sides_, &caps_, &mesh_}) {
-            gl.ProgramUniform1f(program->id(), program->Uniform("u_front"), sign);
-        }
         if (zfail) {
             gl.Enable(GL_DEPTH_CLAMP);
         } else {
             gl.Disable(GL_DEPTH_CLAMP);
         }
         gl.DepthFunc(zfail ? GL_GEQUAL : GL_LESS);
-        DrawVolumes(volumes, volume, info.modes, mode, viewer, light, info);
+        DrawVolumes(volumes, volume, casters, mode, sign, viewer, info);
     }
     gl.Disable(GL_DEPTH_CLAMP);
     gl.Disable(GL_BLEND);
@@ -327,7 +381,7 @@ void VolumePass::CountVolumes(const VolumeScene& volumes, const GpuVolumeMesh* v
 
 // Overdraw: every volume fragment, depth test off, nothing written.
 void VolumePass::MeasureOverdraw(const VolumeScene& volumes, const GpuVolumeMesh* volume,
-                                 const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
+                                 std::span<const CasterDraw> casters, const Eigen::Matrix4f& viewer,
                                  const Viewport& size, VolumeRenderInfo& info) {
     const render::GlApi& gl = context_->gl();
     gl.Disable(GL_DEPTH_TEST);
@@ -337,9 +391,10 @@ void VolumePass::MeasureOverdraw(const VolumeScene& volumes, const GpuVolumeMesh
     api_.CreateQueries(GL_SAMPLES_PASSED, 1, &query);
     api_.BeginQuery(GL_SAMPLES_PASSED, query);
     VolumeRenderInfo ignored;
+    ignored.modes = info.modes;
     for (const CountingMode mode : {CountingMode::kZPass, CountingMode::kZFail}) {
         if (UsesMode(info, mode)) {
-            DrawVolumes(volumes, volume, info.modes, mode, viewer, light, ignored);
+            DrawVolumes(volumes, volume, casters, mode, 1.0f, viewer, ignored);
         }
     }
     api_.EndQuery(GL_SAMPLES_PASSED);
@@ -362,7 +417,10 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
         return Error{"origin", "surfaces and volumes were uploaded with different origins"};
     }
     VolumeRenderInfo info;
-    if (auto ok = ChooseModes(volumes, volume, request, info); !ok) return ok.error();
+    const std::vector<CasterDraw> casters = Casters(surfaces, *NormalizeLight(request.light));
+    if (auto ok = ChooseModes(surfaces, volumes, volume, casters.size(), request, info); !ok) {
+        return ok.error();
+    }
     const render::GlApi& gl = context_->gl();
     const Viewport& size = request.viewport;
     if (auto ok = AttachTargets(size, target); !ok) return ok.error();
@@ -377,6 +435,10 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     const GLuint sp = surface_.id();
     gl.ProgramUniformMatrix4fv(sp, surface_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
     gl.ProgramUniform4fv(sp, surface_.Uniform("u_light"), 1, light.data());
+    auto eye = EyePoint(request.viewer);
+    if (!eye) return eye.error();
+    const Eigen::Vector4f eye_relative = render::RelativePoint(*eye, origin).cast<float>();
+    gl.ProgramUniform4fv(sp, surface_.Uniform("u_eye"), 1, eye_relative.data());
     gl.ProgramUniform1f(sp, surface_.Uniform("u_lit"), 0.0f);
     gl.ProgramUniform1i(sp, surface_.Uniform("u_count"), kCountUnit);
     gl.Enable(GL_DEPTH_TEST);
@@ -388,7 +450,7 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     DrawSurfaces(surfaces);
 
     // 2. The volumes' count per pixel.
-    CountVolumes(volumes, volume, viewer, light, info);
+    CountVolumes(volumes, volume, casters, viewer, info);
 
     // 3. Lit where the count is zero: the same surfaces, same depth (invariant), mask 1.
     gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
@@ -399,7 +461,7 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     DrawSurfaces(surfaces);
     gl.BindTextureUnit(kCountUnit, 0);
 
-    if (request.measure_overdraw) MeasureOverdraw(volumes, volume, viewer, light, size, info);
+    if (request.measure_overdraw) MeasureOverdraw(volumes, volume, casters, viewer, size, info);
 
     gl.Disable(GL_STENCIL_TEST);
     gl.Enable(GL_DEPTH_TEST);
@@ -433,11 +495,12 @@ Result<std::vector<int>> VolumePass::PatchMultiplicities(const VolumeScene& volu
     const GLuint p = sides_.id();
     gl.UseProgram(p);
     gl.ProgramUniformMatrix4fv(p, sides_.Uniform("u_viewer"), 1, GL_FALSE, identity.data());
+    gl.ProgramUniformMatrix4fv(p, sides_.Uniform("u_model"), 1, GL_FALSE, identity.data());
     gl.ProgramUniform4fv(p, sides_.Uniform("u_light"), 1, relative.data());
     gl.ProgramUniform1i(p, sides_.Uniform("u_record"), 1);
     gl.BindFramebuffer(GL_FRAMEBUFFER, discard_framebuffer_.id());
     gl.Enable(GL_RASTERIZER_DISCARD);
-    DrawPatches(volumes, {}, std::nullopt);
+    DrawPatches(volumes, std::nullopt);
     gl.Disable(GL_RASTERIZER_DISCARD);
     gl.ProgramUniform1i(p, sides_.Uniform("u_record"), 0);
     gl.BindVertexArray(0);

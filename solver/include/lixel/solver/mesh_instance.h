@@ -58,4 +58,16 @@ Mat4 RelativeObjectToWorld(const Mat4& m, const Vec3& origin);
 // Whether `m` turns orientation (det < 0), so counter-clockwise faces become clockwise.
 bool Mirrors(const Mat4& m);
 
+// The light `(x, y, z, w)` in the instance's object space: m^-1 l, in double. An affine m keeps
+// w, so a point light stays a point (w = 1) and a direction a direction (w = 0), and every
+// orientation test of the mesh against it keeps its sign up to det m's (paper 001's predicate
+// det[B - A; C - A; l_xyz - l_w A] scales by det A): what silhouettes of a placed mesh are
+// computed with, on the mesh's own coordinates.
+Vec4 ObjectSpaceLight(const Mat4& m, const Vec4& light);
+
+// The largest factor by which `m` stretches a length (its linear part's largest singular
+// value): a world-space tolerance divided by it bounds the object-space one from below, so a
+// distance kept under it in object space stays under the tolerance in the world.
+double LargestStretch(const Mat4& m);
+
 }  // namespace lixel

@@ -134,10 +134,12 @@ Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene&
                                       MaskTimes* times, render::Rgb8Image* preview = nullptr);
 
 // The exact mask of silhouette shadow volumes (paper 001) for the scene uploaded as `id`.
+// `scene` is posed as `instances` place its meshes (empty: each once, in place).
 Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string& id,
                                             const SceneRecord& record,
-                                            const render::GpuScene& scene, const MaskJob& job,
-                                            MaskTimes* times,
+                                            const render::GpuScene& scene,
+                                            std::span<const MeshInstance> instances,
+                                            const MaskJob& job, MaskTimes* times,
                                             render::Rgb8Image* preview = nullptr);
 
 // The report's cost baselines (lixel::eval cost.h) for `job`'s view, on this worker's context,

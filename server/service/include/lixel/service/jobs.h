@@ -69,6 +69,7 @@ struct RenderReport {
     double plan_seconds = 0.0;
     double passes_seconds = 0.0;  // the map passes and read-back, coding excluded
     double encode_seconds = 0.0;
+    v1::ViewResponse view;  // ViewFrameJob: View's answer but its mask and plan
 };
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
                        const CancelCheck& cancelled,
@@ -78,8 +79,20 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
                        const CancelCheck& cancelled, std::vector<v1::RenderChunk>* stream);
 
+// With `scheduled`, the scheduler's plan for the request (the maps a plane-optimal view draws,
+// whatever method drew this one): what a session's next frame is coherent with.
 grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
-                     const CancelCheck& cancelled, v1::ViewResponse* response);
+                     const CancelCheck& cancelled, v1::ViewResponse* response,
+                     v1::PlanResponse* scheduled = nullptr);
+
+// A session frame of a session opened with a view (SessionOpen.view): ViewJob's answer, its mask
+// streamed into `feed` as Render streams a map (a header naming the maps the method drew and one
+// PASS_MASK image, then the mask's chunks, raw or coded losslessly by `encoding`), the rest of
+// the answer in report->view. `reserve` and the stall are as RenderJob's.
+grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
+                          const v1::MapEncoding& encoding, const CancelCheck& cancelled,
+                          const std::function<grpc::Status(std::uint64_t)>& reserve,
+                          RenderFeed& feed, RenderReport* report);
 
 grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& request,
                             v1::SilhouettesResponse* response, const CancelCheck& cancelled = {});

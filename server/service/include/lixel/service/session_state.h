@@ -23,10 +23,15 @@ class SessionState {
     bool opened() const noexcept { return opened_; }
     std::uint32_t max_frames_ahead() const noexcept { return max_frames_ahead_; }
     const std::string& scene_id() const noexcept { return base_.scene_id(); }
+    // The open's view (SessionOpen.view): frames are answered with masks; unset, with maps.
+    const std::optional<v1::ViewRequest>& view() const noexcept { return view_; }
+    // A frame's View request: the open's view with the frame's plan (Frame's, after Started).
+    v1::ViewRequest ViewOf(const v1::RenderRequest& frame) const;
 
     // The first message's settings: INVALID_ARGUMENT naming open.* when scene_id is empty,
-    // max_frames_ahead is past kMaxFramesAhead or the encoding is not one Render takes; a
-    // second open is refused ("open: ...") and changes nothing.
+    // max_frames_ahead is past kMaxFramesAhead, the encoding is not one Render takes, or the
+    // view sets its own plan or an unknown method or filter; a second open is refused
+    // ("open: ...") and changes nothing.
     grpc::Status Open(const v1::SessionOpen& open);
 
     // A frame's Render request: the open's settings with the frame's camera, light and
@@ -52,6 +57,7 @@ class SessionState {
     bool opened_ = false;
     v1::PlanRequest base_;  // the open's plan, with every merged frame's camera, light, instances
     v1::MapEncoding encoding_;
+    std::optional<v1::ViewRequest> view_;
     std::uint32_t max_frames_ahead_ = kDefaultFramesAhead;
     std::optional<std::uint64_t> last_number_;
     std::optional<v1::PlanResponse> served_plan_;

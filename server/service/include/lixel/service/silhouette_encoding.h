@@ -5,6 +5,7 @@
 #pragma once
 
 #include <lixel/solver/mesh.h>
+#include <lixel/solver/mesh_instance.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/types.h>
 #include <lixel/v1/lixel.pb.h>
@@ -34,5 +35,23 @@ Result<std::uint64_t> EncodeSmoothSilhouette(std::uint32_t mesh_index, const Mes
                                              const Vec4& light,
                                              const volumes::SmoothOptions& options, bool caps,
                                              v1::SilhouettesResponse* response);
+
+// How many of each answer a response holds: the start of what the next instance adds.
+struct SilhouetteMarks {
+    int edges = 0;
+    int facings = 0;
+    int loops = 0;
+    int caps = 0;
+};
+SilhouetteMarks MarksOf(const v1::SilhouettesResponse& response);
+
+// Tags everything added since `from` with `instance` and, unless the matrix is the identity
+// (a mesh in place, left exactly as encoded), carries it from the instance's object space into
+// the world by `m` (mesh_instance.h): points by m, normals by m's inverse transpose (unit), and
+// for a mirroring m the conventions turned back: multiplicities and facings negated, loops
+// reversed (their crease flags moved to the reversed segments), cap triangles rewound. An
+// edge's ends are reordered so a < b holds on the world coordinates, its sign with them.
+void PlaceSilhouettes(const SilhouetteMarks& from, std::uint32_t instance, const Mat4& m,
+                      v1::SilhouettesResponse* response);
 
 }  // namespace lixel::service

@@ -1,10 +1,11 @@
 // The last smooth-silhouette volume (paper 002) a scene was asked for, kept on the CPU: the
-// frames of an engine whose light holds still reuse it and pay only its upload and the stencil
-// pass, and a changed light or setting builds it again. One entry per scene, so the memory is at
-// most one volume of that scene (about the size of its lit caps and loops).
+// frames of an engine whose light and instances hold still reuse it and pay only its upload and
+// the stencil pass, and a changed light, pose or setting builds it again. One entry per scene, so
+// the memory is at most one volume of that scene (about the size of its lit caps and loops).
 #pragma once
 
 #include <lixel/solver/mesh.h>
+#include <lixel/solver/mesh_instance.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/types.h>
 #include <lixel/volumes/edge_adjacency.h>
@@ -26,15 +27,18 @@ class SmoothVolumeCache {
         double build_seconds = 0.0;  // the CPU extrusion, when built
     };
 
-    // ExtrudeSceneVolume(meshes, adjacency, light, options, ...) with Caps closed, or the one
-    // built last for the same light and options (compared exactly). Errors are its own.
+    // ExtrudeSceneVolume(meshes, adjacency, instances, light, options, ...) with Caps closed
+    // (instances empty: each mesh once, in place), or the one built last for the same
+    // instances, light and options (compared exactly). Errors are its own.
     Result<Lookup> Get(std::span<const Mesh> meshes,
-                       std::span<const volumes::EdgeAdjacency> adjacency, const Vec4& light,
+                       std::span<const volumes::EdgeAdjacency> adjacency,
+                       std::span<const MeshInstance> instances, const Vec4& light,
                        const volumes::SmoothOptions& options) const;
 
   private:
     mutable std::mutex mutex_;
     mutable Vec4 light_ = Vec4::Zero();
+    mutable std::vector<MeshInstance> instances_;
     mutable volumes::SmoothOptions options_;
     mutable std::shared_ptr<const volumes::VolumeMesh> volume_;
 };

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <lixel/solver/mesh.h>
+#include <lixel/solver/mesh_instance.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/types.h>
 #include <lixel/volumes/edge_adjacency.h>
@@ -33,5 +34,24 @@ Result<VolumeMesh> ExtrudeSceneVolume(std::span<const Mesh> meshes,
                                       std::span<const EdgeAdjacency> adjacency, const Vec4& light,
                                       const SmoothOptions& options,
                                       SceneVolumeInfo* info = nullptr);
+
+// The same for placed meshes (mesh_instance.h): each instance that casts adds its mesh's volume,
+// built on the mesh's own coordinates against ObjectSpaceLight (the smooth tolerances divided
+// by LargestStretch, so epsilon and the normal offset hold as world distances at most) and
+// carried into the world by PlaceVolume. Every orientation test is the world one up to the
+// mirror's sign, which PlaceVolume turns back, so a rigid instance's volume is the volume of its
+// mesh moved there. Instance meshes index `meshes` (checked by the caller); errors name
+// "meshes[i]" of the instance's mesh.
+Result<VolumeMesh> ExtrudeSceneVolume(std::span<const Mesh> meshes,
+                                      std::span<const EdgeAdjacency> adjacency,
+                                      std::span<const MeshInstance> instances, const Vec4& light,
+                                      const SmoothOptions& options,
+                                      SceneVolumeInfo* info = nullptr);
+
+// `volume`, built in an instance's object space, carried into the world by the affine `m`:
+// every point p to m p (a point at infinity, w = 0, by the linear part alone, staying at
+// infinity), and, when m mirrors, every triangle's winding turned, so each light cap still
+// faces the light and each volume is still entered through a front face.
+void PlaceVolume(VolumeMesh& volume, const Mat4& m);
 
 }  // namespace lixel::volumes

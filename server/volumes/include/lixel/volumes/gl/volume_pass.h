@@ -41,7 +41,8 @@ struct VolumeRequest {
 struct VolumeRenderInfo {
     // kZFail when any caster was counted z-fail, kZPass when all were z-pass.
     CountingMode mode = CountingMode::kZFail;
-    // Per caster: each mesh of the VolumeScene, or the one GpuVolumeMesh.
+    // Per caster: each casting draw of the surfaces' pose (each mesh of the VolumeScene, in
+    // order, when the scene is not posed), or the one GpuVolumeMesh.
     std::vector<CountingMode> modes;
     std::size_t patches = 0;             // edge patches drawn (robust silhouettes)
     std::size_t cap_triangles = 0;       // triangles drawn for caps (z-fail)
@@ -56,14 +57,19 @@ class VolumePass {
 
     // Robust silhouette volumes of `volumes` (multiplicity in the tessellation control shader,
     // extrusion in the evaluation shader, caps in a geometry shader). `surfaces` is the same
-    // scene uploaded by render::UploadScene with the same origin. `target.depth` becomes a
-    // GL_DEPTH32F_STENCIL8 texture. Errors: "viewer", "viewport", "light", "origin" (scenes
-    // uploaded with different origins), or the GL debug message.
+    // scene uploaded by render::UploadScene with the same origin, posed as the frame places its
+    // meshes (render::GpuScene::Pose): each draw that casts extrudes its mesh's patches in its
+    // object space, against the light carried there (ObjectSpaceLight of its model matrix), and
+    // draws them through its model matrix; a mirrored draw's faces count with the opposite
+    // sign; a draw that does not receive is lit where it faces the light. `target.depth`
+    // becomes a GL_DEPTH32F_STENCIL8 texture. Errors: "viewer", "viewport", "light", "origin"
+    // (scenes uploaded with different origins), or the GL debug message.
     Result<VolumeRenderInfo> Render(const render::GpuScene& surfaces, const VolumeScene& volumes,
                                     const VolumeRequest& request, render::ViewImages& target);
 
-    // A volume built on the CPU (smooth silhouettes: ExtrudeSmoothVolume), drawn as triangles.
-    // z-fail needs the volume built with Caps::kLightAndDark ("volume.caps" otherwise).
+    // A volume built on the CPU (smooth silhouettes: ExtrudeSceneVolume of the surfaces' pose),
+    // drawn as triangles. z-fail needs the volume built with Caps::kLightAndDark
+    // ("volume.caps" otherwise).
     Result<VolumeRenderInfo> Render(const render::GpuScene& surfaces, const VolumeScene& volumes,
                                     const GpuVolumeMesh& volume, const VolumeRequest& request,
                                     render::ViewImages& target);
@@ -73,6 +79,16 @@ class VolumePass {
     Result<std::vector<int>> PatchMultiplicities(const VolumeScene& volumes, const Vec4& light);
 
   private:
+    // A draw of the surfaces' pose that casts: its mesh, model matrix (object -> world, relative
+    // to the origin) and the light in its object space, relative to the origin.
+    struct CasterDraw {
+        std::uint32_t mesh = 0;
+        Eigen::Matrix4f model = Eigen::Matrix4f::Identity();
+        Eigen::Vector4f light = Eigen::Vector4f::Zero();
+        bool mirrored = false;
+    };
+    static std::vector<CasterDraw> Casters(const render::GpuScene& surfaces,
+                                           const Vec4& light_world);
     VolumePass() = default;
     Result<VolumeRenderInfo> Draw(const render::GpuScene& surfaces, const VolumeScene& volumes,
                                   const GpuVolumeMesh* volume, const VolumeRequest& request,
@@ -83,21 +99,20 @@ class VolumePass {
     void DrawSurfaces(const render::GpuScene& surfaces);
     // Every caster's volumes into the count target, each with its counting mode.
     void CountVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
-                      const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
+                      std::span<const CasterDraw> casters, const Eigen::Matrix4f& viewer,
                       VolumeRenderInfo& info);
     // info.volume_fragments and info.overdraw: the volumes' fragments per pixel of `size`.
     void MeasureOverdraw(const VolumeScene& volumes, const GpuVolumeMesh* volume,
-                         const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
+                         std::span<const CasterDraw> casters, const Eigen::Matrix4f& viewer,
                          const Viewport& size, VolumeRenderInfo& info);
-    // The patch groups of the meshes whose `modes` entry is `mode` (every group without one).
-    void DrawPatches(const VolumeScene& volumes, std::span<const CountingMode> modes,
-                     std::optional<CountingMode> mode);
-    // The volumes of the casters counted with `mode` (modes: per mesh, or one for `volume`),
-    // with caps for z-fail.
+    // The patch groups of `mesh` (of every mesh without one).
+    void DrawPatches(const VolumeScene& volumes, std::optional<std::uint32_t> mesh);
+    // The volumes of the casters counted with `mode` (info.modes: per caster draw, or one for
+    // `volume`), with caps for z-fail; `front` is what a front face adds (a mirrored draw's
+    // faces add the opposite).
     void DrawVolumes(const VolumeScene& volumes, const GpuVolumeMesh* volume,
-                     std::span<const CountingMode> modes, CountingMode mode,
-                     const Eigen::Matrix4f& viewer, const Eigen::Vector4f& light,
-                     VolumeRenderInfo& info);
+                     std::span<const CasterDraw> casters, CountingMode mode, float front,
+                     const Eigen::Matrix4f& viewer, VolumeRenderInfo& info);
 
     render::GlContext* context_ = nullptr;
     VolumeGlApi api_;

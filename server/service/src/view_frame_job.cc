@@ -1,0 +1,125 @@
+// A session frame answered with its view mask (jobs.h, ViewFrameJob): View's work, then the mask
+// streamed through the frame's feed like one map image.
+#include <lixel/service/map_coding.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+
+#include "job_common.h"
+
+namespace lixel::service {
+
+using namespace jobs;
+
+namespace {
+
+double StageSeconds(const v1::ViewResponse& response, const std::string& stage) {
+    for (const v1::StageTime& t : response.timings()) {
+        if (t.stage() == stage) return t.seconds();
+    }
+    return 0.0;
+}
+
+}  // namespace
+
+grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
+                          const v1::MapEncoding& encoding, const CancelCheck& cancelled,
+                          const std::function<grpc::Status(std::uint64_t)>& reserve,
+                          RenderFeed& feed, RenderReport* report) {
+    auto coding = DecodeMapEncoding(encoding, "encoding");
+    if (!coding) return InvalidArgument(coding.error());
+    // Timed whether or not the client asked: the frame's done reports plan and passes.
+    v1::ViewRequest timed = request;
+    timed.set_timings(true);
+    v1::ViewResponse response;
+    const Clock::time_point started = Clock::now();
+    if (grpc::Status s = ViewJob(state, worker, timed, cancelled, &response, &report->plan);
+        !s.ok()) {
+        return s;
+    }
+    report->plan_seconds = StageSeconds(response, "plan");
+    report->passes_seconds = Since(started) - report->plan_seconds;
+    if (!request.timings()) {
+        // Only the baselines' entries, when those were asked for (AddTimings' rule).
+        v1::ViewResponse baselines_only;
+        for (const v1::StageTime& t : response.timings()) {
+            if (request.cost_baselines() &&
+                (t.stage() == "baseline_depth" || t.stage() == "baseline_view")) {
+                *baselines_only.add_timings() = t;
+            }
+        }
+        response.mutable_timings()->Swap(baselines_only.mutable_timings());
+    }
+
+    render::FloatImage mask;
+    mask.width = static_cast<int>(response.width());
+    mask.height = static_cast<int>(response.height());
+    mask.channels = 1;
+    mask.pixels.resize(response.mask().size() / sizeof(float));
+    std::memcpy(mask.pixels.data(), response.mask().data(), mask.pixels.size() * sizeof(float));
+    response.clear_mask();
+    const std::uint64_t bytes = mask.pixels.size() * sizeof(float);
+
+    v1::RenderChunk header;
+    v1::RenderHeader* h = header.mutable_header();
+    *h->mutable_plan() = response.plan();
+    h->mutable_plan()->set_instance(state.options.instance);
+    response.clear_plan();
+    v1::MapImage* image = h->add_images();
+    image->set_map_index(0);
+    image->set_pass(v1::PASS_MASK);
+    image->set_width(response.width());
+    image->set_height(response.height());
+    image->set_bytes(coding->has_value() ? 0 : bytes);
+    image->set_coded(coding->has_value());
+    const std::uint64_t chunk = std::max<std::uint64_t>(1, state.options.chunk_bytes);
+    // As RenderJob's: the coder's values, residuals and payload beside the pixels.
+    const std::uint64_t coded_room =
+        coding->has_value() ? 6 * bytes + codec::MaxCodedBytes(bytes) : 0;
+    if (grpc::Status held = reserve(header.ByteSizeLong() + response.ByteSizeLong() + bytes +
+                                    coded_room + std::min(chunk, bytes));
+        !held.ok()) {
+        return held;
+    }
+    if (!feed.PutHeader(std::move(header))) return CancelledStatus();
+
+    const double idle_seconds = state.options.stream_idle_seconds;
+    const RenderFeed::Room room = feed.WaitForRoom(cancelled, idle_seconds);
+    if (room == RenderFeed::Room::kStalled) {
+        char limit[32];
+        std::snprintf(limit, sizeof limit, "%g", idle_seconds);
+        return Exhausted(std::string("stream: the client took nothing for over ") + limit +
+                         " s, the limit stream_idle_seconds = " + limit);
+    }
+    if (room == RenderFeed::Room::kEnded) return CancelledStatus();
+    bool put = false;
+    if (coding->has_value()) {
+        const Clock::time_point coding_started = Clock::now();
+        // The mask's temporal reference is the last mask of the same camera and size.
+        // (ViewJob has decoded the camera: it is valid here.)
+        LightMap view_key;
+        if (auto viewer = DecodeMat4(request.plan().camera().viewer(), "camera.viewer")) {
+            view_key.matrix = *viewer;
+        }
+        view_key.width = mask.width;
+        view_key.height = mask.height;
+        MapCoder coder(**coding, state.coded_references, Vec3::Zero());
+        auto coded = coder.Code(view_key, v1::PASS_MASK, mask);
+        if (!coded) {
+            return grpc::Status(grpc::StatusCode::INTERNAL, "view: " + coded.error().Message());
+        }
+        report->encode_seconds = Since(coding_started);
+        if (auto coded_header = codec::ReadHeader(*coded); coded_header.ok()) {
+            report->coded_frame_ids.push_back(coded_header->frame_id);
+        }
+        put = feed.PutCoded(0, std::move(coded).value());
+    } else {
+        put = feed.PutImage(0, std::move(mask));
+    }
+    if (!put) return CancelledStatus();
+    report->view = std::move(response);
+    return grpc::Status::OK;
+}
+
+}  // namespace lixel::service
