@@ -4,7 +4,9 @@
 // frame merged, checked against a small cached scene (its camera, light and instances decoded as
 // the frame's job will) and completed from the last frame served. Checked: accepted frame numbers
 // grow; an accepted frame's request decodes again (a refused frame never becomes the next one's
-// starting point); references named are only the last served frame's.
+// starting point); references named are only the last served frame's; an accepted view (masks
+// instead of maps) carries no plan of its own and known enums, and each frame's View request
+// is the frame's plan.
 #include <fuzzer/FuzzedDataProvider.h>
 #include <lixel/service/jobs.h>
 #include <lixel/service/proto_convert.h>
@@ -75,6 +77,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             if (opened.ok() && session.max_frames_ahead() > service::kMaxFramesAhead) {
                 fuzz::Fail("an open past kMaxFramesAhead was accepted");
             }
+            if (opened.ok() && session.view() &&
+                (session.view()->has_plan() || !v1::Filter_IsValid(session.view()->filter()) ||
+                 !v1::Method_IsValid(session.view()->method()))) {
+                fuzz::Fail("an open's view with its own plan or an unknown enum was accepted");
+            }
             continue;
         }
         if (!request.has_frame()) continue;
@@ -85,6 +92,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         last = request.frame().number();
         if (!fuzz::Check(render.plan()).ok()) fuzz::Fail("an accepted frame does not decode");
         session.Started(&render);
+        // A view session's frame is View's request for exactly the frame's plan.
+        if (session.view() &&
+            session.ViewOf(render).plan().SerializeAsString() != render.plan().SerializeAsString()) {
+            fuzz::Fail("a view frame's plan is not the session's");
+        }
         for (std::uint64_t id : render.encoding().reference_frames()) {
             if (std::find(served.begin(), served.end(), id) == served.end()) {
                 fuzz::Fail("a reference not of the last served frame");

@@ -190,4 +190,11 @@ put("fuzz_session_decode", "refusals", session([
     (encode("SessionRequest", 'frame { number: 6 instances { instances { mesh: "cube" } } }'),
      False),
     (encode("SessionRequest", "frame { number: 7 instances {} }"), True)]))
+viewed = encode("SessionRequest", open_text[:-2] +
+                ' view { filter: FILTER_VOLUMES evaluate: true } }')
+put("fuzz_session_decode", "view", session([
+    (encode("SessionRequest", open_text[:-2] + ' view { plan { scene_id: "fuzz" } } }'), False),
+    (viewed, False),
+    (encode("SessionRequest", frame_text % (1, identity, lifted, mirrored)), True),
+    (encode("SessionRequest", "frame { number: 2 camera %s }" % camera), True)]))
 print("corpus written under", os.path.join(root, "corpus"), file=sys.stderr)

@@ -503,6 +503,11 @@ TEST(Session, AViewSessionsVolumeMasksComeCodedLosslesslyAndTemporalWhenNothingM
         EXPECT_EQ(got->maps.images[0], MaskOf(*view)) << "frame " << number;
         bytes.push_back(got->maps.streamed_bytes);
     }
+    std::printf("[ measured ] coded volume masks, %d x %d: %llu bytes, then %llu still, %llu "
+                "moved (raw %d)\n",
+                kSide, kSide, static_cast<unsigned long long>(bytes[0]),
+                static_cast<unsigned long long>(bytes[1]),
+                static_cast<unsigned long long>(bytes[2]), kSide * kSide * 4);
     EXPECT_LT(bytes[1] * 4, bytes[0]) << bytes[0] << " " << bytes[1];
     EXPECT_LT(bytes[0], static_cast<std::uint64_t>(kSide * kSide * 4 / 4));
     EXPECT_TRUE((*session)->Close().ok());
