@@ -1,8 +1,9 @@
-// The frame-sequence report's driver (`lixel sequence`, docs/frames.md): for every frame of a
-// scene::SequenceFrame sequence (its meshes uploaded once; each frame's instances in its
-// requests) it asks View, evaluated and with its cost baselines, for every method; frame-coherent methods send back the maps the previous
-// frame's View reported (ViewResponse.plan) as FrameCoherence. No files: tests drive it against
-// an in-process server.
+// The frame-sequence report's driver (`lixel sequence`, docs/frames.md): the meshes of a
+// scene::SequenceFrame sequence uploaded once, then one view session per method (SessionOpen.view:
+// each frame answered with its mask, evaluated and with its cost baselines, as View answers it)
+// fed every frame's camera, light and instances; the server keeps each session's previous plan,
+// so frame-coherent methods plan against it with nothing sent back. No files: tests drive it
+// against an in-process server.
 #pragma once
 
 #include <lixel/client/client.h>

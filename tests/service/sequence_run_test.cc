@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <lixel/client/coherence.h>
+#include <lixel/scene/frame_sequence.h>
+#include <lixel/service/proto_convert.h>
 
 #include <map>
 
@@ -124,6 +126,54 @@ TEST(SequenceRun, PreviousMapsGoBackAsTheRequestsFrameCoherence) {
     ASSERT_EQ(maps.size(), 1u);
     EXPECT_EQ(maps[0].name, "floor");
     EXPECT_EQ(maps[0].width, 300);
+}
+
+// Every frame is seen from its own camera: over a still scene (table_floor holds still) the
+// orbiting path changes what each frame sees, and a row's figures are those of a View from its
+// frame's camera. (With the meshes uploaded once, a request that named no camera was seen from
+// the upload's, frame 0's, and every frame of a still scene came out the same.)
+TEST(SequenceRun, EveryFrameIsSeenFromItsOwnCamera) {
+    auto server = testing::StartServer(testing::SmallServerOptions("sequence-camera"));
+    ASSERT_NE(server, nullptr);
+    auto client = testing::Connect(testing::Target(*server));
+    SequenceRun run;
+    run.scene = "table_floor";
+    run.frames.frames = 3;
+    run.frames.orbit_degrees = 90.0;
+    run.frames.viewport = {48, 48};
+    run.budget = 64 * 64;
+    run.fallback_floor = 32 * 32;
+    run.methods = {{eval::Method{eval::Fitting::kUniform, eval::ShadowTest::kDepth}, false}};
+    auto result = RunSequence(*client, run);
+    ASSERT_TRUE(result.ok()) << result.error().Message();
+    ASSERT_EQ(result->rows.size(), 3u);
+    for (int f = 1; f < 3; ++f) {
+        const eval::SequenceFrameRow& r = result->rows[static_cast<std::size_t>(f)];
+        EXPECT_LT(r.flicker.steady, r.error.decided) << "frame " << f << " saw frame 0's view";
+    }
+    const scene::Scene last = scene::SequenceFrame(run.scene, 2, run.frames).value();
+    v1::Scene message;
+    service::EncodeScene(service::MakeSceneRecord(last), &message);
+    auto uploaded = client->UploadScene(message);
+    ASSERT_TRUE(uploaded.ok());
+    v1::ViewRequest request;
+    v1::PlanRequest* plan = request.mutable_plan();
+    plan->set_scene_id(uploaded->scene_id());
+    service::EncodeMat4(last.camera.Viewer(), plan->mutable_camera()->mutable_viewer());
+    plan->mutable_camera()->set_width(48);
+    plan->mutable_camera()->set_height(48);
+    service::EncodeVec4(last.light, plan->mutable_light()->mutable_position());
+    plan->set_lixel_budget(static_cast<std::uint64_t>(run.budget));
+    plan->set_fallback_floor(static_cast<std::uint64_t>(run.fallback_floor));
+    request.set_method(v1::METHOD_UNIFORM);
+    request.set_filter(v1::FILTER_DEPTH);
+    request.set_evaluate(true);
+    auto view = client->View(request);
+    ASSERT_TRUE(view.ok()) << view.error().Message();
+    EXPECT_EQ(result->rows[2].error.decided,
+              static_cast<std::int64_t>(view->evaluation().decided_pixels()));
+    EXPECT_EQ(result->rows[2].error.wrong,
+              static_cast<std::int64_t>(view->evaluation().wrong_pixels()));
 }
 
 }  // namespace
