@@ -57,20 +57,23 @@ int SequenceCommand(client::Client& client, const Flags& flags) {
     const std::vector<eval::SequenceFrameRow>& rows = result->rows;
     const auto summaries = eval::SummariseSequences(rows);
     std::vector<std::string> notes = {
-        run.scene + ": " + std::to_string(run.frames.frames) + " frames at " +
-            Num(run.frames.fps) + " fps, " + std::to_string(side) + "² pixels, " +
-            std::to_string(run.budget) + " lixels for every method; the camera orbits " +
-            Num(run.frames.orbit_degrees) + "° about the scene's target and dollies " +
-            Num(run.frames.dolly * 100.0) + " % (scene::SequenceFrame).",
+        run.scene + ": " + std::to_string(run.frames.frames) + " frames at " + Num(run.frames.fps) +
+            " fps, " + std::to_string(side) + "² pixels, " + std::to_string(run.budget) +
+            " lixels for every method; the camera orbits " + Num(run.frames.orbit_degrees) +
+            "° about the scene's target and dollies " + Num(run.frames.dolly * 100.0) +
+            " % (scene::SequenceFrame).",
         "coherent: plane-optimal with FrameCoherence (waste bound " +
-            Num(run.coherence.waste_bound()) + ", " +
-            std::to_string(run.coherence.scale_steps()) + " scale steps per octave, twist kept "
-            "unless another saves " + Num(run.coherence.twist_saving() * 100.0) +
-            " % of lixels), the previous frame's maps sent back from its ViewResponse.plan. "
+            Num(run.coherence.waste_bound()) + ", " + std::to_string(run.coherence.scale_steps()) +
+            " scale steps per octave, twist kept "
+            "unless another saves " +
+            Num(run.coherence.twist_saving() * 100.0) +
+            " % of lixels) against the previous frame's maps, which the method's session keeps "
+            "on the server. "
             "Baselines allocate square maps of a size set by the budget alone.",
-        "Each frame is one View call, evaluated against exact visibility; its costs are "
-        "divided by the bare passes measured in the same call (docs/eval.md \"Costs\"). The "
-        "first frame's reallocations (every map) are not counted.",
+        "Each frame is one frame of the method's view session (SessionOpen.view: its mask and "
+        "View's answer for it), evaluated against exact visibility; its costs are divided by "
+        "the bare passes measured in the same frame (docs/eval.md \"Costs\"). The first "
+        "frame's reallocations (every map) are not counted.",
     };
     for (const std::string& skipped : result->skipped) notes.push_back("skipped: " + skipped);
     if (auto w = eval::WriteSequenceCsv(out + "/sequence.csv", rows); !w) return Fail(w.error());

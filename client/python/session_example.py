@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """A moving scene through a lixel Session from Python: upload a floor and two boxes once, then
 stream frames in which one box slides along the floor (its instance's matrix) and the camera
-turns, reading each frame's plan and maps (coded, decoded with lixel_maps) as they come.
+turns, reading each frame's plan and maps (coded, decoded with lixel_maps) as they come; with
+--masks, each frame's shadow mask instead (a thin client that shades with lixel's answer), PCF
+over plane-optimal maps, evaluated against exact visibility.
 
     python3 client/python/session_example.py --target 127.0.0.1:50051
 (with the package installed: see the README; or --stubs build/client/python to run from the tree)
@@ -48,6 +50,7 @@ def main() -> int:
     parser.add_argument("--stubs", default="", help="the build's Python folder, when not installed")
     parser.add_argument("--token", default="")
     parser.add_argument("--frames", type=int, default=20)
+    parser.add_argument("--masks", action="store_true", help="stream view masks, not maps")
     args = parser.parse_args()
     if args.stubs:
         sys.path.insert(0, args.stubs)
@@ -86,6 +89,9 @@ def main() -> int:
     open_message.plan.light.CopyFrom(light)
     open_message.plan.coherence.SetInParent()
     open_message.encoding.codec = pb.MAP_CODEC_QUANTISED
+    if args.masks:
+        open_message.view.filter = pb.FILTER_PCF
+        open_message.view.evaluate = True
     session = lixel_client.Session(stub, open_message, metadata)
     # Send every frame at once (the server holds two ahead and says which it skips), then read.
     for f in range(1, args.frames + 1):
@@ -100,6 +106,14 @@ def main() -> int:
             print(f"frame {frame.number}: refused, {frame.error[1]}", file=sys.stderr)
             return 1
         served += 1
+        if args.masks:
+            mask = frame.mask
+            surface = int(numpy.count_nonzero(mask >= 0))
+            lit = int(numpy.count_nonzero(mask > 0.5))
+            print(f"frame {frame.number}: mask {mask.shape[1]} x {mask.shape[0]}, "
+                  f"{frame.streamed_bytes} bytes, {lit} of {surface} surface pixels lit, "
+                  f"{frame.view.evaluation.misclassified_percent:.3f} % misclassified")
+            continue
         depth = [texels for meta, texels in frame.images if getattr(meta, "pass") == pb.PASS_DEPTH]
         lit = sum(int(numpy.count_nonzero(d > 0)) for d in depth)
         print(f"frame {frame.number}: {len(frame.plan.maps)} maps, {frame.streamed_bytes} bytes, "

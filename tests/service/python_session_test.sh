@@ -23,3 +23,9 @@ echo "$result"
 grep -q "^scene sha256:.*uploaded once" <<< "$result"
 grep -q "^frame 12: [1-9][0-9]* maps, [1-9][0-9]* bytes" <<< "$result"
 grep -q "^session: [1-9][0-9]* frames served" <<< "$result"
+# The same moving scene as masks: each frame's view mask, evaluated.
+masks=$(cd "$work" && "$work/venv/bin/python" "$example" --target "127.0.0.1:$port" --frames 6 \
+        --masks)
+echo "$masks"
+grep -q "^frame 6: mask 256 x 256, [1-9][0-9]* bytes, [1-9][0-9]* of [1-9][0-9]* surface" <<< "$masks"
+grep -q "^session: [1-9][0-9]* frames served" <<< "$masks"
