@@ -7,7 +7,9 @@
 //   the same View on the scene as uploaded (its flat BVH cached): at most 1.5;
 // - the old way for reference: one sphere moved by uploading the whole scene again, then Render;
 // - a session's steady frame rate with pipelining (two frames in flight) against back-to-back
-//   Render calls of the same frames, each sending the previous plan back.
+//   Render calls of the same frames, each sending the previous plan back;
+// - masks of exact shadow volumes through a view session (robust, FILTER_VOLUMES, and smooth,
+//   FILTER_SMOOTH_VOLUMES), one sphere moved against the camera moved, at 100 k triangles.
 #include <benchmark/benchmark.h>
 #include <lixel/client/client.h>
 #include <lixel/client/coherence.h>
@@ -21,6 +23,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include "ratio_reporter.h"
 
@@ -119,9 +122,12 @@ void SmallScene(benchmark::internal::Benchmark* b) {
 
 // A frame-coherent session on sphere_grid at `triangles`; null (the benchmark skipped with the
 // reason) when it cannot open.
-std::unique_ptr<client::Session> OpenSession(benchmark::State& state, long triangles) {
+// With `filter`, a view session: each frame's mask with that filter.
+std::unique_ptr<client::Session> OpenSession(benchmark::State& state, long triangles,
+                                             std::optional<v1::Filter> filter = std::nullopt) {
     v1::SessionOpen open;
     *open.mutable_plan() = PlanOf(triangles);
+    if (filter) open.mutable_view()->set_filter(*filter);
     auto session = client::Session::Open(*Server().client, open);
     if (!session) {
         state.SkipWithError(session.error().Message().c_str());
@@ -131,11 +137,12 @@ std::unique_ptr<client::Session> OpenSession(benchmark::State& state, long trian
 }
 
 // Frames through one session; `moved` picks what each frame changes.
-void RunSession(benchmark::State& state, bool move_instance) {
+void RunSession(benchmark::State& state, bool move_instance,
+                std::optional<v1::Filter> filter = std::nullopt) {
     const long triangles = state.range(0);
     Uploaded(triangles);
     const scene::Scene& s = Server().scenes.at(triangles);
-    auto session = OpenSession(state, triangles);
+    auto session = OpenSession(state, triangles, filter);
     if (!session) return;
     int f = 0;
     std::map<std::string, double> stages;
@@ -166,6 +173,25 @@ void BM_SessionMovedCamera(benchmark::State& state) { RunSession(state, false); 
 void BM_SessionMovedInstance(benchmark::State& state) { RunSession(state, true); }
 BENCHMARK(BM_SessionMovedCamera)->Apply(BothScenes);
 BENCHMARK(BM_SessionMovedInstance)->Apply(BothScenes);
+
+// The same through a view session of exact volumes: the robust ones extruded on the GPU per
+// instance (nothing rebuilt for a pose), the smooth ones built on the CPU per instance.
+void BM_VolumesMovedCamera(benchmark::State& state) {
+    RunSession(state, false, v1::FILTER_VOLUMES);
+}
+void BM_VolumesMovedInstance(benchmark::State& state) {
+    RunSession(state, true, v1::FILTER_VOLUMES);
+}
+void BM_SmoothVolumesMovedCamera(benchmark::State& state) {
+    RunSession(state, false, v1::FILTER_SMOOTH_VOLUMES);
+}
+void BM_SmoothVolumesMovedInstance(benchmark::State& state) {
+    RunSession(state, true, v1::FILTER_SMOOTH_VOLUMES);
+}
+BENCHMARK(BM_VolumesMovedCamera)->Apply(SmallScene);
+BENCHMARK(BM_VolumesMovedInstance)->Apply(SmallScene);
+BENCHMARK(BM_SmoothVolumesMovedCamera)->Apply(SmallScene);
+BENCHMARK(BM_SmoothVolumesMovedInstance)->Apply(SmallScene);
 
 // The old way: the moved sphere baked into a new upload, then one Render of it.
 void BM_UploadMovedAndRender(benchmark::State& state) {
@@ -281,9 +307,12 @@ BENCHMARK(BM_SessionPipelined)->Apply(SmallScene);
 }  // namespace lixel
 
 int main(int argc, char** argv) {
-    return lixel::bench::RunWithBaselines(argc, argv,
-                                          {{"BM_SessionMovedInstance", "BM_SessionMovedCamera"},
-                                           {"BM_UploadMovedAndRender", "BM_SessionMovedCamera"},
-                                           {"BM_ViewEvaluateMoved", "BM_ViewEvaluateCached"},
-                                           {"BM_SessionPipelined", "BM_RenderCalls"}});
+    return lixel::bench::RunWithBaselines(
+        argc, argv,
+        {{"BM_SessionMovedInstance", "BM_SessionMovedCamera"},
+         {"BM_UploadMovedAndRender", "BM_SessionMovedCamera"},
+         {"BM_ViewEvaluateMoved", "BM_ViewEvaluateCached"},
+         {"BM_SessionPipelined", "BM_RenderCalls"},
+         {"BM_VolumesMovedInstance", "BM_VolumesMovedCamera"},
+         {"BM_SmoothVolumesMovedInstance", "BM_SmoothVolumesMovedCamera"}});
 }

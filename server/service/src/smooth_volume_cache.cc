@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 
 namespace lixel::service {
 
@@ -15,12 +16,9 @@ bool SameSettings(const volumes::SmoothOptions& a, const volumes::SmoothOptions&
            a.displace == b.displace && a.subdivide == b.subdivide && a.max_depth == b.max_depth;
 }
 
-bool SamePose(std::span<const MeshInstance> a, std::span<const MeshInstance> b) {
-    return std::equal(a.begin(), a.end(), b.begin(), b.end(),
-                      [](const MeshInstance& x, const MeshInstance& y) {
-                          return x.mesh == y.mesh && x.object_to_world == y.object_to_world &&
-                                 x.casts == y.casts && x.receives == y.receives;
-                      });
+// The same place for the same mesh: what its volume part depends on beside light and settings.
+bool SamePlace(const MeshInstance& x, const MeshInstance& y) {
+    return x.mesh == y.mesh && x.object_to_world == y.object_to_world && x.casts == y.casts;
 }
 
 }  // namespace
@@ -29,26 +27,53 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
     std::span<const Mesh> meshes, std::span<const volumes::EdgeAdjacency> adjacency,
     std::span<const MeshInstance> instances, const Vec4& light,
     const volumes::SmoothOptions& options) const {
+    const std::vector<MeshInstance> placed =
+        instances.empty() ? IdentityInstances(meshes.size())
+                          : std::vector<MeshInstance>(instances.begin(), instances.end());
+    std::vector<MeshInstance> held_instances;
+    std::vector<std::shared_ptr<const volumes::VolumeMesh>> held_parts;
     {
         const std::lock_guard lock(mutex_);
-        if (volume_ != nullptr && light_ == light && SameSettings(options_, options) &&
-            SamePose(instances_, instances)) {
-            return Lookup{volume_, false, 0.0};
+        if (volume_ != nullptr && light_ == light && SameSettings(options_, options)) {
+            const bool same_pose = std::equal(placed.begin(), placed.end(), instances_.begin(),
+                                              instances_.end(), SamePlace);
+            if (same_pose) return Lookup{volume_, false, 0.0};
+            // Another pose under the same light: the parts of instances still in place hold.
+            held_instances = instances_;
+            held_parts = parts_;
         }
     }
     // Built outside the lock: a hit never waits for a build, and two requests for a new light
     // at once both build (the same volume) rather than queue.
     const auto start = std::chrono::steady_clock::now();
-    auto built = instances.empty()
-                     ? volumes::ExtrudeSceneVolume(meshes, adjacency, light, options)
-                     : volumes::ExtrudeSceneVolume(meshes, adjacency, instances, light, options);
-    if (!built) return built.error();
-    auto volume = std::make_shared<const volumes::VolumeMesh>(std::move(built).value());
+    if (adjacency.size() != meshes.size()) {
+        return Error{"adjacency", "one per mesh: " + std::to_string(adjacency.size()) + " for " +
+                                      std::to_string(meshes.size()) + " meshes"};
+    }
+    std::vector<std::shared_ptr<const volumes::VolumeMesh>> parts(placed.size());
+    auto whole = std::make_shared<volumes::VolumeMesh>();
+    for (std::size_t i = 0; i < placed.size(); ++i) {
+        const MeshInstance& instance = placed[i];
+        if (!instance.casts) continue;
+        if (i < held_instances.size() && held_parts[i] != nullptr &&
+            SamePlace(held_instances[i], instance)) {
+            parts[i] = held_parts[i];
+        } else {
+            auto part = volumes::ExtrudeInstanceVolume(meshes[instance.mesh], instance.mesh,
+                                                       adjacency[instance.mesh],
+                                                       instance.object_to_world, light, options);
+            if (!part) return part.error();
+            parts[i] = std::make_shared<const volumes::VolumeMesh>(std::move(part).value());
+        }
+        volumes::AppendVolume(*whole, *parts[i]);
+    }
+    std::shared_ptr<const volumes::VolumeMesh> volume = std::move(whole);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const std::lock_guard lock(mutex_);
     light_ = light;
-    instances_.assign(instances.begin(), instances.end());
+    instances_ = placed;
+    parts_ = std::move(parts);
     options_ = options;
     volume_ = volume;
     return Lookup{std::move(volume), true, seconds};

@@ -10,17 +10,12 @@
 
 namespace lixel::volumes {
 
-namespace {
-
-// Appends `part` to `whole`, its indices shifted past whole's vertices.
-void Append(VolumeMesh& whole, const VolumeMesh& part) {
+void AppendVolume(VolumeMesh& whole, const VolumeMesh& part) {
     const auto offset = static_cast<std::uint32_t>(whole.vertices.size());
     whole.vertices.insert(whole.vertices.end(), part.vertices.begin(), part.vertices.end());
     for (const std::uint32_t i : part.sides) whole.sides.push_back(i + offset);
     for (const std::uint32_t i : part.caps) whole.caps.push_back(i + offset);
 }
-
-}  // namespace
 
 bool IsSmoothCaster(const Mesh& mesh) {
     return mesh.closed && !mesh.normals.empty() && mesh.normals.size() == mesh.positions.size();
@@ -47,39 +42,47 @@ Result<VolumeMesh> ExtrudeSceneVolume(std::span<const Mesh> meshes,
     VolumeMesh volume;
     for (const MeshInstance& instance : instances) {
         if (!instance.casts) continue;
-        const std::size_t i = instance.mesh;
-        const Mesh& mesh = meshes[i];
-        const Mat4& m = instance.object_to_world;
-        const bool in_place = m == Mat4::Identity();
-        const Vec4 object_light = in_place ? light : ObjectSpaceLight(m, light);
-        VolumeMesh part;
-        if (IsSmoothCaster(mesh)) {
-            SmoothOptions object_options = options;
-            if (!in_place) {
-                const double stretch = LargestStretch(m);
-                object_options.epsilon /= stretch;
-                object_options.normal_offset /= stretch;
-            }
-            auto silhouette =
-                ComputeSmoothSilhouette(mesh, adjacency[i], object_light, object_options);
-            if (!silhouette) {
-                return Error{"meshes[" + std::to_string(i) + "]." + silhouette.error().field,
-                             silhouette.error().reason};
-            }
-            counts.loops += silhouette->loops.size();
-            ++counts.smooth_meshes;
-            part = ExtrudeSmoothVolume(mesh, adjacency[i], *silhouette, object_light,
-                                       Caps::kLightAndDark);
-        } else {
-            const auto facing = ComputeFacings(adjacency[i], object_light, Arithmetic::kExact);
-            ++counts.robust_meshes;
-            part = ExtrudeSilhouetteVolume(adjacency[i], facing, object_light, Caps::kLightAndDark);
-        }
-        if (!in_place) PlaceVolume(part, m);
-        Append(volume, part);
+        auto part =
+            ExtrudeInstanceVolume(meshes[instance.mesh], instance.mesh, adjacency[instance.mesh],
+                                  instance.object_to_world, light, options, &counts);
+        if (!part) return part.error();
+        AppendVolume(volume, *part);
     }
     if (info != nullptr) *info = counts;
     return volume;
+}
+
+Result<VolumeMesh> ExtrudeInstanceVolume(const Mesh& mesh, std::size_t mesh_index,
+                                         const EdgeAdjacency& adjacency, const Mat4& m,
+                                         const Vec4& light, const SmoothOptions& options,
+                                         SceneVolumeInfo* info) {
+    const bool in_place = m == Mat4::Identity();
+    const Vec4 object_light = in_place ? light : ObjectSpaceLight(m, light);
+    VolumeMesh part;
+    if (IsSmoothCaster(mesh)) {
+        SmoothOptions object_options = options;
+        if (!in_place) {
+            const double stretch = LargestStretch(m);
+            object_options.epsilon /= stretch;
+            object_options.normal_offset /= stretch;
+        }
+        auto silhouette = ComputeSmoothSilhouette(mesh, adjacency, object_light, object_options);
+        if (!silhouette) {
+            return Error{"meshes[" + std::to_string(mesh_index) + "]." + silhouette.error().field,
+                         silhouette.error().reason};
+        }
+        if (info != nullptr) {
+            info->loops += silhouette->loops.size();
+            ++info->smooth_meshes;
+        }
+        part = ExtrudeSmoothVolume(mesh, adjacency, *silhouette, object_light, Caps::kLightAndDark);
+    } else {
+        const auto facing = ComputeFacings(adjacency, object_light, Arithmetic::kExact);
+        if (info != nullptr) ++info->robust_meshes;
+        part = ExtrudeSilhouetteVolume(adjacency, facing, object_light, Caps::kLightAndDark);
+    }
+    if (!in_place) PlaceVolume(part, m);
+    return part;
 }
 
 void PlaceVolume(VolumeMesh& volume, const Mat4& m) {

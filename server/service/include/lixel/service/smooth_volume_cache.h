@@ -1,7 +1,9 @@
-// The last smooth-silhouette volume (paper 002) a scene was asked for, kept on the CPU: the
-// frames of an engine whose light and instances hold still reuse it and pay only its upload and
-// the stencil pass, and a changed light, pose or setting builds it again. One entry per scene, so
-// the memory is at most one volume of that scene (about the size of its lit caps and loops).
+// The last smooth-silhouette volume (paper 002) a scene was asked for, kept on the CPU, with each
+// instance's part of it: the frames of an engine whose light and instances hold still reuse the
+// whole and pay only its upload and the stencil pass; a frame that moves some instances under
+// the same light rebuilds only theirs (matched by their place in the pose); a changed light or
+// setting builds it all again. One entry per scene, so the memory is at most one volume of that
+// scene twice (the whole and its parts; about the size of its lit caps and loops).
 #pragma once
 
 #include <lixel/solver/mesh.h>
@@ -29,7 +31,9 @@ class SmoothVolumeCache {
 
     // ExtrudeSceneVolume(meshes, adjacency, instances, light, options, ...) with Caps closed
     // (instances empty: each mesh once, in place), or the one built last for the same
-    // instances, light and options (compared exactly). Errors are its own.
+    // instances, light and options (compared exactly), or that one's parts for the instances
+    // whose mesh and matrix are those at the same place of the last pose. Errors are its own;
+    // `built` is false only for a whole hit.
     Result<Lookup> Get(std::span<const Mesh> meshes,
                        std::span<const volumes::EdgeAdjacency> adjacency,
                        std::span<const MeshInstance> instances, const Vec4& light,
@@ -38,7 +42,8 @@ class SmoothVolumeCache {
   private:
     mutable std::mutex mutex_;
     mutable Vec4 light_ = Vec4::Zero();
-    mutable std::vector<MeshInstance> instances_;
+    mutable std::vector<MeshInstance> instances_;  // the last pose, each mesh placed
+    mutable std::vector<std::shared_ptr<const volumes::VolumeMesh>> parts_;  // null: no caster
     mutable volumes::SmoothOptions options_;
     mutable std::shared_ptr<const volumes::VolumeMesh> volume_;
 };

@@ -48,6 +48,16 @@ Result<VolumeMesh> ExtrudeSceneVolume(std::span<const Mesh> meshes,
                                       const SmoothOptions& options,
                                       SceneVolumeInfo* info = nullptr);
 
+// One instance's part of that volume: mesh `mesh_index` (named in errors) placed by `m`, built
+// on its own coordinates and carried; counts added to `info`.
+Result<VolumeMesh> ExtrudeInstanceVolume(const Mesh& mesh, std::size_t mesh_index,
+                                         const EdgeAdjacency& adjacency, const Mat4& m,
+                                         const Vec4& light, const SmoothOptions& options,
+                                         SceneVolumeInfo* info = nullptr);
+
+// Appends `part` to `whole`, its indices shifted past whole's vertices.
+void AppendVolume(VolumeMesh& whole, const VolumeMesh& part);
+
 // `volume`, built in an instance's object space, carried into the world by the affine `m`:
 // every point p to m p (a point at infinity, w = 0, by the linear part alone, staying at
 // infinity), and, when m mirrors, every triangle's winding turned, so each light cap still

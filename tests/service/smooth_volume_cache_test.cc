@@ -1,0 +1,85 @@
+// The scene's smooth-volume cache (smooth_volume_cache.h): a pose that moves some instances under
+// the same light rebuilds only their parts, and whatever it reuses, the volume it answers is the
+// one a fresh ExtrudeSceneVolume builds, point for point and index for index.
+#include <gtest/gtest.h>
+#include <lixel/scene/builtin_scenes.h>
+#include <lixel/service/smooth_volume_cache.h>
+#include <lixel/volumes/edge_adjacency.h>
+#include <lixel/volumes/scene_volume.h>
+
+#include <chrono>
+
+namespace lixel {
+namespace {
+
+struct Room {
+    scene::Scene scene = scene::FloorWallAnimated(0.0);
+    std::vector<volumes::EdgeAdjacency> adjacency;
+    Room() {
+        for (const Mesh& mesh : scene.meshes) {
+            adjacency.push_back(volumes::BuildEdgeAdjacency(mesh).value());
+        }
+    }
+};
+
+void ExpectSame(const volumes::VolumeMesh& a, const volumes::VolumeMesh& b) {
+    ASSERT_EQ(a.vertices.size(), b.vertices.size());
+    for (std::size_t i = 0; i < a.vertices.size(); ++i) {
+        ASSERT_EQ(a.vertices[i], b.vertices[i]) << "vertex " << i;
+    }
+    EXPECT_EQ(a.sides, b.sides);
+    EXPECT_EQ(a.caps, b.caps);
+}
+
+TEST(SmoothVolumeCache, WhateverItReusesItAnswersTheFreshVolume) {
+    const Room room;
+    const service::SmoothVolumeCache cache;
+    volumes::SmoothOptions options;
+    options.epsilon = 1e-3;
+    const Vec4 light = room.scene.light;
+    std::vector<MeshInstance> pose = scene::FloorWallAnimated(0.3).instances;
+    ASSERT_GE(pose.size(), 5u);
+
+    auto first = cache.Get(room.scene.meshes, room.adjacency, pose, light, options);
+    ASSERT_TRUE(first.ok()) << first.error().Message();
+    EXPECT_TRUE(first->built);
+    auto again = cache.Get(room.scene.meshes, room.adjacency, pose, light, options);
+    ASSERT_TRUE(again.ok());
+    EXPECT_FALSE(again->built);
+    EXPECT_EQ(again->volume, first->volume);
+
+    // One shape moved, then the light: each answer is the fresh build's.
+    pose[2].object_to_world(1, 3) += 0.25;
+    auto moved = cache.Get(room.scene.meshes, room.adjacency, pose, light, options);
+    ASSERT_TRUE(moved.ok());
+    EXPECT_TRUE(moved->built);
+    auto fresh =
+        volumes::ExtrudeSceneVolume(room.scene.meshes, room.adjacency, pose, light, options);
+    ASSERT_TRUE(fresh.ok());
+    ExpectSame(*moved->volume, *fresh);
+
+    const Vec4 other_light = light + Vec4(0.5, 0.0, -0.25, 0.0);
+    auto relit = cache.Get(room.scene.meshes, room.adjacency, pose, other_light, options);
+    ASSERT_TRUE(relit.ok());
+    fresh =
+        volumes::ExtrudeSceneVolume(room.scene.meshes, room.adjacency, pose, other_light, options);
+    ASSERT_TRUE(fresh.ok());
+    ExpectSame(*relit->volume, *fresh);
+
+    // No pose: each mesh in place, as the flat build.
+    auto flat = cache.Get(room.scene.meshes, room.adjacency, {}, light, options);
+    ASSERT_TRUE(flat.ok());
+    fresh = volumes::ExtrudeSceneVolume(room.scene.meshes, room.adjacency, light, options);
+    ASSERT_TRUE(fresh.ok());
+    ExpectSame(*flat->volume, *fresh);
+    // A non-caster leaves its part out.
+    pose[2].casts = false;
+    auto fewer = cache.Get(room.scene.meshes, room.adjacency, pose, light, options);
+    ASSERT_TRUE(fewer.ok());
+    fresh = volumes::ExtrudeSceneVolume(room.scene.meshes, room.adjacency, pose, light, options);
+    ASSERT_TRUE(fresh.ok());
+    ExpectSame(*fewer->volume, *fresh);
+}
+
+}  // namespace
+}  // namespace lixel
