@@ -17,15 +17,6 @@ using namespace testing;  // service_fixture.h: servers, clients and stubs on lo
 
 constexpr int kSide = 128;
 
-std::string Upload(client::Client& client, scene::Scene scene) {
-    scene.instances.clear();  // an upload carries meshes; a request places them
-    v1::Scene message;
-    service::EncodeScene(service::MakeSceneRecord(std::move(scene)), &message);
-    auto uploaded = client.UploadScene(message);
-    EXPECT_TRUE(uploaded.ok()) << (uploaded.ok() ? "" : uploaded.error().Message());
-    return uploaded.ok() ? uploaded->scene_id() : "";
-}
-
 v1::PlanRequest PlanFor(const std::string& id, const scene::Scene& s) {
     v1::PlanRequest plan;
     plan.set_scene_id(id);
@@ -51,14 +42,8 @@ v1::ViewResponse View(client::Client& client, const v1::PlanRequest& plan, v1::F
     return view.ok() ? *view : v1::ViewResponse();
 }
 
-std::vector<float> Mask(const v1::ViewResponse& view) {
-    std::vector<float> mask(view.mask().size() / sizeof(float));
-    std::memcpy(mask.data(), view.mask().data(), mask.size() * sizeof(float));
-    return mask;
-}
-
 int Differing(const v1::ViewResponse& a, const v1::ViewResponse& b) {
-    const std::vector<float> ma = Mask(a), mb = Mask(b);
+    const std::vector<float> ma = MaskOf(a), mb = MaskOf(b);
     EXPECT_EQ(ma.size(), mb.size());
     int differ = 0;
     for (std::size_t i = 0; i < std::min(ma.size(), mb.size()); ++i) {
@@ -129,7 +114,7 @@ class InstancedVolumes : public ::testing::Test {
         server_ = StartServer(SmallServerOptions("instanced-volumes"));
         ASSERT_NE(server_, nullptr);
         client_ = Connect(Target(*server_));
-        meshes_ = Upload(*client_, scene::FloorWallAnimated(0.0));
+        meshes_ = UploadMeshes(*client_, scene::FloorWallAnimated(0.0));
         ASSERT_FALSE(meshes_.empty());
     }
 
@@ -145,7 +130,7 @@ TEST_F(InstancedVolumes, APosedFramesVolumesAreTheBakedFramesVolumes) {
     for (double time : {0.3, 1.1}) {
         const scene::Scene posed = scene::FloorWallAnimated(time);
         const scene::Scene baked = scene::FloorWallScene(time);
-        const std::string baked_id = Upload(*client_, baked);
+        const std::string baked_id = UploadMeshes(*client_, baked);
         for (v1::Filter filter : {v1::FILTER_VOLUMES, v1::FILTER_SMOOTH_VOLUMES}) {
             const v1::ViewResponse a = View(*client_, PlanFor(meshes_, posed), filter);
             const v1::ViewResponse b = View(*client_, PlanFor(baked_id, baked), filter);
@@ -164,7 +149,7 @@ TEST_F(InstancedVolumes, APosedFramesVolumesAreTheBakedFramesVolumes) {
 TEST_F(InstancedVolumes, AMirroredAndStretchedInstanceShadowsAsItsBakedMesh) {
     const scene::Scene posed = TwoSpheres();
     const scene::Scene baked = Baked(posed);
-    const std::string baked_id = Upload(*client_, baked);
+    const std::string baked_id = UploadMeshes(*client_, baked);
     const v1::ViewResponse a = View(*client_, PlanFor(meshes_, posed), v1::FILTER_VOLUMES);
     const v1::ViewResponse b = View(*client_, PlanFor(baked_id, baked), v1::FILTER_VOLUMES);
     EXPECT_LE(Differing(a, b), 12);
@@ -235,7 +220,7 @@ TEST_F(InstancedVolumes, SilhouettesOfAPoseAreTheBakedScenesSilhouettes) {
     // unit normals interpolate differently), so the loops must match too.
     const scene::Scene posed = TwoSpheres(false);
     const scene::Scene baked = Baked(posed);
-    const std::string baked_id = Upload(*client_, baked);
+    const std::string baked_id = UploadMeshes(*client_, baked);
     const v1::SilhouettesResponse a = Silhouettes(*client_, meshes_, posed, true);
     const v1::SilhouettesResponse b = Silhouettes(*client_, baked_id, baked, false);
     constexpr double kTolerance = 1e-4;  // float rounding of the baked vertices, room-sized

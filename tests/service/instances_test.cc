@@ -14,15 +14,6 @@ namespace {
 
 using namespace testing;  // service_fixture.h: servers, clients and stubs on loopback
 
-std::string Upload(client::Client& client, scene::Scene scene) {
-    scene.instances.clear();  // an upload carries meshes; a request places them
-    v1::Scene message;
-    service::EncodeScene(service::MakeSceneRecord(std::move(scene)), &message);
-    auto uploaded = client.UploadScene(message);
-    EXPECT_TRUE(uploaded.ok()) << (uploaded.ok() ? "" : uploaded.error().Message());
-    return uploaded.ok() ? uploaded->scene_id() : "";
-}
-
 v1::PlanRequest PlanFor(const std::string& id, const scene::Scene& s, int side) {
     v1::PlanRequest plan;
     plan.set_scene_id(id);
@@ -50,21 +41,15 @@ v1::ViewRequest ViewFor(const v1::PlanRequest& plan) {
     return request;
 }
 
-std::vector<float> Mask(const v1::ViewResponse& view) {
-    std::vector<float> mask(view.mask().size() / sizeof(float));
-    std::memcpy(mask.data(), view.mask().data(), mask.size() * sizeof(float));
-    return mask;
-}
-
 TEST(Instances, APosedFrameRendersAndEvaluatesAsTheSameFrameUploadedBaked) {
     auto server = StartServer(SmallServerOptions("instances"));
     ASSERT_NE(server, nullptr);
     auto client = Connect(Target(*server));
-    const std::string meshes = Upload(*client, scene::FloorWallAnimated(0.0));
+    const std::string meshes = UploadMeshes(*client, scene::FloorWallAnimated(0.0));
     for (double time : {0.3, 1.1}) {
         const scene::Scene posed = scene::FloorWallAnimated(time);
         const scene::Scene baked = scene::FloorWallScene(time);
-        const std::string baked_id = Upload(*client, baked);
+        const std::string baked_id = UploadMeshes(*client, baked);
         auto a = client->View(ViewFor(PlanFor(meshes, posed, 128)));
         auto b = client->View(ViewFor(PlanFor(baked_id, baked, 128)));
         ASSERT_TRUE(a.ok()) << a.error().Message();
@@ -72,7 +57,7 @@ TEST(Instances, APosedFrameRendersAndEvaluatesAsTheSameFrameUploadedBaked) {
         // The same plan up to the float rounding of the lifted shapes' vertices (the same maps,
         // sizes within a lixel), and the same view up to a few pixels on edges.
         ASSERT_EQ(a->plan().maps_size(), b->plan().maps_size());
-        const std::vector<float> ma = Mask(*a), mb = Mask(*b);
+        const std::vector<float> ma = MaskOf(*a), mb = MaskOf(*b);
         ASSERT_EQ(ma.size(), mb.size());
         int differ = 0;
         for (std::size_t i = 0; i < ma.size(); ++i) differ += std::abs(ma[i] - mb[i]) > 1e-3f;
@@ -115,7 +100,7 @@ class InstanceRefusals : public ::testing::Test {
         client_ = Connect(Target(*server_));
         room_ = scene::FloorWallAnimated(0.4);
         room_.camera.viewport = {64, 64};
-        id_ = Upload(*client_, room_);
+        id_ = UploadMeshes(*client_, room_);
     }
 
     grpc::Status View(const v1::PlanRequest& plan, v1::Filter filter = v1::FILTER_DEPTH) {
@@ -200,7 +185,7 @@ TEST_F(InstanceRefusals, EveryBadInstanceIsRefusedNamingItsFieldAndTheSceneStays
 TEST_F(InstanceRefusals, AMeshNameTheSceneRepeatsIsRefusedAsAmbiguous) {
     scene::Scene twins = room_;
     twins.meshes[3].name = twins.meshes[2].name;  // "box" renamed "sphere"
-    const std::string twins_id = Upload(*client_, twins);
+    const std::string twins_id = UploadMeshes(*client_, twins);
     v1::PlanRequest plan = PlanFor(twins_id, twins, 64);
     const grpc::Status status = View(plan);
     EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);

@@ -10,11 +10,13 @@
 #include <lixel/service/server.h>
 
 #include <chrono>
+#include <cstring>
 #include <cstdlib>
 #include <functional>
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "floor_solve.h"
 
@@ -87,6 +89,24 @@ inline SmallSceneServer StartWithSmallScene(const std::string& instance) {
 }
 
 // A raw stub without the client's retries, to see statuses as the server sends them.
+// `scene`'s meshes uploaded (its pose left out: a request places them); the scene id, or "" with
+// the test failed.
+inline std::string UploadMeshes(client::Client& client, scene::Scene scene) {
+    scene.instances.clear();
+    v1::Scene message;
+    service::EncodeScene(service::MakeSceneRecord(std::move(scene)), &message);
+    auto uploaded = client.UploadScene(message);
+    EXPECT_TRUE(uploaded.ok()) << (uploaded.ok() ? "" : uploaded.error().Message());
+    return uploaded.ok() ? uploaded->scene_id() : "";
+}
+
+// A View's mask as floats.
+inline std::vector<float> MaskOf(const v1::ViewResponse& view) {
+    std::vector<float> mask(view.mask().size() / sizeof(float));
+    std::memcpy(mask.data(), view.mask().data(), mask.size() * sizeof(float));
+    return mask;
+}
+
 inline std::unique_ptr<v1::Shadow::Stub> RawStub(const std::string& target) {
     return v1::Shadow::NewStub(grpc::CreateChannel(target, grpc::InsecureChannelCredentials()));
 }

@@ -35,13 +35,7 @@ Room StartRoom(const service::ServerOptions& options) {
     r.server = StartServer(options);
     if (r.server == nullptr) return r;
     r.client = Connect(Target(*r.server));
-    scene::Scene room = scene::FloorWallAnimated(0.0);
-    room.instances.clear();
-    v1::Scene message;
-    service::EncodeScene(service::MakeSceneRecord(std::move(room)), &message);
-    auto uploaded = r.client->UploadScene(message);
-    EXPECT_TRUE(uploaded.ok()) << (uploaded.ok() ? "" : uploaded.error().Message());
-    if (uploaded.ok()) r.scene_id = uploaded->scene_id();
+    r.scene_id = UploadMeshes(*r.client, scene::FloorWallAnimated(0.0));
     return r;
 }
 
@@ -433,12 +427,6 @@ v1::ViewRequest ViewOf(const v1::SessionOpen& open, const v1::SessionFrame& fram
     v1::ViewRequest request = open.view();
     *request.mutable_plan() = RenderOf(open, frame, nullptr).plan();
     return request;
-}
-
-std::vector<float> MaskOf(const v1::ViewResponse& view) {
-    std::vector<float> mask(view.mask().size() / sizeof(float));
-    std::memcpy(mask.data(), view.mask().data(), mask.size() * sizeof(float));
-    return mask;
 }
 
 // A session opened with a view answers every frame of the moving room with its mask: one
