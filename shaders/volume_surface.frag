@@ -31,7 +31,8 @@ void main() {
     // visibility's does. A non-receiver is lit by its facing alone. A shadowed pixel keeps the
     // depth draw's values. (A caster's own volume holds its far side, so its facing, taken
     // from derivatives and noisier than the count at the terminator, is not asked.)
-    bool in_volume = texelFetch(u_count, ivec2(gl_FragCoord.xy), 0).r != 0.0;
+    // (The count target is read in the lit draw only: the depth draw writes it.)
+    bool in_volume = u_lit > 0.5 && texelFetch(u_count, ivec2(gl_FragCoord.xy), 0).r != 0.0;
     bool shadowed = u_receives == 0 ? !faces_light : in_volume || (u_casts == 0 && !faces_light);
     if (u_lit > 0.5 && shadowed) discard;
     float shade = 0.25 + 0.75 * u_lit * diffuse;

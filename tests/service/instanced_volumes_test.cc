@@ -302,5 +302,43 @@ TEST_F(InstancedVolumes, SilhouettesRefuseBadInstancesNamingTheField) {
     EXPECT_TRUE(client_->Silhouettes(request).ok());
 }
 
+// Volumes and silhouettes built per instance on the CPU are bounded by what one upload may hold:
+// a pose placing more casting triangles than max_upload_triangles is refused naming the
+// instances, and the scene still serves its own pose.
+TEST(InstancedVolumesLimit, APosePlacingMoreTrianglesThanOneSceneMayHoldIsRefused) {
+    const scene::Scene room = scene::FloorWallAnimated(0.0);
+    std::uint64_t triangles = 0;
+    for (const Mesh& mesh : room.meshes) triangles += mesh.TriangleCount();
+    service::ServerOptions options = SmallServerOptions("instanced-volumes-limit");
+    options.service.max_upload_triangles = triangles + 100;  // the room, not a second sphere
+    auto server = StartServer(options);
+    ASSERT_NE(server, nullptr);
+    auto client = Connect(Target(*server));
+    const std::string id = UploadMeshes(*client, room);
+    const scene::Scene posed = TwoSpheres();
+    v1::ViewRequest request;
+    *request.mutable_plan() = PlanFor(id, posed);
+    request.set_filter(v1::FILTER_SMOOTH_VOLUMES);
+    auto refused = client->View(request);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "RESOURCE_EXHAUSTED");
+    EXPECT_EQ(refused.error().reason.rfind("plan.instances: the casting instances place ", 0), 0u)
+        << refused.error().reason;
+    v1::SilhouettesRequest silhouettes;
+    silhouettes.set_scene_id(id);
+    *silhouettes.mutable_instances() = request.plan().instances();
+    auto also = client->Silhouettes(silhouettes);
+    ASSERT_FALSE(also.ok());
+    EXPECT_EQ(also.error().reason.rfind("instances: the casting instances place ", 0), 0u)
+        << also.error().reason;
+    // The room's own pose fits, and a non-caster does not count.
+    *request.mutable_plan() = PlanFor(id, scene::FloorWallAnimated(0.5));
+    EXPECT_TRUE(client->View(request).ok());
+    scene::Scene shadowless = posed;
+    shadowless.instances.back().casts = false;
+    *request.mutable_plan() = PlanFor(id, shadowless);
+    EXPECT_TRUE(client->View(request).ok());
+}
+
 }  // namespace
 }  // namespace lixel

@@ -344,22 +344,32 @@ TEST(Session, AnEvictedSceneEndsTheSessionWithNotFoundNamingIt) {
     EXPECT_FALSE(served->refused);
 }
 
-TEST(Session, AClientThatStopsReadingIsEndedAndTheServerServesOthers) {
-    service::ServerOptions options = SmallServerOptions("session-stalled");
+// A client that sends frames and reads nothing is ended once stream_idle_seconds pass with
+// nothing taken, while another client is served; with `view`, its frames are masks, one image
+// each.
+void ExpectAStalledClientEnded(bool view) {
+    service::ServerOptions options =
+        SmallServerOptions(view ? "session-stalled-view" : "session-stalled");
     options.service.stream_idle_seconds = 0.5;
     options.service.chunk_bytes = 4096;  // many messages a frame: flow control fills up
     Room r = StartRoom(options);
     ASSERT_FALSE(r.scene_id.empty());
     auto stub = RawStub(Target(*r.server));
     RawSession raw(*stub);
-    // Maps of about 8 MiB a frame (1024² lixels, depth and second depth): more than gRPC's
-    // windows and buffers take in a few frames.
+    // Maps of about 8 MiB a frame (1024² lixels, depth and second depth), or masks of 4 MiB
+    // (a 1024² view): more than gRPC's windows and buffers take in a few frames.
     v1::SessionOpen big = OpenFor(r.scene_id);
     big.mutable_plan()->set_lixel_budget(1024 * 1024);
+    if (view) big.mutable_view()->set_filter(v1::FILTER_DEPTH);
     raw.Send(OpenMessage(big));
     std::thread sender([&] {
         for (int f = 0; f < 40; ++f) {
-            if (!raw.stream->Write(FrameMessage(FrameOf(f, f + 1)))) return;
+            v1::SessionFrame frame = FrameOf(f, f + 1);
+            if (view) {
+                frame.mutable_camera()->set_width(1024);
+                frame.mutable_camera()->set_height(1024);
+            }
+            if (!raw.stream->Write(FrameMessage(frame))) return;
             std::this_thread::sleep_for(std::chrono::milliseconds(50));
         }
     });
@@ -383,6 +393,15 @@ TEST(Session, AClientThatStopsReadingIsEndedAndTheServerServesOthers) {
     const grpc::Status ended = raw.stream->Finish();
     EXPECT_EQ(ended.error_code(), grpc::StatusCode::CANCELLED) << ended.error_message();
 }
+
+TEST(Session, AClientThatStopsReadingIsEndedAndTheServerServesOthers) {
+    ExpectAStalledClientEnded(false);
+}
+
+// A frame of one image (a mask) whose job ends once the image is put waits for it to be
+// written, so a stalled reader is found there too (before, no job waited on a view session's
+// frames and the client held its call until it went away).
+TEST(Session, AViewSessionClientThatStopsReadingIsEndedToo) { ExpectAStalledClientEnded(true); }
 
 // Resident memory of this process (server and client both), bytes.
 std::uint64_t ResidentBytes() {

@@ -3,6 +3,8 @@
 
 #include <lixel/service/proto_convert.h>
 
+#include <cstdio>
+
 namespace lixel::service {
 
 grpc::Status InvalidArgument(const Error& error) {
@@ -22,6 +24,39 @@ grpc::Status NotFound(const std::string& id) {
 
 grpc::Status Exhausted(const std::string& message) {
     return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, message);
+}
+
+grpc::Status StalledStatus(double idle_seconds) {
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%g", idle_seconds);
+    return Exhausted(std::string("stream: the client took nothing for over ") + limit +
+                     " s, the limit stream_idle_seconds = " + limit);
+}
+
+grpc::Status WaitUntilWritten(RenderFeed& feed, const CancelCheck& cancelled, double idle_seconds) {
+    switch (feed.WaitForRoom(cancelled, idle_seconds)) {
+        case RenderFeed::Room::kRoom:
+            return grpc::Status::OK;
+        case RenderFeed::Room::kStalled:
+            return StalledStatus(idle_seconds);
+        case RenderFeed::Room::kEnded:
+            break;
+    }
+    return CancelledStatus();
+}
+
+grpc::Status CheckPlacedTriangles(const ServiceState& state, const SceneRecord& scene,
+                                  std::span<const MeshInstance> instances,
+                                  const std::string& field) {
+    std::uint64_t placed = 0;
+    for (const MeshInstance& instance : instances) {
+        if (instance.casts) placed += scene.scene.meshes[instance.mesh].TriangleCount();
+    }
+    if (placed <= state.options.max_upload_triangles) return grpc::Status::OK;
+    return Exhausted(field + ": the casting instances place " + std::to_string(placed) +
+                     " triangles, over max_upload_triangles = " +
+                     std::to_string(state.options.max_upload_triangles) +
+                     " (the most one scene may hold)");
 }
 
 grpc::Status CancelledStatus() {

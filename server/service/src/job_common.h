@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 
 namespace lixel::service::jobs {
@@ -20,6 +21,20 @@ double Since(Clock::time_point t);  // seconds
 grpc::Status NotFound(const std::string& id);          // NOT_FOUND naming scene_id
 grpc::Status Exhausted(const std::string& message);    // RESOURCE_EXHAUSTED
 grpc::Status CancelledStatus();                        // CANCELLED: cancelled or past its deadline
+// RESOURCE_EXHAUSTED "stream: ...": the client took nothing for `idle_seconds`. The message's
+// "stream:" prefix tells a session's reactor that the call, not the frame, ends.
+grpc::Status StalledStatus(double idle_seconds);
+// Waits until everything put into `feed` is written: OK, StalledStatus when the writer takes
+// nothing for `idle_seconds`, CANCELLED when the call ends first.
+grpc::Status WaitUntilWritten(RenderFeed& feed, const CancelCheck& cancelled, double idle_seconds);
+
+// The instances' placed triangles (the casting instances' meshes' triangles, each counted once
+// per instance) within max_upload_triangles, what one scene may hold: the bound of what a
+// pass that builds per instance on the CPU (smooth volumes, Silhouettes) may be asked to build.
+// RESOURCE_EXHAUSTED naming `field` otherwise.
+grpc::Status CheckPlacedTriangles(const ServiceState& state, const SceneRecord& scene,
+                                  std::span<const MeshInstance> instances,
+                                  const std::string& field);
 
 // Resolves the plan's scene: a cached upload, or none when the request carries bounds only.
 grpc::Status FindScene(ServiceState& state, const v1::PlanRequest& plan, bool required,

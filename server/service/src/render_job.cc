@@ -123,12 +123,7 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
             coded_spare = std::move(image.image.pixels);
             return feed.PutCoded(static_cast<std::uint32_t>(next++), std::move(coded).value());
         });
-    if (stalled) {
-        char limit[32];
-        std::snprintf(limit, sizeof limit, "%g", idle_seconds);
-        return Exhausted(std::string("stream: the client took nothing for over ") + limit +
-                         " s, the limit stream_idle_seconds = " + limit);
-    }
+    if (stalled) return StalledStatus(idle_seconds);
     if (coding_failed) {
         return grpc::Status(grpc::StatusCode::INTERNAL, "render: " + coding_failed->Message());
     }
@@ -147,7 +142,9 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     }
     state.metrics.MapsRendered(static_cast<double>(shapes.size()), total);
     if (report != nullptr) report->passes_seconds = seconds(started) - report->encode_seconds;
-    return grpc::Status::OK;
+    // The call ends once its last image is written: a client that stops reading before it is
+    // found here, however few images the frame has.
+    return WaitUntilWritten(feed, cancelled, idle_seconds);
 }
 
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,

@@ -53,6 +53,7 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
         auto decoded = DecodeInstances(request.instances(), *scene, "instances");
         if (!decoded) return InvalidArgument(decoded.error());
         placed = std::move(decoded).value();
+        if (auto s = CheckPlacedTriangles(state, *scene, placed, "instances"); !s.ok()) return s;
     } else {
         placed = IdentityInstances(scene->scene.meshes.size());
     }

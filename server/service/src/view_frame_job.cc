@@ -1,5 +1,6 @@
 // A session frame answered with its view mask (jobs.h, ViewFrameJob): View's work, then the mask
 // streamed through the frame's feed like one map image.
+#include <lixel/eval/cost.h>
 #include <lixel/service/map_coding.h>
 
 #include <chrono>
@@ -45,7 +46,7 @@ grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::View
         v1::ViewResponse baselines_only;
         for (const v1::StageTime& t : response.timings()) {
             if (request.cost_baselines() &&
-                (t.stage() == "baseline_depth" || t.stage() == "baseline_view")) {
+                (t.stage() == eval::kBaselineDepthStage || t.stage() == eval::kBaselineViewStage)) {
                 *baselines_only.add_timings() = t;
             }
         }
@@ -56,9 +57,13 @@ grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::View
     mask.width = static_cast<int>(response.width());
     mask.height = static_cast<int>(response.height());
     mask.channels = 1;
-    mask.pixels.resize(response.mask().size() / sizeof(float));
-    std::memcpy(mask.pixels.data(), response.mask().data(), mask.pixels.size() * sizeof(float));
-    response.clear_mask();
+    {
+        // Out of the response (clear_mask would keep its capacity in the frame's done).
+        std::string bytes;
+        bytes.swap(*response.mutable_mask());
+        mask.pixels.resize(bytes.size() / sizeof(float));
+        std::memcpy(mask.pixels.data(), bytes.data(), mask.pixels.size() * sizeof(float));
+    }
     const std::uint64_t bytes = mask.pixels.size() * sizeof(float);
 
     v1::RenderChunk header;
@@ -84,15 +89,6 @@ grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::View
     }
     if (!feed.PutHeader(std::move(header))) return CancelledStatus();
 
-    const double idle_seconds = state.options.stream_idle_seconds;
-    const RenderFeed::Room room = feed.WaitForRoom(cancelled, idle_seconds);
-    if (room == RenderFeed::Room::kStalled) {
-        char limit[32];
-        std::snprintf(limit, sizeof limit, "%g", idle_seconds);
-        return Exhausted(std::string("stream: the client took nothing for over ") + limit +
-                         " s, the limit stream_idle_seconds = " + limit);
-    }
-    if (room == RenderFeed::Room::kEnded) return CancelledStatus();
     bool put = false;
     if (coding->has_value()) {
         const Clock::time_point coding_started = Clock::now();
@@ -118,6 +114,13 @@ grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::View
         put = feed.PutImage(0, std::move(mask));
     }
     if (!put) return CancelledStatus();
+    // The frame ends once its mask is written: a client that reads nothing for
+    // stream_idle_seconds is found here (its frames' single images would otherwise wait
+    // unwritten, no job waiting on them).
+    if (grpc::Status s = WaitUntilWritten(feed, cancelled, state.options.stream_idle_seconds);
+        !s.ok()) {
+        return s;
+    }
     report->view = std::move(response);
     return grpc::Status::OK;
 }

@@ -293,6 +293,13 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     std::vector<MeshInstance> instances;
     auto decoded = DecodePlanRequest(plan_message, scene.get(), "plan", &instances);
     if (!decoded) return InvalidArgument(decoded.error());
+    // The smooth volumes are built per instance on the CPU; the robust ones test each instance's
+    // triangles for their counting mode.
+    if (volumes) {
+        if (auto s = CheckPlacedTriangles(state, *scene, instances, "plan.instances"); !s.ok()) {
+            return s;
+        }
+    }
     // The view pass reads every map from one atlas, each inside a border (view_pass.h).
     decoded->max_texture_size =
         std::min(decoded->max_texture_size, kMaxImageSide - 2 * render::kAtlasBorder);

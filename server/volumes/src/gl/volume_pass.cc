@@ -416,6 +416,9 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     if (surfaces.origin() != volumes.origin()) {
         return Error{"origin", "surfaces and volumes were uploaded with different origins"};
     }
+    // Everything that can fail before any GL state changes.
+    auto eye = EyePoint(request.viewer);
+    if (!eye) return eye.error();
     VolumeRenderInfo info;
     const std::vector<CasterDraw> casters = Casters(surfaces, *NormalizeLight(request.light));
     if (auto ok = ChooseModes(surfaces, volumes, volume, casters.size(), request, info); !ok) {
@@ -435,8 +438,6 @@ Result<VolumeRenderInfo> VolumePass::Draw(const render::GpuScene& surfaces,
     const GLuint sp = surface_.id();
     gl.ProgramUniformMatrix4fv(sp, surface_.Uniform("u_viewer"), 1, GL_FALSE, viewer.data());
     gl.ProgramUniform4fv(sp, surface_.Uniform("u_light"), 1, light.data());
-    auto eye = EyePoint(request.viewer);
-    if (!eye) return eye.error();
     const Eigen::Vector4f eye_relative = render::RelativePoint(*eye, origin).cast<float>();
     gl.ProgramUniform4fv(sp, surface_.Uniform("u_eye"), 1, eye_relative.data());
     gl.ProgramUniform1f(sp, surface_.Uniform("u_lit"), 0.0f);
