@@ -81,5 +81,26 @@ TEST(SmoothVolumeCache, WhateverItReusesItAnswersTheFreshVolume) {
     ExpectSame(*fewer->volume, *fresh);
 }
 
+// A build polls its caller's cancellation between instances: cancelled, it ends naming the
+// request and keeps nothing, so the next call builds the whole volume afresh.
+TEST(SmoothVolumeCache, ACancelledBuildEndsBetweenInstancesAndKeepsNothing) {
+    const Room room;
+    const service::SmoothVolumeCache cache;
+    const std::vector<MeshInstance> pose = scene::FloorWallAnimated(0.3).instances;
+    int polls = 0;
+    auto cancelled = cache.Get(room.scene.meshes, room.adjacency, pose, room.scene.light, {},
+                               [&] { return ++polls > 2; });
+    ASSERT_FALSE(cancelled.ok());
+    EXPECT_EQ(cancelled.error().field, "request");
+    EXPECT_EQ(polls, 3);
+    auto built = cache.Get(room.scene.meshes, room.adjacency, pose, room.scene.light, {});
+    ASSERT_TRUE(built.ok());
+    EXPECT_TRUE(built->built);
+    auto fresh =
+        volumes::ExtrudeSceneVolume(room.scene.meshes, room.adjacency, pose, room.scene.light, {});
+    ASSERT_TRUE(fresh.ok());
+    ExpectSame(*built->volume, *fresh);
+}
+
 }  // namespace
 }  // namespace lixel

@@ -252,8 +252,8 @@ Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string
                                             const SceneRecord& record,
                                             const render::GpuScene& scene,
                                             std::span<const MeshInstance> instances,
-                                            const MaskJob& job, MaskTimes* times,
-                                            render::Rgb8Image* preview) {
+                                            const MaskJob& job, const CancelCheck& cancelled,
+                                            MaskTimes* times, render::Rgb8Image* preview) {
     auto start = std::chrono::steady_clock::now();
     if (worker.volume_pass == nullptr) {
         auto pass = volumes::gl::VolumePass::Create(*worker.context);
@@ -283,7 +283,7 @@ Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string
     std::optional<volumes::gl::GpuVolumeMesh> smooth;
     if (job.smooth) {
         auto cached = record.smooth_volume->Get(record.scene.meshes, patches->adjacency(),
-                                                instances, job.light, *job.smooth);
+                                                instances, job.light, *job.smooth, cancelled);
         if (!cached) return Error{"scene." + cached.error().field, cached.error().reason};
         if (times != nullptr) times->smooth_build_seconds = cached->build_seconds;
         start = std::chrono::steady_clock::now();
@@ -298,6 +298,7 @@ Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string
     request.viewer = job.viewer;
     request.viewport = job.viewport;
     request.light = job.light;
+    request.cancelled = cancelled;
     render::ViewImages images;
     auto drawn = smooth ? worker.volume_pass->Render(scene, *patches, *smooth, request, images)
                         : worker.volume_pass->Render(scene, *patches, request, images);

@@ -26,7 +26,7 @@ bool SamePlace(const MeshInstance& x, const MeshInstance& y) {
 Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
     std::span<const Mesh> meshes, std::span<const volumes::EdgeAdjacency> adjacency,
     std::span<const MeshInstance> instances, const Vec4& light,
-    const volumes::SmoothOptions& options) const {
+    const volumes::SmoothOptions& options, const std::function<bool()>& cancelled) const {
     const std::vector<MeshInstance> placed =
         instances.empty() ? IdentityInstances(meshes.size())
                           : std::vector<MeshInstance>(instances.begin(), instances.end());
@@ -59,6 +59,7 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
             SamePlace(held_instances[i], instance)) {
             parts[i] = held_parts[i];
         } else {
+            if (cancelled && cancelled()) return Error{"request", "cancelled"};
             auto part = volumes::ExtrudeInstanceVolume(meshes[instance.mesh], instance.mesh,
                                                        adjacency[instance.mesh],
                                                        instance.object_to_world, light, options);

@@ -345,7 +345,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     render::Rgb8Image* const want_preview = request.preview() ? &preview : nullptr;
     auto mask = volumes
                     ? RenderVolumeMask(worker, plan_message.scene_id(), *scene, **gpu_scene,
-                                       instances, job, &mask_times, want_preview)
+                                       instances, job, cancelled, &mask_times, want_preview)
                     : RenderMask(worker, **gpu_scene, job, cancelled, &mask_times, want_preview);
     if (!mask) {
         if (cancelled()) return CancelledStatus();

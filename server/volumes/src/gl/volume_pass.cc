@@ -254,6 +254,9 @@ Result<bool> ChooseModes(const render::GpuScene& surfaces, const VolumeScene& vo
     } else {
         for (const render::GpuDraw& draw : surfaces.draws()) {
             if (!draw.casts) continue;
+            if (request.cancelled && request.cancelled()) {
+                return Error{"request", "cancelled"};
+            }
             const Mat4 m = WorldMatrix(draw, surfaces.origin());
             const EdgeAdjacency* mesh = &volumes.adjacency()[draw.range];
             auto mode = ChooseCountingMode(std::span<const EdgeAdjacency* const>(&mesh, 1),

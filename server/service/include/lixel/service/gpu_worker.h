@@ -134,13 +134,14 @@ Result<render::FloatImage> RenderMask(GpuWorker& worker, const render::GpuScene&
                                       MaskTimes* times, render::Rgb8Image* preview = nullptr);
 
 // The exact mask of silhouette shadow volumes (paper 001) for the scene uploaded as `id`.
-// `scene` is posed as `instances` place its meshes (empty: each once, in place).
+// `scene` is posed as `instances` place its meshes (empty: each once, in place). `cancelled` is
+// polled between instances where the work is per instance on the CPU.
 Result<render::FloatImage> RenderVolumeMask(GpuWorker& worker, const std::string& id,
                                             const SceneRecord& record,
                                             const render::GpuScene& scene,
                                             std::span<const MeshInstance> instances,
-                                            const MaskJob& job, MaskTimes* times,
-                                            render::Rgb8Image* preview = nullptr);
+                                            const MaskJob& job, const CancelCheck& cancelled,
+                                            MaskTimes* times, render::Rgb8Image* preview = nullptr);
 
 // The report's cost baselines (lixel::eval cost.h) for `job`'s view, on this worker's context,
 // each timed with glFinish: a bare depth pass of every triangle into `depth_map` (skipped when

@@ -14,6 +14,7 @@
 #include <lixel/volumes/smooth_silhouette.h>
 #include <lixel/volumes/volume_mesh.h>
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <span>
@@ -33,11 +34,13 @@ class SmoothVolumeCache {
     // (instances empty: each mesh once, in place), or the one built last for the same
     // instances, light and options (compared exactly), or that one's parts for the instances
     // whose mesh and matrix are those at the same place of the last pose. Errors are its own;
-    // `built` is false only for a whole hit.
+    // `built` is false only for a whole hit. `cancelled` is polled between the instances it
+    // builds: true ends the build with Error{"request", "cancelled"}, keeping nothing of it.
     Result<Lookup> Get(std::span<const Mesh> meshes,
                        std::span<const volumes::EdgeAdjacency> adjacency,
                        std::span<const MeshInstance> instances, const Vec4& light,
-                       const volumes::SmoothOptions& options) const;
+                       const volumes::SmoothOptions& options,
+                       const std::function<bool()>& cancelled = {}) const;
 
   private:
     mutable std::mutex mutex_;

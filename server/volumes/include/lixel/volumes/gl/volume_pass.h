@@ -16,6 +16,7 @@
 #include <lixel/volumes/gl/volume_scene.h>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <vector>
@@ -36,6 +37,9 @@ struct VolumeRequest {
     // Also count the volume fragments rasterised (overdraw O, paper 000 Table 1): one more
     // draw of the volumes with the depth test off, under a GL_SAMPLES_PASSED query.
     bool measure_overdraw = false;
+    // Polled between a posed scene's casters while their counting modes are chosen (a CPU test
+    // of every triangle): true ends the pass with Error{"request", "cancelled"}.
+    std::function<bool()> cancelled;
 };
 
 struct VolumeRenderInfo {
