@@ -60,7 +60,9 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
 // Plans, then streams into `feed` (render_feed.h): the header as soon as the plan exists, each
 // image's chunks of options.chunk_bytes as soon as it is read back, one image on the host at a
 // time. `reserve(bytes)` is asked for the call's peak (the header plus its largest image and one
-// chunk) before anything is rendered; a refusal is the job's status. Does not Finish the feed.
+// chunk) before anything is rendered; a refusal is the job's status. Returns once the last image
+// is written (StalledStatus, "stream: ...", when the writer takes nothing for
+// stream_idle_seconds). Does not Finish the feed.
 // With `report`, what a session keeps of the frame: its plan, the coded images' frame ids (the
 // next frame's references) and the job's stage times.
 struct RenderReport {
