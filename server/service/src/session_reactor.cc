@@ -249,7 +249,7 @@ class SessionReactor final
                 // A session opened with a view answers each frame with its mask.
                 const grpc::Status s =
                     view ? ViewFrameJob(service_.state(), service_.gpu(worker), *view,
-                                        request.encoding(), cancelled, reserve, *feed, &report)
+                                        request.encoding(), cancelled, reserve, *feed, report)
                          : RenderJob(service_.state(), service_.gpu(worker), request, cancelled,
                                      reserve, *feed, &report);
                 // A client that took nothing for stream_idle_seconds: its write never completes,

@@ -4,7 +4,6 @@
 #include <lixel/service/map_coding.h>
 
 #include <chrono>
-#include <cstdio>
 #include <cstring>
 
 #include "job_common.h"
@@ -27,7 +26,7 @@ double StageSeconds(const v1::ViewResponse& response, const std::string& stage) 
 grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
                           const v1::MapEncoding& encoding, const CancelCheck& cancelled,
                           const std::function<grpc::Status(std::uint64_t)>& reserve,
-                          RenderFeed& feed, RenderReport* report) {
+                          RenderFeed& feed, RenderReport& report) {
     auto coding = DecodeMapEncoding(encoding, "encoding");
     if (!coding) return InvalidArgument(coding.error());
     // Timed whether or not the client asked: the frame's done reports plan and passes.
@@ -35,12 +34,12 @@ grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::View
     timed.set_timings(true);
     v1::ViewResponse response;
     const Clock::time_point started = Clock::now();
-    if (grpc::Status s = ViewJob(state, worker, timed, cancelled, &response, &report->plan);
+    if (grpc::Status s = ViewJob(state, worker, timed, cancelled, &response, &report.plan);
         !s.ok()) {
         return s;
     }
-    report->plan_seconds = StageSeconds(response, "plan");
-    report->passes_seconds = Since(started) - report->plan_seconds;
+    report.plan_seconds = StageSeconds(response, "plan");
+    report.passes_seconds = Since(started) - report.plan_seconds;
     if (!request.timings()) {
         // Only the baselines' entries, when those were asked for (AddTimings' rule).
         v1::ViewResponse baselines_only;
@@ -105,9 +104,9 @@ grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::View
         if (!coded) {
             return grpc::Status(grpc::StatusCode::INTERNAL, "view: " + coded.error().Message());
         }
-        report->encode_seconds = Since(coding_started);
+        report.encode_seconds = Since(coding_started);
         if (auto coded_header = codec::ReadHeader(*coded); coded_header.ok()) {
-            report->coded_frame_ids.push_back(coded_header->frame_id);
+            report.coded_frame_ids.push_back(coded_header->frame_id);
         }
         put = feed.PutCoded(0, std::move(coded).value());
     } else {
@@ -121,7 +120,7 @@ grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::View
         !s.ok()) {
         return s;
     }
-    report->view = std::move(response);
+    report.view = std::move(response);
     return grpc::Status::OK;
 }
 

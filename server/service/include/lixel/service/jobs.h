@@ -94,7 +94,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
 grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
                           const v1::MapEncoding& encoding, const CancelCheck& cancelled,
                           const std::function<grpc::Status(std::uint64_t)>& reserve,
-                          RenderFeed& feed, RenderReport* report);
+                          RenderFeed& feed, RenderReport& report);
 
 grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& request,
                             v1::SilhouettesResponse* response, const CancelCheck& cancelled = {});
