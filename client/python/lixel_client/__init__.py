@@ -2,6 +2,6 @@
 "Sessions"). Installed with the stubs the build generates (lixel.v1) and the coded-map decoder
 (lixel_maps); see the README for the two commands."""
 
-from lixel_client.session import Frame, Session, connect, instance, mat4
+from lixel_client.session import Frame, Session, StreamError, connect, instance, mat4
 
-__all__ = ["Frame", "Session", "connect", "instance", "mat4"]
+__all__ = ["Frame", "Session", "StreamError", "connect", "instance", "mat4"]

@@ -42,6 +42,41 @@ def instance(mesh: str, translation=(0.0, 0.0, 0.0), linear=None, casts: bool = 
     return message
 
 
+# Sides of an image at most (the codec's kMaxSide), and the receive bound's default: 1 GiB of
+# float32 images a frame, the server's max_response_bytes.
+MAX_SIDE = 16385
+DEFAULT_MAX_RECEIVE_BYTES = 1 << 30
+
+
+class StreamError(Exception):
+    """A malformed Session stream (a broken or hostile server), naming the part it got wrong
+    ("images[2]: chunk at 8192 runs past the image's 4096 bytes"); nothing of the frame is
+    returned and no allocation was sized by it past max_receive_bytes."""
+
+
+def _raw_bytes(meta: pb.MapImage) -> int:
+    return meta.width * meta.height * (8 if getattr(meta, "pass") == pb.PASS_SILHOUETTE_MAP else 4)
+
+
+def _check_header(header: pb.RenderHeader, coding: bool, limit: int) -> None:
+    """Every image's shape within the codec's sides, raw sizes their shapes', coded images only
+    when asked for, and the float32 total within `limit`: checked before anything is kept."""
+    announced = 0
+    for i, meta in enumerate(header.images):
+        field = f"images[{i}]: "
+        if not (1 <= meta.width <= MAX_SIDE and 1 <= meta.height <= MAX_SIDE):
+            raise StreamError(f"{field}{meta.width} x {meta.height} is outside [1, {MAX_SIDE}]²")
+        if meta.coded and not coding:
+            raise StreamError(field + "coded, but no encoding was asked for")
+        if not meta.coded and meta.bytes != _raw_bytes(meta):
+            raise StreamError(f"{field}{meta.bytes} bytes announced for {meta.width} x "
+                              f"{meta.height}, which has {_raw_bytes(meta)}")
+        announced += _raw_bytes(meta)
+    if announced > limit:
+        raise StreamError(f"header: {announced} bytes of maps announced, over max_receive_bytes "
+                          f"= {limit}")
+
+
 @dataclasses.dataclass
 class Frame:
     number: int
@@ -69,10 +104,13 @@ class Session:
     """One Session stream. `send` may run ahead of iteration (pipelining); iterating yields each
     served or refused frame in order and ends when the server ends the stream after `close`.
     A stream the server ends with an error raises grpc.RpcError (NOT_FOUND when the scene was
-    evicted: upload it again and open a new session)."""
+    evicted: upload it again and open a new session); a malformed one raises StreamError naming
+    the part, after at most `max_receive_bytes` of a frame's images were taken in."""
 
     def __init__(self, stub: pb_grpc.ShadowStub, open_message: pb.SessionOpen, metadata=(),
-                 timeout: Optional[float] = None) -> None:
+                 timeout: Optional[float] = None,
+                 max_receive_bytes: int = DEFAULT_MAX_RECEIVE_BYTES) -> None:
+        self._limit = max_receive_bytes
         self._requests: "queue.Queue[Optional[pb.SessionRequest]]" = queue.Queue()
         self._requests.put(pb.SessionRequest(open=open_message))
         self._responses = stub.Session(self._outgoing(), metadata=metadata, timeout=timeout)
@@ -124,15 +162,32 @@ class Session:
             if number is None:
                 number = response.frame
             elif response.frame != number:
-                raise ValueError(f"frame {response.frame} began before frame {number} was done")
+                raise StreamError(f"frame {response.frame} began before frame {number} was done")
             if which == "header":
+                if header is not None:
+                    raise StreamError(f"frame {number}: header: a second header in one frame")
+                try:
+                    _check_header(response.header, self._coding, self._limit)
+                except StreamError as error:
+                    raise StreamError(f"frame {number}: {error}") from None
                 header = response.header
                 parts = [bytearray() for _ in header.images]
             elif which == "chunk":
                 chunk = response.chunk
+                if header is None:
+                    raise StreamError(f"frame {number}: chunk: before the frame's header")
+                if chunk.image_index >= len(parts):
+                    raise StreamError(f"frame {number}: chunk: image_index {chunk.image_index} "
+                                      "names no image of the header")
+                meta = header.images[chunk.image_index]
                 data = parts[chunk.image_index]
-                if chunk.offset != len(data):
-                    raise ValueError(f"frame {number}: chunk at {chunk.offset} out of order")
+                # A coded image within the codec's bound on it (codec::MaxCodedBytes).
+                raw = _raw_bytes(meta)
+                bound = raw + raw // 32 + 8192 if meta.coded else raw
+                if chunk.offset != len(data) or len(data) + len(chunk.data) > bound:
+                    raise StreamError(f"frame {number}: images[{chunk.image_index}]: chunk at "
+                                      f"{chunk.offset} is out of order or runs past the image's "
+                                      f"{bound} bytes")
                 data.extend(chunk.data)
                 streamed += len(chunk.data)
             elif which == "done":
@@ -141,6 +196,12 @@ class Session:
                 if done.code != 0:
                     return Frame(number, pb.PlanResponse(), [], timings, skipped, streamed,
                                  (_status(done.code), done.message))
+                if header is None:
+                    raise StreamError(f"frame {number}: no header before the frame's end")
+                for i, (meta, data) in enumerate(zip(header.images, parts)):
+                    if not meta.coded and len(data) != meta.bytes:
+                        raise StreamError(f"frame {number}: images[{i}]: {len(data)} of its "
+                                          f"{meta.bytes} bytes arrived")
                 return Frame(number, header.plan, self._decode(header, parts), timings, skipped,
                              streamed, None, done.view if done.HasField("view") else None)
         raise StopIteration
