@@ -71,6 +71,9 @@ ABSL_FLAG(bool, log_requests, Defaults().service.log_requests,
 ABSL_FLAG(std::uint64_t, coded_reference_mb, Mib(Defaults().service.coded_reference_bytes),
           "MiB of coded frames kept so later Renders may code differences from them, least "
           "recently used evicted first, [0, 1048576]");
+ABSL_FLAG(std::uint64_t, session_waiting_mb, Mib(Defaults().service.session_waiting_bytes),
+          "MiB a session's frames received and not started may hold together before the oldest "
+          "are skipped, [1, 1048576]");
 ABSL_FLAG(std::uint64_t, cache_mb, Mib(Defaults().service.scene_cache_bytes),
           "MiB of decoded scenes kept, least recently used evicted first, [1, 1048576]");
 ABSL_FLAG(std::uint64_t, memory_cap_mb, Mib(Defaults().service.memory_cap_bytes),
@@ -175,6 +178,7 @@ constexpr Bounds kBounds[] = {
     {"stream_idle_seconds", 0, 3600, true},
     {"cache_mb", 1, kMaxMib, false},
     {"coded_reference_mb", 0, kMaxMib, false},
+    {"session_waiting_mb", 1, kMaxMib, false},
     {"memory_cap_mb", 1, kMaxMib, false},
     {"max_plan_objects", 0, kMaxCount, false},
     {"max_response_mb", 1, kMaxMib, false},
@@ -298,6 +302,7 @@ int main(int argc, char** argv) {
     options.service.log_requests = absl::GetFlag(FLAGS_log_requests);
     options.service.scene_cache_bytes = absl::GetFlag(FLAGS_cache_mb) << 20;
     options.service.coded_reference_bytes = absl::GetFlag(FLAGS_coded_reference_mb) << 20;
+    options.service.session_waiting_bytes = absl::GetFlag(FLAGS_session_waiting_mb) << 20;
     options.service.memory_cap_bytes = absl::GetFlag(FLAGS_memory_cap_mb) << 20;
     options.service.max_plan_objects = absl::GetFlag(FLAGS_max_plan_objects);
     options.service.max_response_bytes = absl::GetFlag(FLAGS_max_response_mb) << 20;

@@ -520,5 +520,42 @@ TEST(Session, AViewSessionsVolumeMasksComeCodedLosslesslyAndTemporalWhenNothingM
     EXPECT_TRUE((*session)->Close().ok());
 }
 
+// Frames waiting hold whole plans (their instances included): past session_waiting_bytes the
+// oldest are skipped as past max_frames_ahead, said in a notice naming the bound, and the
+// newest is served. Before the bound, 64 frames of up to one 64 MiB message each could wait.
+TEST(Session, WaitingFramesPastTheirByteBoundAreSkippedOldestFirst) {
+    service::ServerOptions options = SmallServerOptions("session-waiting-bytes");
+    options.service.session_waiting_bytes = 3000;  // two or three of the room's frames
+    Room r = StartRoom(options);
+    ASSERT_FALSE(r.scene_id.empty());
+    auto stub = RawStub(Target(*r.server));
+    RawSession raw(*stub);
+    v1::SessionOpen open = OpenFor(r.scene_id);
+    open.set_max_frames_ahead(64);
+    open.mutable_plan()->set_lixel_budget(1024 * 1024);  // each frame takes a while
+    raw.Send(OpenMessage(open));
+    for (std::uint64_t n = 1; n <= 20; ++n) raw.Send(FrameMessage(FrameOf(static_cast<int>(n), n)));
+    raw.stream->WritesDone();
+    int notices = 0;
+    std::uint64_t last_done = 0;
+    v1::SessionResponse response;
+    while (raw.stream->Read(&response)) {
+        if (response.has_notice()) {
+            ++notices;
+            EXPECT_NE(response.notice().message().find(
+                          "the frames waiting held more than session_waiting_bytes = 3000"),
+                      std::string::npos)
+                << response.notice().message();
+        }
+        if (response.has_done()) {
+            EXPECT_EQ(response.done().code(), 0) << response.done().message();
+            last_done = response.frame();
+        }
+    }
+    EXPECT_TRUE(raw.stream->Finish().ok());
+    EXPECT_GT(notices, 0);
+    EXPECT_EQ(last_done, 20u);
+}
+
 }  // namespace
 }  // namespace lixel

@@ -122,6 +122,7 @@ class SessionReactor final
     struct Item {
         std::uint64_t frame = 0;
         std::optional<v1::RenderRequest> request;    // a frame to run
+        std::uint64_t request_bytes = 0;             // its serialized size, while it waits
         std::optional<v1::SessionResponse> message;  // or a message to write
         Clock::time_point arrived = Clock::now();
         std::shared_ptr<RenderFeed> feed;  // once its job started
@@ -163,6 +164,7 @@ class SessionReactor final
             items_.push_back(std::move(item));
             return;
         }
+        item.request_bytes = render.ByteSizeLong();
         item.request = std::move(render);
         items_.push_back(std::move(item));
         SkipSupersededLocked();
@@ -182,22 +184,34 @@ class SessionReactor final
         return grpc::Status::OK;
     }
 
-    // Frames not started past max_frames_ahead: the oldest give way (their changes are in the
-    // frames after them) and a notice takes their place.
+    // Frames not started past max_frames_ahead, or holding together more than
+    // session_waiting_bytes: the oldest give way (their changes are in the frames after them; the
+    // newest always waits) and a notice takes their place.
     void SkipSupersededLocked() {
         std::size_t waiting = 0;
-        for (const Item& item : items_) waiting += item.request && item.feed == nullptr;
-        while (waiting > session_.max_frames_ahead()) {
+        std::uint64_t bytes = 0;
+        for (const Item& item : items_) {
+            if (!item.request || item.feed != nullptr) continue;
+            ++waiting;
+            bytes += item.request_bytes;
+        }
+        const std::uint64_t limit = service_.state().options.session_waiting_bytes;
+        while (waiting > session_.max_frames_ahead() || (waiting > 1 && bytes > limit)) {
+            const bool too_many = waiting > session_.max_frames_ahead();
             for (Item& item : items_) {
                 if (!item.request || item.feed != nullptr) continue;
                 const std::uint64_t skipped = item.frame;
+                bytes -= item.request_bytes;
                 item.request.reset();
                 v1::SessionNotice* notice = item.message.emplace().mutable_notice();
                 notice->add_skipped(skipped);
-                notice->set_message("frame " + std::to_string(skipped) +
-                                    " skipped: the client ran more than max_frames_ahead = " +
-                                    std::to_string(session_.max_frames_ahead()) +
-                                    " frames ahead, and a later frame carries its changes");
+                notice->set_message(
+                    "frame " + std::to_string(skipped) + " skipped: " +
+                    (too_many ? "the client ran more than max_frames_ahead = " +
+                                    std::to_string(session_.max_frames_ahead()) + " frames ahead"
+                              : "the frames waiting held more than session_waiting_bytes = " +
+                                    std::to_string(limit)) +
+                    ", and a later frame carries its changes");
                 service_.state().metrics.SessionFramesSkipped(1.0);
                 break;
             }

@@ -31,6 +31,10 @@ struct ServiceOptions {
     // Coded frames held for temporal coding (coded_references.h, LRU); 0 holds none, and every
     // coded image is then a keyframe.
     std::uint64_t coded_reference_bytes = 256ull << 20;
+    // A session's frames received and not started, their merged requests together: past it the
+    // oldest are skipped as past max_frames_ahead (each carries a whole plan, its instances
+    // included, up to one request message).
+    std::uint64_t session_waiting_bytes = 256ull << 20;
     std::uint64_t memory_cap_bytes = 2ull << 30;      // maps of one request (w * h * 4 * passes)
     // Objects one plan may hold (a request's objects, or an uploaded scene's meshes); 0: what
     // memory_cap_bytes holds at kPlanBytesPerObject (PlanObjectLimit).
