@@ -532,7 +532,7 @@ TEST(Session, WaitingFramesPastTheirByteBoundAreSkippedOldestFirst) {
     RawSession raw(*stub);
     v1::SessionOpen open = OpenFor(r.scene_id);
     open.set_max_frames_ahead(64);
-    open.mutable_plan()->set_lixel_budget(1024 * 1024);  // each frame takes a while
+    open.mutable_plan()->set_lixel_budget(256 * 256);  // frames arrive faster than they render
     raw.Send(OpenMessage(open));
     for (std::uint64_t n = 1; n <= 20; ++n) raw.Send(FrameMessage(FrameOf(static_cast<int>(n), n)));
     raw.stream->WritesDone();
