@@ -68,17 +68,11 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
         if (cancelled && cancelled()) return CancelledStatus();  // between meshes
         // Each mesh's geometry on its own coordinates, against the light carried there.
         const Mat4& m = instance.object_to_world;
-        const bool in_place = m == Mat4::Identity();
-        const Vec4 object_light = in_place ? light : ObjectSpaceLight(m, light);
+        const volumes::ObjectSpace object = volumes::InObjectSpace(m, light, *smooth);
         const SilhouetteMarks marks = MarksOf(*response);
         // The meshes FILTER_SMOOTH_VOLUMES draws smooth (scene_volume.h), and only those.
         if (request.smooth() && volumes::IsSmoothCaster(mesh)) {
-            volumes::SmoothOptions object_options = *smooth;
-            if (!in_place) {
-                object_options.epsilon /= LargestStretch(m);
-                object_options.normal_offset /= LargestStretch(m);
-            }
-            auto added = EncodeSmoothSilhouette(index, mesh, edges, object_light, object_options,
+            auto added = EncodeSmoothSilhouette(index, mesh, edges, object.light, object.options,
                                                 request.caps(), response);
             if (!added) {
                 return InvalidArgument(Error{"scene.meshes[" + std::to_string(i) + "]." +
@@ -88,7 +82,7 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
             bytes += *added;
         } else {
             bytes +=
-                EncodeRobustSilhouette(index, mesh, edges, object_light, request.caps(), response);
+                EncodeRobustSilhouette(index, mesh, edges, object.light, request.caps(), response);
         }
         PlaceSilhouettes(marks, static_cast<std::uint32_t>(k), m, response);
         if (bytes > state.options.max_response_bytes) {

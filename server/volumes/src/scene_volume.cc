@@ -52,21 +52,26 @@ Result<VolumeMesh> ExtrudeSceneVolume(std::span<const Mesh> meshes,
     return volume;
 }
 
+ObjectSpace InObjectSpace(const Mat4& m, const Vec4& light, const SmoothOptions& options) {
+    ObjectSpace out{light, options};
+    if (m == Mat4::Identity()) return out;
+    out.light = ObjectSpaceLight(m, light);
+    const double stretch = LargestStretch(m);
+    out.options.epsilon /= stretch;
+    out.options.normal_offset /= stretch;
+    return out;
+}
+
 Result<VolumeMesh> ExtrudeInstanceVolume(const Mesh& mesh, std::size_t mesh_index,
                                          const EdgeAdjacency& adjacency, const Mat4& m,
                                          const Vec4& light, const SmoothOptions& options,
                                          SceneVolumeInfo* info) {
     const bool in_place = m == Mat4::Identity();
-    const Vec4 object_light = in_place ? light : ObjectSpaceLight(m, light);
+    const ObjectSpace object = InObjectSpace(m, light, options);
+    const Vec4& object_light = object.light;
     VolumeMesh part;
     if (IsSmoothCaster(mesh)) {
-        SmoothOptions object_options = options;
-        if (!in_place) {
-            const double stretch = LargestStretch(m);
-            object_options.epsilon /= stretch;
-            object_options.normal_offset /= stretch;
-        }
-        auto silhouette = ComputeSmoothSilhouette(mesh, adjacency, object_light, object_options);
+        auto silhouette = ComputeSmoothSilhouette(mesh, adjacency, object_light, object.options);
         if (!silhouette) {
             return Error{"meshes[" + std::to_string(mesh_index) + "]." + silhouette.error().field,
                          silhouette.error().reason};

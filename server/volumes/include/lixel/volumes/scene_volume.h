@@ -48,6 +48,15 @@ Result<VolumeMesh> ExtrudeSceneVolume(std::span<const Mesh> meshes,
                                       const SmoothOptions& options,
                                       SceneVolumeInfo* info = nullptr);
 
+// The light and smooth settings an instance placed by `m` is computed with on its mesh's own
+// coordinates: ObjectSpaceLight, and epsilon and normal_offset divided by LargestStretch (so
+// they hold as world distances at most); the identity gives both back exactly.
+struct ObjectSpace {
+    Vec4 light;
+    SmoothOptions options;
+};
+ObjectSpace InObjectSpace(const Mat4& m, const Vec4& light, const SmoothOptions& options);
+
 // One instance's part of that volume: mesh `mesh_index` (named in errors) placed by `m`, built
 // on its own coordinates and carried; counts added to `info`.
 Result<VolumeMesh> ExtrudeInstanceVolume(const Mesh& mesh, std::size_t mesh_index,
