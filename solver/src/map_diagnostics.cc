@@ -12,6 +12,13 @@
 
 namespace lixel {
 
+namespace {
+
+// SamplePolygon's count: the vertices, the centroid, seven per fan triangle.
+std::size_t SampleCount(const std::vector<Vec3>& polygon) { return 8 * polygon.size() + 1; }
+
+}  // namespace
+
 std::vector<Vec3> SamplePolygon(const std::vector<Vec3>& polygon) {
     std::vector<Vec3> samples = polygon;
     const Vec3 centroid = PolygonCentroid(polygon);
@@ -99,10 +106,36 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
     return d;
 }
 
-std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions) {
+
+std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions,
+                                      std::size_t max_receivers) {
+    std::size_t total = 0;
+    std::size_t faces = 0;
+    for (const ConvexPolytope& region : regions) {
+        for (const PolytopeFace& face : region.faces()) total += SampleCount(face.polygon);
+        faces += region.faces().size();
+    }
+    // A stride whose faces' samples fit: faces differ in size, so strides are tried up from the
+    // average's, each an eighth larger (one pass over the faces' sizes each), ending at one face.
+    std::size_t stride = 1;
+    if (total > max_receivers && max_receivers > 0) {
+        stride = std::max<std::size_t>(1, total / max_receivers);
+        for (;; stride += std::max<std::size_t>(1, stride / 8)) {
+            std::size_t kept = 0;
+            std::size_t index = 0;
+            for (const ConvexPolytope& region : regions) {
+                for (const PolytopeFace& face : region.faces()) {
+                    if (index++ % stride == 0) kept += SampleCount(face.polygon);
+                }
+            }
+            if (kept <= max_receivers || stride >= faces) break;
+        }
+    }
     std::vector<Receiver> out;
+    std::size_t index = 0;
     for (const ConvexPolytope& region : regions) {
         for (const PolytopeFace& face : region.faces()) {
+            if (index++ % stride != 0) continue;
             for (const Vec3& s : SamplePolygon(face.polygon)) out.push_back({s, face.outward_plane});
         }
     }
