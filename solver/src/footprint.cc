@@ -116,7 +116,50 @@ std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Ve
     return image;
 }
 
-LixelRect RectAround(const std::vector<Vec2>& image) {
+CornerFootprint CornerFootprintOf(const Mat4& matrix, const Vec4& plane, const Vec4& light,
+                                  const PolytopeBounds& bounds, double thickness,
+                                  const Eigen::Vector4d& region) {
+    CornerFootprint out;
+    if (bounds.empty()) return out;
+    const Vec4 l = light.w() != 0.0 ? Vec4(light / light.w()) : light;
+    const double lit = plane.dot(l);
+    if (!(lit > 0.0) || !l.allFinite()) return out;
+    Vec4 level = -l.w() * plane;  // FootprintImage's: >= 0 no higher than the light
+    level.w() += lit;
+    double highest = -std::numeric_limits<double>::infinity();
+    // Corners past each side of the region: x < x0, y < y0, x > x1, y > y1, each by more than
+    // ClipImage's slack (1e-12 of the coordinates), here a far wider 1e-9.
+    int past[4] = {0, 0, 0, 0};
+    int inside = 0;
+    for (int k = 0; k < 8; ++k) {
+        const Vec4 x(k & 1 ? bounds.hi.x() : bounds.lo.x(), k & 2 ? bounds.hi.y() : bounds.lo.y(),
+                     k & 4 ? bounds.hi.z() : bounds.lo.z(), 1.0);
+        const double above = plane.dot(x);
+        if (!(above >= -thickness) || !(level.dot(x) > 0.0)) return out;
+        highest = std::max(highest, above);
+        const Vec4 h = matrix * x;
+        if (!(h.w() > 0.0)) return out;
+        const Vec2 p(h.x() / h.w(), h.y() / h.w());
+        if (!p.allFinite()) return out;
+        out.images[k] = p;
+        const auto margin = [](double edge) { return 1e-9 * (1.0 + std::abs(edge)); };
+        past[0] += p.x() < region[0] - margin(region[0]);
+        past[1] += p.y() < region[1] - margin(region[1]);
+        past[2] += p.x() > region[2] + margin(region[2]);
+        past[3] += p.y() > region[3] + margin(region[3]);
+        inside += p.x() >= region[0] && p.x() <= region[2] && p.y() >= region[1] &&
+                  p.y() <= region[3];
+    }
+    if (!(highest > thickness)) return out;  // all within the sliver: the part may be empty
+    if (inside == 8) {
+        out.kind = CornerFootprint::Kind::kInside;
+    } else if (past[0] == 8 || past[1] == 8 || past[2] == 8 || past[3] == 8) {
+        out.kind = CornerFootprint::Kind::kOutside;
+    }
+    return out;
+}
+
+LixelRect RectAround(std::span<const Vec2> image) {
     double x0 = std::numeric_limits<double>::infinity(), y0 = x0;
     double x1 = -x0, y1 = -x0;
     for (const Vec2& p : image) {

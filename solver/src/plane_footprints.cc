@@ -86,10 +86,20 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
     std::vector<LixelRect> rects;
     for (const ConvexPolytope* caster : casters) {
         if (poll) poll();  // a cancelled request's poll throws
-        const std::vector<Vec2> image =
-            FootprintImage(whole.map.matrix, plane, light, *caster, region);
-        if (image.empty()) continue;
-        LixelRect r = RectAround(image);
+        // Most casters stand clear of the light and of the region's edges: their bounds'
+        // corners decide the rectangle without the clips.
+        const CornerFootprint corners = CornerFootprintOf(whole.map.matrix, plane, light,
+                                                          caster->Bounds(), thickness, accepted);
+        if (corners.kind == CornerFootprint::Kind::kOutside) continue;
+        LixelRect r;
+        if (corners.kind == CornerFootprint::Kind::kInside) {
+            r = RectAround(corners.images);
+        } else {
+            const std::vector<Vec2> image =
+                FootprintImage(whole.map.matrix, plane, light, *caster, region);
+            if (image.empty()) continue;
+            r = RectAround(image);
+        }
         r = {std::max(r.x0, interior.x0), std::max(r.y0, interior.y0),
              std::min(r.x1, interior.x1), std::min(r.y1, interior.y1)};
         if (r.x1 > r.x0 && r.y1 > r.y0) rects.push_back(r);

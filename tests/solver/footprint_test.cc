@@ -188,6 +188,75 @@ TEST(Footprint, RectanglesCoverTheirInputsWithinTheCountAndMergeOnlyWhenCheaperO
     EXPECT_EQ(RectAround({Vec2(7, 7)}), (LixelRect{7, 7, 8, 8}));
 }
 
+// The corners' route against the clips' (FootprintImage), on seeded casters around the floor
+// map of random lights, over a region the size of the map's lookup rectangle: kInside gives a
+// rectangle that holds the clips' (the caster lies in its bounds), the same one for a box wholly
+// above the floor (both routes find the same points, up to rounding), and at most one lixel
+// larger on a side for a box that reaches into the thickening under the floor; kOutside only
+// where the clips leave nothing of the caster in the region; every case decided somewhere.
+TEST(Footprint, CornersDecideTheRectangleAsTheClipsDo) {
+    std::mt19937_64 rng(8128);
+    const Vec4 floor(0, 1, 0, 0);
+    const double thickness = 1e-6 * 40.0;
+    int inside = 0, outside = 0, undecided = 0, equal = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const bool directional = trial % 4 == 0;
+        const Vec4 light = directional ? Direction(Vec3(Uniform(rng, -1, 1), Uniform(rng, 0.2, 1),
+                                                        Uniform(rng, -1, 1)))
+                                       : Point(Vec3(Uniform(rng, -8, 8), Uniform(rng, 2, 12),
+                                                    Uniform(rng, -4, 9)));
+        const FloorMap f = MakeFloorMap(light);
+        const Eigen::Vector4d region(1.5, 1.5, f.c.viewport.width - 1.5,
+                                     f.c.viewport.height - 1.5);
+        const std::vector<Vec2> corners = {Vec2(region[0], region[1]), Vec2(region[2], region[1]),
+                                           Vec2(region[2], region[3]), Vec2(region[0], region[3])};
+        for (int k = 0; k < 25; ++k) {
+            // Boxes standing on the floor (thickened under it), floating, and across the light.
+            const Vec3 centre(Uniform(rng, -12, 12), 0.0, Uniform(rng, -6, 14));
+            const Vec3 half(Uniform(rng, 0.02, 1.5), Uniform(rng, 0.02, 1.5),
+                            Uniform(rng, 0.02, 1.5));
+            const int kind = k % 3;
+            const double bottom = kind == 0 ? -thickness : Uniform(rng, 0.0, kind == 1 ? 3 : 11);
+            const Aabb box{Vec3(centre.x() - half.x(), bottom, centre.z() - half.z()),
+                           Vec3(centre.x() + half.x(), bottom + 2 * half.y(),
+                                centre.z() + half.z())};
+            const ConvexPolytope caster = ConvexPolytope::FromBox(box);
+            const CornerFootprint decided =
+                CornerFootprintOf(f.map.matrix, floor, light, caster.Bounds(), thickness, region);
+            const std::vector<Vec2> clipped =
+                FootprintImage(f.map.matrix, floor, light, caster, corners);
+            SCOPED_TRACE("trial " + std::to_string(trial) + " box " + std::to_string(k));
+            if (decided.kind == CornerFootprint::Kind::kUndecided) {
+                ++undecided;
+                continue;
+            }
+            if (decided.kind == CornerFootprint::Kind::kOutside) {
+                ++outside;
+                EXPECT_TRUE(clipped.empty()) << clipped.size() << " points";
+                continue;
+            }
+            ++inside;
+            ASSERT_FALSE(clipped.empty());
+            const LixelRect fast = RectAround(decided.images);
+            const LixelRect exact = RectAround(clipped);
+            EXPECT_EQ(fast.Union(exact), fast) << "the corners' rectangle holds the clips'";
+            if (box.min.y() > thickness) {
+                EXPECT_EQ(fast, exact);
+                equal += fast == exact;
+            } else {
+                EXPECT_LE(exact.x0 - fast.x0, 1);
+                EXPECT_LE(exact.y0 - fast.y0, 1);
+                EXPECT_LE(fast.x1 - exact.x1, 1);
+                EXPECT_LE(fast.y1 - exact.y1, 1);
+            }
+        }
+    }
+    EXPECT_GT(inside, 1000);
+    EXPECT_GT(outside, 500);
+    EXPECT_GT(undecided, 500);
+    EXPECT_GT(equal, 500);
+}
+
 PlanRequest Room(std::int64_t budget) {
     const testing::Configuration c = testing::FloorWallConfiguration();
     PlanRequest r;

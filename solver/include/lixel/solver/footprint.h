@@ -8,6 +8,9 @@
 #include <lixel/solver/types.h>
 
 #include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <span>
 #include <vector>
 
 namespace lixel {
@@ -43,9 +46,33 @@ std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Ve
                                  const ConvexPolytope& caster,
                                  const std::vector<Vec2>& needed_image);
 
+// What the eight corners of a caster's bounds (which hold the caster) decide of its footprint
+// on their own, when every corner lies on the plane's lit side or at most `thickness` under it
+// (a box standing on the plane, thickened), some corner more than that above it, and every
+// corner below a point light's level and in front of the map (q > 0): the caster's part that can
+// cast then lies in the bounds, and its footprint in the convex hull of the corners' images.
+// kInside: the images lie in `region` (x0, y0, x1, y1, as LookupRectangle), so RectAround of
+// them holds RectAround(FootprintImage(...)); equal to it for a box wholly above the plane up to
+// the rounding of the two routes (the clips compute the same points as edge crossings), at most
+// the thickening's image larger where the box reaches under the plane. kOutside: the images lie
+// past one side of the region by more than its clip's slack, so the footprint misses it.
+// kUndecided otherwise: FootprintImage decides. Eight products and divisions, where
+// FootprintImage clips the caster twice and takes its cone's facets.
+struct CornerFootprint {
+    enum class Kind { kUndecided, kInside, kOutside };
+    Kind kind = Kind::kUndecided;
+    std::array<Vec2, 8> images{};  // kInside
+};
+CornerFootprint CornerFootprintOf(const Mat4& matrix, const Vec4& plane, const Vec4& light,
+                                  const PolytopeBounds& bounds, double thickness,
+                                  const Eigen::Vector4d& region);
+
 // The integer rectangle around a footprint: images within 1e-6 lixel past an integer are
 // snapped onto it (as the crop does), and a footprint without area still gets one lixel.
-LixelRect RectAround(const std::vector<Vec2>& image);
+LixelRect RectAround(std::span<const Vec2> image);
+inline LixelRect RectAround(const std::vector<Vec2>& image) {
+    return RectAround(std::span<const Vec2>(image));
+}
 
 // The part of a convex image polygon inside [x0, x1] x [y0, y1] (Sutherland-Hodgman).
 std::vector<Vec2> ClipToRect(const std::vector<Vec2>& image, const LixelRect& rect);
