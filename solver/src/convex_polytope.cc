@@ -103,8 +103,11 @@ std::vector<Vec3> ConvexPolytope::vertices() const {
     std::vector<Vec3> out;
     for (const PolytopeFace& f : faces_) {
         for (const Vec3& p : f.polygon) {
-            const bool seen = std::any_of(out.begin(), out.end(),
-                                          [&](const Vec3& q) { return (p - q).norm() <= tol; });
+            // |p - q| <= tol needs every coordinate within tol: most pairs fail that first,
+            // without the square root (the norm then decides exactly as it did).
+            const bool seen = std::any_of(out.begin(), out.end(), [&](const Vec3& q) {
+                return (p - q).cwiseAbs().maxCoeff() <= tol && (p - q).norm() <= tol;
+            });
             if (!seen) out.push_back(p);
         }
     }

@@ -4,6 +4,7 @@
 #include "scheduler_screen.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -201,6 +202,26 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
     return s;
 }
 
+// Whether the box (`corners` its eight corners) lies beyond `plane` by far more than the
+// rounding of ConvexPolytope::Effect's distances, with every side far longer than the polytope's
+// tolerance: FromBox(box).Clip(plane) then keeps the box as it is, and its vertices() are the
+// eight corners themselves (no two within the tolerance of each other).
+bool WhollyBeyond(const Aabb& box, const Eigen::Matrix<double, 8, 3>& corners, const Vec4& plane) {
+    const Vec3 n = plane.head<3>();
+    const double scale = n.cwiseAbs().sum();
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 x = corners.row(k).transpose();
+        const double d = n.dot(x) + plane.w();
+        if (!(d > kCullMargin * (scale * x.cwiseAbs().maxCoeff() + std::abs(plane.w())))) {
+            return false;
+        }
+    }
+    const Vec3 sides = box.max - box.min;
+    const double reach = (box.max - box.min).norm() +
+                         std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+    return sides.minCoeff() > 1e-6 * reach;
+}
+
 TileProofs PrepareTileProofs(const PixelEstimate& e) {
     TileProofs t;
     const PlanRequest& r = e.c.request;
@@ -225,6 +246,13 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
                 ((k & 4) ? o.bounds.max.z() : o.bounds.min.z());
         }
         t.box_corners.push_back(m);
+        if (WhollyBeyond(o.bounds, m, beyond_near)) {
+            // The clip keeps the whole box, whose vertices are its eight corners.
+            std::array<Vec3, 8> corners;
+            for (int k = 0; k < 8; ++k) corners[k] = m.row(k).transpose();
+            t.boxes.push_back(ScreenRectOf(r.viewer, corners));
+            continue;
+        }
         ConvexPolytope part = ConvexPolytope::FromBox(o.bounds);
         part.Clip(beyond_near);
         // A flat or emptied box keeps no rectangle: it is then tested as a whole below.
