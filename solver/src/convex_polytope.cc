@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
+#include <span>
 
 namespace lixel {
 
@@ -46,12 +48,14 @@ ConvexPolytope ConvexPolytope::FromBox(const Aabb& box) {
     ConvexPolytope out;
     if (!box.min.allFinite() || !box.max.allFinite()) return out;
     if (!(box.min.array() < box.max.array()).all()) return out;
+    out.points_.reserve(24);
+    out.faces_.reserve(7);  // and a cap: most boxes are clipped once
     for (int i = 0; i < 3; ++i) {
         const int j = (i + 1) % 3;
         const int k = (i + 2) % 3;
         for (int high = 0; high < 2; ++high) {
             const double xi = high ? box.max(i) : box.min(i);
-            std::vector<Vec3> quad(4);
+            Vec3 quad[4];
             const double js[4] = {box.min(j), box.max(j), box.max(j), box.min(j)};
             const double ks[4] = {box.min(k), box.min(k), box.max(k), box.max(k)};
             for (int c = 0; c < 4; ++c) {
@@ -60,12 +64,24 @@ ConvexPolytope ConvexPolytope::FromBox(const Aabb& box) {
                 quad[c](k) = ks[c];
             }
             // (e_j, e_k) turn counter-clockwise about +e_i; the low face looks along -e_i.
-            if (!high) std::reverse(quad.begin(), quad.end());
+            if (!high) std::reverse(std::begin(quad), std::end(quad));
             Vec4 plane = Vec4::Zero();
             plane(i) = high ? 1.0 : -1.0;
             plane.w() = high ? -box.max(i) : box.min(i);
-            out.faces_.push_back({std::move(quad), plane});
+            out.faces_.push_back(
+                {static_cast<std::uint32_t>(out.points_.size()), 4, plane});
+            out.points_.insert(out.points_.end(), std::begin(quad), std::end(quad));
         }
+    }
+    return out;
+}
+
+std::vector<PolytopeFace> ConvexPolytope::faces() const {
+    std::vector<PolytopeFace> out;
+    out.reserve(faces_.size());
+    for (std::size_t i = 0; i < faces_.size(); ++i) {
+        const std::span<const Vec3> polygon = face_polygon(i);
+        out.push_back({std::vector<Vec3>(polygon.begin(), polygon.end()), face_plane(i)});
     }
     return out;
 }
@@ -76,12 +92,10 @@ const ConvexPolytope::Extent& ConvexPolytope::extent() const {
     if (!faces_.empty()) {
         Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
         Vec3 hi = -lo;
-        for (const PolytopeFace& f : faces_) {
-            for (const Vec3& p : f.polygon) {
-                lo = lo.cwiseMin(p);
-                hi = hi.cwiseMax(p);
-                extent_.magnitude = std::max(extent_.magnitude, p.cwiseAbs().maxCoeff());
-            }
+        for (const Vec3& p : points_) {
+            lo = lo.cwiseMin(p);
+            hi = hi.cwiseMax(p);
+            extent_.magnitude = std::max(extent_.magnitude, p.cwiseAbs().maxCoeff());
         }
         extent_.size = (hi - lo).norm();
         extent_.lo = lo;
@@ -101,22 +115,20 @@ double ConvexPolytope::Tolerance() const {
 std::vector<Vec3> ConvexPolytope::vertices() const {
     const double tol = Tolerance();
     std::vector<Vec3> out;
-    for (const PolytopeFace& f : faces_) {
-        for (const Vec3& p : f.polygon) {
-            // |p - q| <= tol needs every coordinate within tol: most pairs fail that first,
-            // without the square root (the norm then decides exactly as it did).
-            const bool seen = std::any_of(out.begin(), out.end(), [&](const Vec3& q) {
-                return (p - q).cwiseAbs().maxCoeff() <= tol && (p - q).norm() <= tol;
-            });
-            if (!seen) out.push_back(p);
-        }
+    for (const Vec3& p : points_) {
+        // |p - q| <= tol needs every coordinate within tol: most pairs fail that first, without
+        // the square root (the norm then decides exactly as it did).
+        const bool seen = std::any_of(out.begin(), out.end(), [&](const Vec3& q) {
+            return (p - q).cwiseAbs().maxCoeff() <= tol && (p - q).norm() <= tol;
+        });
+        if (!seen) out.push_back(p);
     }
     return out;
 }
 
 double ConvexPolytope::SignedDistance(const Vec3& p) const {
     double worst = -std::numeric_limits<double>::infinity();
-    for (const PolytopeFace& f : faces_) {
+    for (const FaceRange& f : faces_) {
         worst = std::max(worst, f.outward_plane.head<3>().dot(p) + f.outward_plane.w());
     }
     return worst;
@@ -196,8 +208,8 @@ ClipEffect ConvexPolytope::Effect(const Vec4& plane) const {
     if (highest + slack < -tol) return ClipEffect::kKeepsNothing;
     bool any_out = false;
     bool any_in = false;
-    for (const PolytopeFace& f : faces_) {
-        for (const Vec3& x : f.polygon) {
+    for (const FaceRange& f : faces_) {
+        for (const Vec3& x : std::span<const Vec3>(points_.data() + f.begin, f.count)) {
             const double d = n.dot(x) + p.w();
             any_out = any_out || d < -tol;
             any_in = any_in || d > tol;
@@ -213,6 +225,7 @@ void ConvexPolytope::Clip(const Vec4& plane) {
     if (effect == ClipEffect::kKeepsAll) return;
     if (effect == ClipEffect::kKeepsNothing) {
         faces_.clear();
+        points_.clear();
         extent_valid_ = false;
         return;
     }
@@ -226,15 +239,18 @@ void ConvexPolytope::Clip(const Vec4& plane) {
     // Per-thread scratch: the scheduler clips thousands of times per plan, and fresh vectors
     // each time cost more in malloc than the clip itself.
     thread_local std::vector<Vec3> cap_points;
-    thread_local std::vector<Vec3> kept;  // swapped with each cut face's polygon: storage reused
+    thread_local std::vector<Vec3> kept;  // the current face's kept polygon
     thread_local std::vector<double> d;   // signed distances of the current face's vertices
     thread_local std::vector<int> sides;  // their sides: 1 inside, -1 outside, 0 on the plane
     thread_local std::vector<Vec2> flat;
+    thread_local std::vector<Vec3> points;     // the clipped polytope's polygons
+    thread_local std::vector<FaceRange> faces;  // and faces, copied back at the end
     cap_points.clear();
-    size_t faces_kept = 0;
-    for (size_t face = 0; face < faces_.size(); ++face) {
-        const std::vector<Vec3>& poly = faces_[face].polygon;
-        const size_t count = poly.size();
+    points.clear();
+    faces.clear();
+    for (const FaceRange& face : faces_) {
+        const Vec3* poly = points_.data() + face.begin;
+        const size_t count = face.count;
         d.resize(count);
         sides.resize(count);
         for (size_t i = 0; i < count; ++i) {
@@ -270,11 +286,10 @@ void ConvexPolytope::Clip(const Vec4& plane) {
         if (all_on) continue;  // lies in the cut: the cap replaces it
         MergeCloseVertices(kept, tol);
         if (kept.empty()) continue;
-        faces_[face].polygon.swap(kept);
-        if (faces_kept != face) std::swap(faces_[faces_kept], faces_[face]);
-        ++faces_kept;
+        faces.push_back({static_cast<std::uint32_t>(points.size()),
+                         static_cast<std::uint32_t>(kept.size()), face.outward_plane});
+        points.insert(points.end(), kept.begin(), kept.end());
     }
-    faces_.resize(faces_kept);
 
     // The cap: the polytope's section by the plane, counter-clockwise about its outward
     // normal -n.
@@ -284,19 +299,28 @@ void ConvexPolytope::Clip(const Vec4& plane) {
     flat.clear();
     for (const Vec3& x : cap_points) flat.emplace_back(u.dot(x), v.dot(x));
     const std::vector<Vec2> hull = ConvexHull2d(flat);
-    std::vector<Vec3> cap;
-    cap.reserve(hull.size());
+    kept.clear();
     for (const Vec2& h : hull) {
         for (size_t i = 0; i < flat.size(); ++i) {
             if (flat[i] == h) {
-                cap.push_back(cap_points[i]);
+                kept.push_back(cap_points[i]);
                 break;
             }
         }
     }
-    MergeCloseVertices(cap, tol);
-    if (!cap.empty()) faces_.push_back({std::move(cap), Vec4(-p)});
-    if (empty()) faces_.clear();
+    MergeCloseVertices(kept, tol);
+    if (!kept.empty()) {
+        faces.push_back({static_cast<std::uint32_t>(points.size()),
+                         static_cast<std::uint32_t>(kept.size()), Vec4(-p)});
+        points.insert(points.end(), kept.begin(), kept.end());
+    }
+    if (faces.size() < 4) {  // empty
+        faces_.clear();
+        points_.clear();
+        return;
+    }
+    points_.assign(points.begin(), points.end());
+    faces_.assign(faces.begin(), faces.end());
 }
 
 }  // namespace lixel

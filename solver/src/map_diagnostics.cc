@@ -14,8 +14,9 @@ namespace lixel {
 
 namespace {
 
-// SamplePolygon's count: the vertices, the centroid, seven per fan triangle.
-std::size_t SampleCount(const std::vector<Vec3>& polygon) { return 8 * polygon.size() + 1; }
+// SamplePolygon's count for a polygon of `vertices`: the vertices, the centroid, seven per fan
+// triangle.
+std::size_t SampleCount(std::size_t vertices) { return 8 * vertices + 1; }
 
 }  // namespace
 
@@ -112,8 +113,10 @@ std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions,
     std::size_t total = 0;
     std::size_t faces = 0;
     for (const ConvexPolytope& region : regions) {
-        for (const PolytopeFace& face : region.faces()) total += SampleCount(face.polygon);
-        faces += region.faces().size();
+        for (std::size_t f = 0; f < region.face_count(); ++f) {
+            total += SampleCount(region.face_polygon(f).size());
+        }
+        faces += region.face_count();
     }
     // A stride whose faces' samples fit: faces differ in size, so strides are tried up from the
     // average's, each an eighth larger (one pass over the faces' sizes each), ending at one face.
@@ -124,8 +127,8 @@ std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions,
             std::size_t kept = 0;
             std::size_t index = 0;
             for (const ConvexPolytope& region : regions) {
-                for (const PolytopeFace& face : region.faces()) {
-                    if (index++ % stride == 0) kept += SampleCount(face.polygon);
+                for (std::size_t f = 0; f < region.face_count(); ++f) {
+                    if (index++ % stride == 0) kept += SampleCount(region.face_polygon(f).size());
                 }
             }
             if (kept <= max_receivers || stride >= faces) break;
@@ -134,9 +137,12 @@ std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions,
     std::vector<Receiver> out;
     std::size_t index = 0;
     for (const ConvexPolytope& region : regions) {
-        for (const PolytopeFace& face : region.faces()) {
+        for (std::size_t f = 0; f < region.face_count(); ++f) {
             if (index++ % stride != 0) continue;
-            for (const Vec3& s : SamplePolygon(face.polygon)) out.push_back({s, face.outward_plane});
+            const std::span<const Vec3> polygon = region.face_polygon(f);
+            for (const Vec3& s : SamplePolygon(std::vector<Vec3>(polygon.begin(), polygon.end()))) {
+                out.push_back({s, region.face_plane(f)});
+            }
         }
     }
     return out;

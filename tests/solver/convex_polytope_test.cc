@@ -125,9 +125,10 @@ struct Reference {
 
 // Bitwise: the same faces in the same order, the same vertices, the same planes.
 void ExpectSameFaces(const ConvexPolytope& got, const Reference& want, int step) {
-    ASSERT_EQ(got.faces().size(), want.faces.size()) << "after clip " << step;
+    const std::vector<PolytopeFace> faces = got.faces();
+    ASSERT_EQ(faces.size(), want.faces.size()) << "after clip " << step;
     for (size_t f = 0; f < want.faces.size(); ++f) {
-        const PolytopeFace& a = got.faces()[f];
+        const PolytopeFace& a = faces[f];
         const PolytopeFace& b = want.faces[f];
         ASSERT_EQ(a.polygon.size(), b.polygon.size()) << "after clip " << step << " face " << f;
         EXPECT_EQ(a.outward_plane, b.outward_plane) << "after clip " << step << " face " << f;

@@ -6,7 +6,9 @@
 
 #include <lixel/solver/types.h>
 
+#include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace lixel {
@@ -65,7 +67,15 @@ class ConvexPolytope {
     ClipEffect Effect(const Vec4& plane) const;
 
     bool empty() const noexcept { return faces_.size() < 4; }
-    const std::vector<PolytopeFace>& faces() const noexcept { return faces_; }
+    // The faces, copied out (for callers outside the scheduler's loops: the polytope keeps its
+    // polygons in one array, so that a copy or a clip takes two allocations, not one a face).
+    std::vector<PolytopeFace> faces() const;
+    // Face i's polygon and plane, without a copy.
+    std::size_t face_count() const noexcept { return faces_.size(); }
+    std::span<const Vec3> face_polygon(std::size_t i) const noexcept {
+        return {points_.data() + faces_[i].begin, faces_[i].count};
+    }
+    const Vec4& face_plane(std::size_t i) const noexcept { return faces_[i].outward_plane; }
 
     // Distinct vertices (merged within Tolerance()).
     std::vector<Vec3> vertices() const;
@@ -97,7 +107,14 @@ class ConvexPolytope {
     };
     const Extent& extent() const;
 
-    std::vector<PolytopeFace> faces_;
+    // Face polygons one after another in points_, in face order.
+    struct FaceRange {
+        std::uint32_t begin = 0;
+        std::uint32_t count = 0;
+        Vec4 outward_plane = Vec4::Zero();
+    };
+    std::vector<Vec3> points_;
+    std::vector<FaceRange> faces_;
     mutable Extent extent_;
     mutable bool extent_valid_ = false;
 };
