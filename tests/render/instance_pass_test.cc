@@ -201,7 +201,9 @@ TEST(InstancePass, ANonCasterLeavesTheMapsAndANonReceiverIsLitWhereItFacesTheLig
     // Only the square's own sides turned from the light stay dark; the floor is lit throughout.
     EXPECT_LT(shadowed(lit), shadowed(receiving) / 4);
     for (std::size_t i = 0; i < lit.pixels.size(); ++i) {
-        if (receiving.pixels[i] != lit.pixels[i]) EXPECT_EQ(lit.pixels[i], 1.0f) << i;
+        if (receiving.pixels[i] != lit.pixels[i]) {
+            EXPECT_EQ(lit.pixels[i], 1.0f) << i;
+        }
     }
 }
 

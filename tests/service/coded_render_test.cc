@@ -384,7 +384,9 @@ TEST(CodedReferences, ManyWorkersPutAndFindAtOnceWithinItsBytes) {
                 const std::uint64_t id = i * 4 + static_cast<std::uint64_t>(w);
                 store.Put(HeldFrame(id, 0, 256));
                 auto found = store.Find({id, id - 4}, key);
-                if (found != nullptr) EXPECT_EQ(found->values->values.size(), 256u);
+                if (found != nullptr) {
+                    EXPECT_EQ(found->values->values.size(), 256u);
+                }
                 EXPECT_LE(store.bytes(), capacity);
             }
         });

@@ -437,7 +437,8 @@ TEST(Session, SixHundredFramesOfTheAnimatedRoomKeepTheServersMemoryFlat) {
             << after_warm_up << " -> " << peak;
     }
     std::printf("resident after 60 frames %.1f MiB, peak over 540 more %.1f MiB\n",
-                after_warm_up / 1048576.0, peak / 1048576.0);
+                static_cast<double>(after_warm_up) / 1048576.0,
+                static_cast<double>(peak) / 1048576.0);
 }
 
 // The frame as one View call, with the view's settings: what a view session's frame must equal

@@ -116,8 +116,8 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
             }
             if (report != nullptr) {
                 report->encode_seconds += seconds(coding_started);
-                if (auto header = codec::ReadHeader(*coded); header.ok()) {
-                    report->coded_frame_ids.push_back(header->frame_id);
+                if (auto coded_header = codec::ReadHeader(*coded); coded_header.ok()) {
+                    report->coded_frame_ids.push_back(coded_header->frame_id);
                 }
             }
             coded_spare = std::move(image.image.pixels);
