@@ -165,31 +165,48 @@ void PolytopeBounds::Merge(const PolytopeBounds& other) {
     size = (hi - lo).norm();
 }
 
+PlaneTest::PlaneTest(const Vec4& p) : plane(p), finite(p.allFinite()) {
+    if (!finite) return;
+    const double n_length = p.head<3>().norm();
+    at_infinity = !(n_length > 1e-12 * p.norm());
+    if (at_infinity) return;
+    unit = p / n_length;
+    n_sum = unit.head<3>().cwiseAbs().sum();
+}
+
+std::vector<PlaneTest> PlaneTests(const std::vector<Vec4>& planes) {
+    return std::vector<PlaneTest>(planes.begin(), planes.end());
+}
+
 bool PolytopeBounds::KeepsNothingOf(const Vec4& plane) const {
+    return KeepsNothingOf(PlaneTest(plane));
+}
+
+bool PolytopeBounds::KeepsNothingOf(const PlaneTest& t) const {
     if (empty()) return true;
-    if (!plane.allFinite()) return true;  // Effect: kKeepsNothing for every polytope
-    const double n_length = plane.head<3>().norm();
-    if (!(n_length > 1e-12 * plane.norm())) return !(plane.w() >= 0.0);
+    if (!t.finite) return true;  // Effect: kKeepsNothing for every polytope
+    if (t.at_infinity) return !(t.plane.w() >= 0.0);
     // Effect's fast test, term by term: over bounds that hold a polytope's, `highest`, the
     // slack and the tolerance each come out at least the polytope's own (rounding is monotone).
-    const Vec4 p = plane / n_length;
+    const Vec4& p = t.unit;
     const Vec3 n = p.head<3>();
     double highest = p.w();
     for (int a = 0; a < 3; ++a) highest += n(a) * (n(a) > 0.0 ? hi(a) : lo(a));
-    const double slack = 16.0 * std::numeric_limits<double>::epsilon() *
-                         (n.cwiseAbs().sum() * magnitude + std::abs(p.w()));
+    const double slack =
+        16.0 * std::numeric_limits<double>::epsilon() * (t.n_sum * magnitude + std::abs(p.w()));
     const double tol = kRelativeTolerance * size + kMagnitudeUlps * magnitude;
     return highest + 8.0 * slack < -tol;
 }
 
-ClipEffect ConvexPolytope::Effect(const Vec4& plane) const {
-    if (empty() || !plane.allFinite()) return ClipEffect::kKeepsNothing;
-    const double n_length = plane.head<3>().norm();
-    if (!(n_length > 1e-12 * plane.norm())) {
+ClipEffect ConvexPolytope::Effect(const Vec4& plane) const { return Effect(PlaneTest(plane)); }
+
+ClipEffect ConvexPolytope::Effect(const PlaneTest& t) const {
+    if (empty() || !t.finite) return ClipEffect::kKeepsNothing;
+    if (t.at_infinity) {
         // A plane at infinity (e.g. the far plane of an infinite projection): its sign decides.
-        return plane.w() >= 0.0 ? ClipEffect::kKeepsAll : ClipEffect::kKeepsNothing;
+        return t.plane.w() >= 0.0 ? ClipEffect::kKeepsAll : ClipEffect::kKeepsNothing;
     }
-    const Vec4 p = plane / n_length;
+    const Vec4& p = t.unit;
     const Vec3 n = p.head<3>();
     const double tol = Tolerance();
     // The bounds' support: every vertex's n . x + d lies between `lowest` and `highest`, and a
@@ -202,8 +219,8 @@ ClipEffect ConvexPolytope::Effect(const Vec4& plane) const {
         lowest += n(a) * (n(a) > 0.0 ? e.lo(a) : e.hi(a));
         highest += n(a) * (n(a) > 0.0 ? e.hi(a) : e.lo(a));
     }
-    const double slack = 16.0 * std::numeric_limits<double>::epsilon() *
-                         (n.cwiseAbs().sum() * e.magnitude + std::abs(p.w()));
+    const double slack =
+        16.0 * std::numeric_limits<double>::epsilon() * (t.n_sum * e.magnitude + std::abs(p.w()));
     if (lowest - slack > tol) return ClipEffect::kKeepsAll;
     if (highest + slack < -tol) return ClipEffect::kKeepsNothing;
     bool any_out = false;
@@ -220,8 +237,10 @@ ClipEffect ConvexPolytope::Effect(const Vec4& plane) const {
     return any_in ? ClipEffect::kCuts : ClipEffect::kKeepsNothing;
 }
 
-void ConvexPolytope::Clip(const Vec4& plane) {
-    const ClipEffect effect = Effect(plane);
+void ConvexPolytope::Clip(const Vec4& plane) { Clip(PlaneTest(plane)); }
+
+void ConvexPolytope::Clip(const PlaneTest& t) {
+    const ClipEffect effect = Effect(t);
     if (effect == ClipEffect::kKeepsAll) return;
     if (effect == ClipEffect::kKeepsNothing) {
         faces_.clear();
@@ -229,8 +248,7 @@ void ConvexPolytope::Clip(const Vec4& plane) {
         extent_valid_ = false;
         return;
     }
-    const double n_length = plane.head<3>().norm();
-    const Vec4 p = plane / n_length;
+    const Vec4& p = t.unit;
     const Vec3 n = p.head<3>();
     const double tol = Tolerance();  // of the polytope before the cut, as Effect used
     extent_valid_ = false;

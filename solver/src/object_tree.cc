@@ -54,14 +54,15 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     return index;
 }
 
-void ObjectTree::MarkPossible(const std::vector<Vec4>& planes, std::vector<char>& possible) const {
+void ObjectTree::MarkPossible(std::span<const PlaneTest> planes,
+                              std::vector<char>& possible) const {
     possible.assign(total_, 0);
     if (nodes_.empty()) return;
     std::vector<std::int32_t> stack = {0};
     while (!stack.empty()) {
         const Node& node = nodes_[stack.back()];
         stack.pop_back();
-        const bool rejected = std::any_of(planes.begin(), planes.end(), [&](const Vec4& p) {
+        const bool rejected = std::any_of(planes.begin(), planes.end(), [&](const PlaneTest& p) {
             return node.bounds.KeepsNothingOf(p);
         });
         if (rejected) continue;
@@ -70,7 +71,7 @@ void ObjectTree::MarkPossible(const std::vector<Vec4>& planes, std::vector<char>
                 const PolytopeBounds& box = boxes_[order_[k]];
                 possible[order_[k]] =
                     std::none_of(planes.begin(), planes.end(),
-                                 [&](const Vec4& p) { return box.KeepsNothingOf(p); });
+                                 [&](const PlaneTest& p) { return box.KeepsNothingOf(p); });
             }
             continue;
         }

@@ -8,6 +8,7 @@
 #include <lixel/solver/convex_polytope.h>
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace lixel::scheduling {
@@ -19,7 +20,7 @@ class ObjectTree {
 
     // possible[i] = 1 for every box that some clip by all of `planes` may leave non-empty, 0 for
     // those it provably empties (and for empty boxes); `possible` is resized to the boxes.
-    void MarkPossible(const std::vector<Vec4>& planes, std::vector<char>& possible) const;
+    void MarkPossible(std::span<const PlaneTest> planes, std::vector<char>& possible) const;
 
   private:
     struct Node {

@@ -14,8 +14,9 @@ std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m)
     std::vector<const SceneObject*> casters;
     const RayCone cone = AcceptedCone(m.map, m.lookup.half_planes);
     // Only the objects the cone may keep some of (ObjectTree), in index order.
+    const std::vector<PlaneTest> cone_planes = PlaneTests(cone.planes);
     thread_local std::vector<char> maybe_in_cone;
-    c.object_tree.MarkPossible(cone.planes, maybe_in_cone);
+    c.object_tree.MarkPossible(cone_planes, maybe_in_cone);
     for (size_t i = 0; i < c.request.objects.size(); ++i) {
         c.poll();
         if (!maybe_in_cone[i]) continue;
@@ -29,7 +30,7 @@ std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m)
             if (!(highest > c.thickness)) continue;
         }
         thread_local ConvexPolytope scratch;
-        if (!ClipInto(scratch, c.object_boxes[i], cone.planes).empty()) {
+        if (!ClipInto(scratch, c.object_boxes[i], cone_planes).empty()) {
             casters.push_back(&o);
         }
     }

@@ -17,13 +17,14 @@ namespace {
 std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
                               const std::vector<Eigen::Vector3d>& half_planes) {
     const RayCone cone = AcceptedCone(map, half_planes);
+    const std::vector<PlaneTest> cone_planes = PlaneTests(cone.planes);
     std::vector<Vec4> points;
     thread_local ConvexPolytope scratch;
     for (size_t i = 0; i < c.held_regions.size(); ++i) {
         c.poll();
         const ConvexPolytope& held = c.held_regions[i];
         if (held.empty()) continue;
-        const ConvexPolytope& region = ClipInto(scratch, held, cone.planes);
+        const ConvexPolytope& region = ClipInto(scratch, held, cone_planes);
         const std::vector<Vec3> cut = &region == &held ? std::vector<Vec3>{} : region.vertices();
         for (const Vec3& v : &region == &held ? c.held_vertices[i] : cut) {
             points.push_back(Point(v));

@@ -21,8 +21,8 @@ Aabb Thickened(const Aabb& box, double thickness) {
     return out;
 }
 
-ConvexPolytope ClippedByAll(ConvexPolytope polytope, const std::vector<Vec4>& planes) {
-    for (const Vec4& p : planes) {
+ConvexPolytope ClippedByAll(ConvexPolytope polytope, std::span<const PlaneTest> planes) {
+    for (const PlaneTest& p : planes) {
         if (polytope.empty()) break;
         polytope.Clip(p);
     }
@@ -33,7 +33,7 @@ ConvexPolytope ClippedByAll(ConvexPolytope polytope, const std::vector<Vec4>& pl
 // result is `polytope` itself then, or `out` (whose storage copy-assignment reuses, so a
 // per-thread scratch spares the allocations of a fresh copy) once some plane cuts it.
 const ConvexPolytope& ClipInto(ConvexPolytope& out, const ConvexPolytope& polytope,
-                               const std::vector<Vec4>& planes) {
+                               std::span<const PlaneTest> planes) {
     size_t k = 0;
     for (; k < planes.size(); ++k) {
         const ClipEffect effect = polytope.Effect(planes[k]);
@@ -242,21 +242,24 @@ void FindViewRegions(Context& c) {
     if (r.objects.empty()) {
         c.held_regions.push_back(c.hull.hull);
         c.view_regions.push_back(
-            {ClippedByAll(ConvexPolytope::FromBox(c.bounds), c.frustum), -1, -1});
+            {ClippedByAll(ConvexPolytope::FromBox(c.bounds), PlaneTests(c.frustum)), -1, -1});
     }
     // The objects some hull face or view plane provably leaves nothing of (ObjectTree) get the
     // empty part the clips would give them, without the clips.
-    std::vector<Vec4> inside_hull;
-    for (const PolytopeFace& f : c.hull.hull.faces()) inside_hull.push_back(-f.outward_plane);
+    std::vector<PlaneTest> inside_hull;
+    for (std::size_t f = 0; f < c.hull.hull.face_count(); ++f) {
+        inside_hull.emplace_back(-c.hull.hull.face_plane(f));
+    }
+    const std::vector<PlaneTest> frustum = PlaneTests(c.frustum);
     std::vector<char> maybe_held, maybe_seen;
     c.object_tree.MarkPossible(inside_hull, maybe_held);
-    c.object_tree.MarkPossible(c.frustum, maybe_seen);
+    c.object_tree.MarkPossible(frustum, maybe_seen);
     for (size_t i = 0; i < c.object_boxes.size(); ++i) {
         c.poll();
         const ConvexPolytope& box = c.object_boxes[i];
         c.held_regions.push_back(maybe_held[i] ? ClippedByAll(box, inside_hull) : ConvexPolytope());
         if (!maybe_seen[i]) continue;
-        ViewRegion v{ClippedByAll(box, c.frustum), static_cast<int>(i), -1};
+        ViewRegion v{ClippedByAll(box, frustum), static_cast<int>(i), -1};
         if (v.region.empty()) continue;
         // A slab standing for the plane itself (a floor mesh at y = 0): its box, unthickened,
         // lies on the plane or behind it, so what the viewer sees of it is on the plane. The test

@@ -23,6 +23,20 @@ enum class ClipEffect { kKeepsAll, kKeepsNothing, kCuts };
 
 class ConvexPolytope;
 
+// A plane as Effect, Clip and KeepsNothingOf test it, normalised once: clipping many polytopes
+// by the same planes (the extent hull's faces, the view frustum, a map's cone) then takes the
+// square roots and divisions once a plane, not once a polytope. The same tests, bit for bit.
+struct PlaneTest {
+    PlaneTest() = default;
+    explicit PlaneTest(const Vec4& plane);
+    Vec4 plane = Vec4::Zero();  // as given
+    bool finite = false;        // every coefficient finite
+    bool at_infinity = false;   // |n| <= 1e-12 |plane|: only the sign of w decides
+    Vec4 unit = Vec4::Zero();   // plane / |n|
+    double n_sum = 0.0;         // |n| of unit in the 1-norm, for the rounding slack
+};
+std::vector<PlaneTest> PlaneTests(const std::vector<Vec4>& planes);
+
 // Bounds of one polytope or of a group of them, as Effect's tests see them (their vertices'
 // axis-aligned bounds, largest |coordinate| and diagonal): what a hierarchy over polytopes needs
 // to reject a whole group for a plane (the scheduler's object tree, issue 29).
@@ -41,6 +55,7 @@ struct PolytopeBounds {
     // earlier clips, each within about 2.5 ulps of the coordinates of its edge, for some forty
     // clips; the scheduler clips an object by at most the extent hull's faces or a cone's planes.
     bool KeepsNothingOf(const Vec4& plane) const;
+    bool KeepsNothingOf(const PlaneTest& plane) const;
 };
 
 class ConvexPolytope {
@@ -61,10 +76,12 @@ class ConvexPolytope {
     // it whole and reusing its faces' storage when it cuts (the scheduler clips thousands of
     // times per plan).
     void Clip(const Vec4& plane);
+    void Clip(const PlaneTest& plane);
 
     // What Clip(plane) would do, by the same tests, without changing the polytope: callers that
     // clip a copy by many planes need no copy while the planes keep all of it.
     ClipEffect Effect(const Vec4& plane) const;
+    ClipEffect Effect(const PlaneTest& plane) const;
 
     bool empty() const noexcept { return faces_.size() < 4; }
     // The faces, copied out (for callers outside the scheduler's loops: the polytope keeps its
