@@ -257,17 +257,7 @@ TEST(Footprint, CornersDecideTheRectangleAsTheClipsDo) {
     EXPECT_GT(equal, 500);
 }
 
-PlanRequest Room(std::int64_t budget) {
-    const testing::Configuration c = testing::FloorWallConfiguration();
-    PlanRequest r;
-    r.viewer = c.viewer;
-    r.viewport = c.viewport;
-    r.light = c.light;
-    r.objects = testing::FloorWallRoomObjects();
-    r.planes = {{"floor", Vec4(0, 1, 0, 0), {}}, {"wall", Vec4(0, 0, 1, 5), {}}};
-    r.lixel_budget = budget;
-    return r;
-}
+PlanRequest Room(std::int64_t budget) { return testing::FloorWallRoomRequest(budget); }
 
 // The paper's room at a budget of one lixel per viewer pixel: whole plane maps need a scale
 // below 1; the footprints fit at scale 1, every rectangle on the grid of its plane's one matrix.

@@ -103,14 +103,7 @@ TEST(RegionReceivers, EveryFaceBelowTheBoundAnEvenStrideOfFacesAboveIt) {
 // kMaxRegionReceivers samples of its region, and are still figures. Without the bound every
 // sample was measured (10 326 held here), which cost a quarter of a 10 000-object plan.
 TEST(RegionReceivers, ALargeScenesFallbackIsMeasuredOnABoundedSample) {
-    const testing::Configuration c = testing::FloorWallConfiguration();
-    PlanRequest r;
-    r.viewer = c.viewer;
-    r.viewport = c.viewport;
-    r.light = c.light;
-    r.objects = testing::FloorWallRoomObjects();
-    r.planes = {{"floor", Vec4(0, 1, 0, 0), {}}, {"wall", Vec4(0, 0, 1, 5), {}}};
-    r.lixel_budget = 1024 * 1024;
+    PlanRequest r = testing::FloorWallRoomRequest(1024 * 1024);
     std::mt19937_64 rng(29);
     while (r.objects.size() < 1000) {
         const double x = Uniform(rng, -9.5, 9.5), z = Uniform(rng, -4.5, 9.5);

@@ -284,6 +284,20 @@ inline Configuration FloorWallConfiguration() {
     return c;
 }
 
+// The paper's room as the scheduler is asked to plan it: FloorWallConfiguration's viewer and
+// light, FloorWallRoomObjects, and the floor and the wall as infinite planes of interest.
+inline PlanRequest FloorWallRoomRequest(std::int64_t budget) {
+    const Configuration c = FloorWallConfiguration();
+    PlanRequest r;
+    r.viewer = c.viewer;
+    r.viewport = c.viewport;
+    r.light = c.light;
+    r.objects = FloorWallRoomObjects();
+    r.planes = {{"floor", Vec4(0, 1, 0, 0), {}}, {"wall", Vec4(0, 0, 1, 5), {}}};
+    r.lixel_budget = budget;
+    return r;
+}
+
 // A random room for the warps: the floor y = 0 (a flat receiver box, with up to three boxes
 // standing on it), bounds 5 to 50 eye heights across; a viewer 0.3 to 5 above the floor, inside
 // the bounds, looking 5 to 60 degrees below the horizon, with a near plane at 1 to 20 % of its
