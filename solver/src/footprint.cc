@@ -127,8 +127,10 @@ CornerFootprint CornerFootprintOf(const Mat4& matrix, const Vec4& plane, const V
     Vec4 level = -l.w() * plane;  // FootprintImage's: >= 0 no higher than the light
     level.w() += lit;
     double highest = -std::numeric_limits<double>::infinity();
-    // Corners past each side of the region: x < x0, y < y0, x > x1, y > y1, each by more than
-    // ClipImage's slack (1e-12 of the coordinates), here a far wider 1e-9.
+    // Corners past each side of the region: x < x0, y < y0, x > x1, y > y1, each by more than a
+    // lixel. ClipImage's slack (1e-12 of the coordinates along a facet's unit normal, which in
+    // lixels grows with the square of the map's size, about 1e-3 at 16384) could keep a sliver
+    // of the region within it of the hull; a lixel is far past that.
     int past[4] = {0, 0, 0, 0};
     int inside = 0;
     for (int k = 0; k < 8; ++k) {
@@ -142,7 +144,7 @@ CornerFootprint CornerFootprintOf(const Mat4& matrix, const Vec4& plane, const V
         const Vec2 p(h.x() / h.w(), h.y() / h.w());
         if (!p.allFinite()) return out;
         out.images[k] = p;
-        const auto margin = [](double edge) { return 1e-9 * (1.0 + std::abs(edge)); };
+        const auto margin = [](double edge) { return 1.0 + 1e-9 * std::abs(edge); };
         past[0] += p.x() < region[0] - margin(region[0]);
         past[1] += p.y() < region[1] - margin(region[1]);
         past[2] += p.x() > region[2] + margin(region[2]);

@@ -189,7 +189,7 @@ TEST(Footprint, RectanglesCoverTheirInputsWithinTheCountAndMergeOnlyWhenCheaperO
 }
 
 // The corners' route against the clips' (FootprintImage), on seeded casters around the floor
-// map of random lights, over a region the size of the map's lookup rectangle: kInside gives a
+// map of random lights, over a region the size of the viewport less a lixel and a half: kInside gives a
 // rectangle that holds the clips' (the caster lies in its bounds), the same one for a box wholly
 // above the floor (both routes find the same points, up to rounding), and at most one lixel
 // larger on a side for a box that reaches into the thickening under the floor; kOutside only

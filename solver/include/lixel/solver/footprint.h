@@ -52,12 +52,15 @@ std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Ve
 // corner below a point light's level and in front of the map (q > 0): the caster's part that can
 // cast then lies in the bounds, and its footprint in the convex hull of the corners' images.
 // kInside: the images lie in `region` (x0, y0, x1, y1, as LookupRectangle), so RectAround of
-// them holds RectAround(FootprintImage(...)); equal to it for a box wholly above the plane up to
-// the rounding of the two routes (the clips compute the same points as edge crossings), at most
-// the thickening's image larger where the box reaches under the plane. kOutside: the images lie
-// past one side of the region by more than its clip's slack, so the footprint misses it.
-// kUndecided otherwise: FootprintImage decides. Eight products and divisions, where
-// FootprintImage clips the caster twice and takes its cone's facets.
+// them holds the footprint. It is FootprintImage's rectangle, which finds the same points as
+// edge crossings, but for two things: FootprintImage's clips reach up to their slack (1e-12 of
+// the coordinates) past the hull, which can add a lixel where a corner's image lies that close
+// to a snapping threshold, and it takes the whole region where the corners' rays are coplanar
+// to 1e-12 (a light some 10^6 scene sizes away); and it is at most the thickening's image
+// smaller where the box reaches under the plane. kOutside: the images lie more than a lixel past
+// one side of the region, so the footprint misses it. kUndecided otherwise: FootprintImage
+// decides. Eight products and divisions, where FootprintImage clips the caster twice and takes
+// its cone's facets.
 struct CornerFootprint {
     enum class Kind { kUndecided, kInside, kOutside };
     Kind kind = Kind::kUndecided;

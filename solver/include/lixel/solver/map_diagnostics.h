@@ -50,17 +50,18 @@ struct DepthStepTally {
 SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4& viewer,
                              const Viewport& viewport, std::span<const Receiver> receivers);
 
-// The most receivers RegionReceivers gives by default: the fallback's figures are a min and max
-// over samples, which a few thousand spread over the region estimate as well as millions, and
-// their cost no longer grows with the objects (10 000 boxes sample about 2 million points).
+// The most receivers RegionReceivers gives by default: a map's figures are a min and max over
+// samples, which a few thousand spread over the region estimate as well as millions, and their
+// cost no longer grows with the objects (10 000 boxes sample about 2 million points).
 inline constexpr std::size_t kMaxRegionReceivers = 4096;
 
 // Samples of the faces of the regions (the fallback's needed region: visible object boxes less
-// the rays plane maps hold), each with its face's plane: of every face while their samples
-// number at most `max_receivers`, else of every k-th face in order (regions, then their faces),
-// k a stride that brings them within it (found from the average face's count up, each try an
-// eighth larger), so they still spread over all the regions. A single face's samples are kept
-// whole, so max_receivers below one face's count keeps that one face.
+// the rays plane maps hold; the boxes in view, for the baselines' figures), each with its face's
+// plane: of every face while their samples number at most `max_receivers` (0: no bound), else
+// of every k-th face in order (regions, then their faces), k a stride that brings them within it
+// (found from the average face's count up, each try an eighth larger), so they still spread over
+// all the regions. A face's samples are kept whole, so a bound below the first face's count
+// still keeps that face.
 std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions,
                                       std::size_t max_receivers = kMaxRegionReceivers);
 
