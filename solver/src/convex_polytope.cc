@@ -332,13 +332,12 @@ void ConvexPolytope::Clip(const PlaneTest& t) {
                          static_cast<std::uint32_t>(kept.size()), Vec4(-p)});
         points.insert(points.end(), kept.begin(), kept.end());
     }
-    if (faces.size() < 4) {  // empty
-        faces_.clear();
-        points_.clear();
-        return;
-    }
     points_.assign(points.begin(), points.end());
     faces_.assign(faces.begin(), faces.end());
+    if (empty()) {
+        faces_.clear();
+        points_.clear();
+    }
 }
 
 }  // namespace lixel

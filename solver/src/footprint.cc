@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace lixel {
 
@@ -75,23 +76,32 @@ bool ConeFacets(const std::vector<Eigen::Vector3d>& generators,
     return !facets.empty();
 }
 
+// The half-space of points no higher than the light above the unit plane `plane`,
+// (P . l) X_w - l_w (P . X) >= 0 (every point for a direction), with a point light taken as
+// (x, 1): every point X then has the direction X - l from it, and a map images X and X - l
+// alike (its x, y and q rows vanish on l). Nullopt where the light is not on the plane's lit
+// side (P . l > 0) or not finite: then nothing bounds what may cast onto it.
+std::optional<Vec4> LightLevel(const Vec4& plane, const Vec4& light) {
+    const Vec4 l = light.w() != 0.0 ? Vec4(light / light.w()) : light;
+    const double lit = plane.dot(l);
+    if (!(lit > 0.0) || !l.allFinite()) return std::nullopt;
+    Vec4 level = -l.w() * plane;
+    level.w() += lit;
+    return level;
+}
+
 }  // namespace
 
 std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Vec4& light,
                                  const ConvexPolytope& caster,
                                  const std::vector<Vec2>& needed_image) {
     if (caster.empty() || needed_image.empty()) return {};
-    // A point light as (x, 1): every point X then has the direction X - l from it, and the map
-    // images X and X - l alike (its x, y and q rows vanish on l).
-    const Vec4 l = light.w() != 0.0 ? Vec4(light / light.w()) : light;
-    const double lit = plane.dot(l);
-    if (!(lit > 0.0) || !l.allFinite()) return needed_image;
+    const std::optional<Vec4> level = LightLevel(plane, light);
+    if (!level) return needed_image;
     // The caster's part that can cast onto the plane: on its lit side, P . X >= 0, and no
-    // higher than the light, (P . l) X_w - l_w (P . X) >= 0 (every point for a direction).
+    // higher than the light.
     ConvexPolytope part = caster.Clipped(plane);
-    Vec4 level = -l.w() * plane;
-    level.w() += lit;
-    part.Clip(level);
+    part.Clip(*level);
     if (part.empty()) return {};
     std::vector<Eigen::Vector3d> generators;
     for (const Vec3& v : part.vertices()) {
@@ -121,11 +131,8 @@ CornerFootprint CornerFootprintOf(const Mat4& matrix, const Vec4& plane, const V
                                   const Eigen::Vector4d& region) {
     CornerFootprint out;
     if (bounds.empty()) return out;
-    const Vec4 l = light.w() != 0.0 ? Vec4(light / light.w()) : light;
-    const double lit = plane.dot(l);
-    if (!(lit > 0.0) || !l.allFinite()) return out;
-    Vec4 level = -l.w() * plane;  // FootprintImage's: >= 0 no higher than the light
-    level.w() += lit;
+    const std::optional<Vec4> level = LightLevel(plane, light);  // as FootprintImage's
+    if (!level) return out;
     double highest = -std::numeric_limits<double>::infinity();
     // Corners past each side of the region: x < x0, y < y0, x > x1, y > y1, each by more than a
     // lixel. ClipImage's slack (1e-12 of the coordinates along a facet's unit normal, which in
@@ -137,7 +144,7 @@ CornerFootprint CornerFootprintOf(const Mat4& matrix, const Vec4& plane, const V
         const Vec4 x(k & 1 ? bounds.hi.x() : bounds.lo.x(), k & 2 ? bounds.hi.y() : bounds.lo.y(),
                      k & 4 ? bounds.hi.z() : bounds.lo.z(), 1.0);
         const double above = plane.dot(x);
-        if (!(above >= -thickness) || !(level.dot(x) > 0.0)) return out;
+        if (!(above >= -thickness) || !(level->dot(x) > 0.0)) return out;
         highest = std::max(highest, above);
         const Vec4 h = matrix * x;
         if (!(h.w() > 0.0)) return out;

@@ -217,7 +217,7 @@ bool WhollyBeyond(const Aabb& box, const Eigen::Matrix<double, 8, 3>& corners, c
         }
     }
     const Vec3 sides = box.max - box.min;
-    const double reach = (box.max - box.min).norm() +
+    const double reach = sides.norm() +
                          std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
     return sides.minCoeff() > 1e-6 * reach;
 }

@@ -239,10 +239,10 @@ void FindViewRegions(Context& c) {
         hiding.push_back(front);
         hiding_index.push_back(static_cast<int>(j));
     }
+    const std::vector<PlaneTest> frustum = PlaneTests(c.frustum);
     if (r.objects.empty()) {
         c.held_regions.push_back(c.hull.hull);
-        c.view_regions.push_back(
-            {ClippedByAll(ConvexPolytope::FromBox(c.bounds), PlaneTests(c.frustum)), -1, -1});
+        c.view_regions.push_back({ClippedByAll(ConvexPolytope::FromBox(c.bounds), frustum), -1, -1});
     }
     // The objects some hull face or view plane provably leaves nothing of (ObjectTree) get the
     // empty part the clips would give them, without the clips.
@@ -250,7 +250,6 @@ void FindViewRegions(Context& c) {
     for (std::size_t f = 0; f < c.hull.hull.face_count(); ++f) {
         inside_hull.emplace_back(-c.hull.hull.face_plane(f));
     }
-    const std::vector<PlaneTest> frustum = PlaneTests(c.frustum);
     std::vector<char> maybe_held, maybe_seen;
     c.object_tree.MarkPossible(inside_hull, maybe_held);
     c.object_tree.MarkPossible(frustum, maybe_seen);
