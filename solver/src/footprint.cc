@@ -126,6 +126,27 @@ std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Ve
     return image;
 }
 
+std::vector<PlaneTest> RegionCone(const Mat4& matrix, const Vec4& plane, const Vec4& light,
+                                  const Eigen::Vector4d& region) {
+    if (!LightLevel(plane, light) || !region.allFinite()) return {};
+    const Vec4 x = matrix.row(0).transpose();
+    const Vec4 y = matrix.row(1).transpose();
+    const Vec4 q = matrix.row(3).transpose();
+    std::vector<PlaneTest> cone;
+    for (const Vec4& side : {q, Vec4(x - region[0] * q), Vec4(region[2] * q - x),
+                             Vec4(y - region[1] * q), Vec4(region[3] * q - y)}) {
+        const PlaneTest test(side);
+        if (!test.finite) return {};
+        if (!test.at_infinity) cone.push_back(test);
+    }
+    return cone;
+}
+
+bool OutsideRegionCone(const PolytopeBounds& bounds, std::span<const PlaneTest> cone) {
+    return std::any_of(cone.begin(), cone.end(),
+                       [&](const PlaneTest& p) { return bounds.KeepsNothingOf(p); });
+}
+
 CornerFootprint CornerFootprintOf(const Mat4& matrix, const Vec4& plane, const Vec4& light,
                                   const PolytopeBounds& bounds, double thickness,
                                   const Eigen::Vector4d& region) {

@@ -28,17 +28,19 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
                                std::vector<Vec3>& centres) {
     const auto index = static_cast<std::int32_t>(nodes_.size());
     nodes_.push_back({});
-    PolytopeBounds bounds;
+    nodes_[index].first = first;
+    nodes_[index].count = count;
+    if (count <= kLeafBoxes) {
+        for (std::uint32_t k = first; k < first + count; ++k) {
+            nodes_[index].bounds.Merge(boxes_[order_[k]]);
+        }
+        return index;
+    }
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (std::uint32_t k = first; k < first + count; ++k) {
-        bounds.Merge(boxes_[order_[k]]);
         lo = lo.cwiseMin(centres[order_[k]]);
         hi = hi.cwiseMax(centres[order_[k]]);
     }
-    nodes_[index].bounds = bounds;
-    nodes_[index].first = first;
-    nodes_[index].count = count;
-    if (count <= kLeafBoxes) return index;
     int axis = 0;
     (hi - lo).maxCoeff(&axis);
     const std::uint32_t half = count / 2;
@@ -51,6 +53,10 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     const std::int32_t right = Build(first + half, count - half, centres);
     nodes_[index].left = left;
     nodes_[index].right = right;
+    // The children's bounds hold the same boxes: min, max and the diagonal over them come out
+    // as merging every box would give, with two merges where that took one a box.
+    nodes_[index].bounds = nodes_[left].bounds;
+    nodes_[index].bounds.Merge(nodes_[right].bounds);
     return index;
 }
 

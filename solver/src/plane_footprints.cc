@@ -83,9 +83,13 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
     const Eigen::Vector4d accepted = LookupRectangle(whole.map, whole.lookup);
     const std::vector<Vec2> region = {Vec2(accepted[0], accepted[1]), Vec2(accepted[2], accepted[1]),
                                       Vec2(accepted[2], accepted[3]), Vec2(accepted[0], accepted[3])};
+    const std::vector<PlaneTest> cone = RegionCone(whole.map.matrix, plane, light, accepted);
     std::vector<LixelRect> rects;
     for (const ConvexPolytope* caster : casters) {
         if (poll) poll();  // a cancelled request's poll throws
+        // Wholly past a side of the region's light cone: no shadow there, however degenerate
+        // the caster's own cone (CastersOnto skips these by the object tree).
+        if (OutsideRegionCone(caster->Bounds(), cone)) continue;
         // Most casters stand clear of the light and of the region's edges: their bounds'
         // corners decide the rectangle without the clips.
         const CornerFootprint corners = CornerFootprintOf(whole.map.matrix, plane, light,

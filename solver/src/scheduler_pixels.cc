@@ -222,6 +222,26 @@ bool WhollyBeyond(const Aabb& box, const Eigen::Matrix<double, 8, 3>& corners, c
     return sides.minCoeff() > 1e-6 * reach;
 }
 
+// Whether every corner of a box lies behind `plane` (the viewer's near plane, clip z = 0) by a
+// margin of kScreenMargin of the terms' sizes. A traced ray starts on the near plane and its
+// clip z grows with its parameter, so its points past the origin lie in front of it; the
+// computed ray strays from that by the viewer's conditioning times a few ulps (below 1e-9
+// relative where the tile proofs run), far below the margin. The slab test, whose parameters
+// keep the sign of the computed ray's exact ones, then finds no entry at a positive parameter:
+// no ray of the estimate meets the box (NowhereOnScreen).
+bool WhollyBehind(const Eigen::Matrix<double, 8, 3>& corners, const Vec4& plane) {
+    const Vec3 n = plane.head<3>();
+    const double scale = n.cwiseAbs().sum();
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 x = corners.row(k).transpose();
+        const double d = n.dot(x) + plane.w();
+        if (!(-d > kScreenMargin * (scale * x.cwiseAbs().maxCoeff() + std::abs(plane.w())))) {
+            return false;
+        }
+    }
+    return true;
+}
+
 TileProofs PrepareTileProofs(const PixelEstimate& e) {
     TileProofs t;
     const PlanRequest& r = e.c.request;
@@ -246,6 +266,11 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
                 ((k & 4) ? o.bounds.max.z() : o.bounds.min.z());
         }
         t.box_corners.push_back(m);
+        if (WhollyBehind(m, beyond_near)) {
+            // Behind the eye: every ray and tile skips it, where the slab test found nothing.
+            t.boxes.push_back(NowhereOnScreen());
+            continue;
+        }
         if (WhollyBeyond(o.bounds, m, beyond_near)) {
             // The clip keeps the whole box, whose vertices are its eight corners.
             std::array<Vec3, 8> corners;

@@ -1,11 +1,13 @@
 // Plane maps: each candidate's plane-optimal matrix solved, cropped to its needed rays with a
 // guard band, its depth row fitted, and split by its casters' footprints (paper 004 §3-4).
-#include "scheduler_context.h"
-#include "plane_footprints.h"
+#include <lixel/solver/footprint.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "plane_footprints.h"
+#include "scheduler_context.h"
 
 namespace lixel::scheduling {
 
@@ -75,7 +77,11 @@ namespace {
 // light and the whole needed polygon, since every light ray to the polygon then stays in front
 // of that plane (a floor slab for the floor, the wall for the floor in front of it, a table's
 // slab for its own top).
-std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate& cand) {
+// Of those, only the ones the object tree cannot prove wholly past a side of the light cone over
+// the map `m`'s lookup rectangle (RegionCone): SplitByFootprints would skip them by the same
+// test, so the list differs only in what it would have skipped.
+std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate& cand,
+                                               const PlannedMap& m) {
     const PlanRequest& r = c.request;
     std::vector<Vec4> shields;
     for (const PlaneOfInterest& p : r.planes) {
@@ -85,10 +91,14 @@ std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate
         for (const Vec3& v : cand.polygon) in_front = in_front && unit.dot(Point(v)) >= -c.thickness;
         if (in_front) shields.push_back(unit);
     }
+    const std::vector<PlaneTest> cone =
+        RegionCone(m.map.matrix, cand.plane, c.light, LookupRectangle(m.map, m.lookup));
+    std::vector<char> possible;
+    c.object_tree.MarkPossible(cone, possible);
     std::vector<const ConvexPolytope*> casters;
     for (size_t i = 0; i < r.objects.size(); ++i) {
         c.poll();
-        if (c.object_boxes[i].empty()) continue;
+        if (!possible[i] || c.object_boxes[i].empty()) continue;
         const std::vector<Vec4> corners = BoxCorners(r.objects[i].bounds);
         const bool shielded = std::any_of(shields.begin(), shields.end(), [&](const Vec4& s) {
             return std::all_of(corners.begin(), corners.end(),
@@ -223,10 +233,9 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, const std::vect
             continue;
         }
         for (PlannedMap& piece :
-             SplitByFootprints(m, cand.plane, c.light, CastersOnto(c, cand), cand.polygon,
+             SplitByFootprints(m, cand.plane, c.light, CastersOnto(c, cand, m), cand.polygon,
                                c.thickness, std::min(r.footprints.max_per_plane, rects_left),
-                               r.coherence ? 1.0 / std::sqrt(1.0 - r.coherence->waste_bound)
-                                           : 0.0,
+                               r.coherence ? 1.0 / std::sqrt(1.0 - r.coherence->waste_bound) : 0.0,
                                [&c] { c.poll(); })) {
             if (piece.footprint) --rects_left;
             maps.push_back(std::move(piece));

@@ -36,13 +36,26 @@ ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes) {
 }
 
 std::array<int, 4> ScreenCells::SpanOf(const ScreenRect& r) {
-    const auto range = [](double lo, double hi) {
+    // The sample at or below an NDC coordinate, clamped to [0, kCells] (NaN: 0): where the
+    // searches below start, so that they take a step or two, not one a cell.
+    const auto near_sample = [](double ndc) {
+        const double k = (ndc + 1.0) * (kPixelSamplesPerSide / 2.0) - 0.5;
+        if (!(k > 0.0)) return 0;
+        if (!(k < kCells)) return kCells;
+        return static_cast<int>(k);
+    };
+    const auto range = [&](double lo, double hi) {
         // The first cell whose right edge is not left of lo, the last whose left edge is not
-        // right of hi, both as Disjoint would compare them.
-        int first = 0;
-        while (first < kCells && SampleNdc(first + 1) < lo - kScreenMargin) ++first;
-        int last = kCells - 1;
-        while (last >= 0 && SampleNdc(last) > hi + kScreenMargin) --last;
+        // right of hi, both as Disjoint would compare them. Both comparisons are monotone in the
+        // cell, so walking from any start to where they turn finds the same cells as a scan.
+        const auto left_of = [&](int cell) { return SampleNdc(cell + 1) < lo - kScreenMargin; };
+        const auto right_of = [&](int cell) { return SampleNdc(cell) > hi + kScreenMargin; };
+        int first = std::max(0, near_sample(lo - kScreenMargin) - 1);
+        while (first > 0 && !left_of(first - 1)) --first;
+        while (first < kCells && left_of(first)) ++first;
+        int last = std::min(kCells - 1, near_sample(hi + kScreenMargin));
+        while (last >= 0 && right_of(last)) --last;
+        while (last + 1 < kCells && !right_of(last + 1)) ++last;
         return std::pair{first, last};
     };
     const auto [x0, x1] = range(r.x0, r.x1);

@@ -31,12 +31,17 @@ struct ScreenRect {
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
+// The rectangle of points no traced ray reaches (a box wholly behind the near plane): Disjoint
+// keeps it off every tile, and ScreenCells files it under no cell.
+inline ScreenRect NowhereOnScreen() {
+    return ScreenRect{
+        true, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+        -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+}
+
 template <class Points>
 ScreenRect ScreenRectOf(const Mat4& viewer, const Points& points) {
-    ScreenRect rect{true, std::numeric_limits<double>::infinity(),
-                    std::numeric_limits<double>::infinity(),
-                    -std::numeric_limits<double>::infinity(),
-                    -std::numeric_limits<double>::infinity()};
+    ScreenRect rect = NowhereOnScreen();  // grown to each point's NDC
     for (const Vec3& p : points) {
         const Vec4 clip = viewer * Point(p);
         if (!(clip.w() > kCullMargin * clip.cwiseAbs().maxCoeff()) || !clip.allFinite()) {

@@ -257,6 +257,68 @@ TEST(Footprint, CornersDecideTheRectangleAsTheClipsDo) {
     EXPECT_GT(equal, 500);
 }
 
+// A caster wholly past a side of the light cone over a region (RegionCone) casts nothing into
+// it, checked against an independent derivation: no point of its box between the floor and the
+// light shadows a floor point whose image lies in the region. The clips agree: they find nothing,
+// or, where the caster's own cone is degenerate (not pointed or flat), the whole region, which
+// the cone's test leaves out.
+TEST(Footprint, CastersPastASideOfTheRegionsLightConeCastNothingIntoIt) {
+    std::mt19937_64 rng(4099);
+    const Vec4 floor(0, 1, 0, 0);
+    int outside = 0, kept = 0, sampled = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const bool directional = trial % 3 == 0;
+        const Vec4 light =
+            directional
+                ? Direction(Vec3(Uniform(rng, -1, 1), Uniform(rng, 0.2, 1), Uniform(rng, -1, 1)))
+                : Point(Vec3(Uniform(rng, -8, 8), Uniform(rng, 0.5, 9), Uniform(rng, -4, 9)));
+        const FloorMap f = MakeFloorMap(light);
+        // A random part of the map's rectangle, as a footprint split's lookup rectangle.
+        const double w = f.c.viewport.width, h = f.c.viewport.height;
+        const double x0 = Uniform(rng, 0, 0.7 * w), y0 = Uniform(rng, 0, 0.7 * h);
+        const Eigen::Vector4d region(x0, y0, Uniform(rng, x0 + 1, w), Uniform(rng, y0 + 1, h));
+        const std::vector<PlaneTest> cone = RegionCone(f.map.matrix, floor, light, region);
+        ASSERT_FALSE(cone.empty());
+        const std::vector<Vec2> corners = {Vec2(region[0], region[1]), Vec2(region[2], region[1]),
+                                           Vec2(region[2], region[3]), Vec2(region[0], region[3])};
+        for (int k = 0; k < 30; ++k) {
+            // Boxes on, above, across the light's level, through the floor and behind the eye.
+            const Vec3 centre(Uniform(rng, -20, 20), Uniform(rng, -0.5, 10), Uniform(rng, -10, 20));
+            const Vec3 half(Uniform(rng, 0.02, 2), Uniform(rng, 0.02, 2), Uniform(rng, 0.02, 2));
+            const Aabb box{centre - half, centre + half};
+            const ConvexPolytope caster = ConvexPolytope::FromBox(box);
+            if (!OutsideRegionCone(caster.Bounds(), cone)) {
+                ++kept;
+                continue;
+            }
+            ++outside;
+            const std::vector<Vec2> clipped =
+                FootprintImage(f.map.matrix, floor, light, caster, corners);
+            EXPECT_TRUE(clipped.empty() || clipped == corners) << clipped.size() << " points";
+            for (int s = 0; s < 200; ++s) {
+                const Vec3 x(Uniform(rng, box.min.x(), box.max.x()),
+                             Uniform(rng, box.min.y(), box.max.y()),
+                             Uniform(rng, box.min.z(), box.max.z()));
+                if (x.y() < 0.0) continue;
+                if (!directional && x.y() >= light.y() / light.w()) continue;  // above the light
+                const auto y = ShadowOnFloor(light, x);
+                if (!y) continue;
+                const Vec4 q = f.map.matrix * Point(*y);
+                if (!(q.w() > 0.0)) continue;
+                ++sampled;
+                const Vec2 p(q.x() / q.w(), q.y() / q.w());
+                ASSERT_FALSE(p.x() >= region[0] && p.x() <= region[2] && p.y() >= region[1] &&
+                             p.y() <= region[3])
+                    << "trial " << trial << ": point " << x.transpose() << " shadows lixel "
+                    << p.transpose() << " inside the region";
+            }
+        }
+    }
+    EXPECT_GT(outside, 2000);
+    EXPECT_GT(kept, 300);
+    EXPECT_GT(sampled, 100000);
+}
+
 PlanRequest Room(std::int64_t budget) { return testing::FloorWallRoomRequest(budget); }
 
 // The paper's room at a budget of one lixel per viewer pixel: whole plane maps need a scale

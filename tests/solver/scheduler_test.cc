@@ -592,6 +592,13 @@ TEST(Scheduler, ExpectedPixelsEqualTracingEveryRayOnRandomRooms) {
                                  Vec3(x, y, z)}});
             r.objects.push_back(Box(name, Vec3(x, y - 0.05, z), Vec3(x + w, y, z + d)));
         }
+        // Boxes anywhere in the room: in view, beside it and behind the eye (which every ray
+        // and tile skips by its screen rectangle).
+        for (int k = 0; k < i % 11; ++k) {
+            const Vec3 lo(Uniform(rng, -10, 9), Uniform(rng, 0, 7), Uniform(rng, -5, 9));
+            const Vec3 size(Uniform(rng, 0.05, 1), Uniform(rng, 0.05, 1), Uniform(rng, 0.05, 1));
+            r.objects.push_back(Box("box" + std::to_string(k), lo, lo + size));
+        }
         const Vec3 eye(Uniform(rng, -8, 8), Uniform(rng, 0.5, 7), Uniform(rng, -3, 9));
         const Vec3 target(Uniform(rng, -5, 5), Uniform(rng, 0, 3), Uniform(rng, -5, 2));
         r.viewport = {static_cast<int>(Uniform(rng, 64, 1024)),

@@ -70,6 +70,20 @@ CornerFootprint CornerFootprintOf(const Mat4& matrix, const Vec4& plane, const V
                                   const PolytopeBounds& bounds, double thickness,
                                   const Eigen::Vector4d& region);
 
+// The half-spaces (plane . X >= 0, each through the light) whose intersection holds every point
+// whose light ray images into `region` (x0, y0, x1, y1, as LookupRectangle) with q > 0: q >= 0,
+// x - x0 q >= 0, x1 q - x >= 0, y - y0 q >= 0 and y1 q - y >= 0 on rows 0, 1 and 3 of `matrix`,
+// which vanish on the light. A caster whose bounds keep nothing of one of them
+// (PolytopeBounds::KeepsNothingOf, a margin far above rounding) casts nothing into the region:
+// every caster point's image lies strictly outside that side, and so does the cone they span,
+// exactly, however degenerate it is (OutsideRegionCone). A side whose normal is negligible (a
+// directional light's q row) is left out, and so is every side where FootprintImage takes the
+// whole region for every caster (the plane not lit) or a coefficient is not finite: an empty
+// cone rejects nothing.
+std::vector<PlaneTest> RegionCone(const Mat4& matrix, const Vec4& plane, const Vec4& light,
+                                  const Eigen::Vector4d& region);
+bool OutsideRegionCone(const PolytopeBounds& bounds, std::span<const PlaneTest> cone);
+
 // The integer rectangle around a footprint: images within 1e-6 lixel past an integer are
 // snapped onto it (as the crop does), and a footprint without area still gets one lixel.
 LixelRect RectAround(std::span<const Vec2> image);
