@@ -257,15 +257,37 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
     // A ray's points past its origin lie beyond the near plane (clip z > 0), so only that part
     // of a box or polygon can meet it; there clip w > 0 for the viewers TileUniform accepts.
     const Vec4 beyond_near = r.viewer.row(2).transpose();
-    for (const SceneObject& o : r.objects) {
+    // Boxes no ray reaches, rejected in groups by the object tree (its thickened boxes hold the
+    // objects'): wholly past a side of the pyramid the rays fill (every sample's NDC lies within
+    // 1 - 1 / kPixelSamplesPerSide of the centre; a side pushed out to NDC 1 + kScreenMargin), or
+    // behind the near plane by WhollyBehind's margin at the largest box's magnitude.
+    double magnitude = 0.0;
+    for (const double m : e.box_magnitudes) magnitude = std::max(magnitude, m);
+    const Vec4 vx = r.viewer.row(0).transpose(), vy = r.viewer.row(1).transpose();
+    const Vec4 vw = r.viewer.row(3).transpose();
+    const Vec4 wide = (1.0 + kScreenMargin) * vw;
+    Vec4 behind = beyond_near;
+    behind.w() += kScreenMargin * (beyond_near.head<3>().cwiseAbs().sum() * magnitude +
+                                   std::abs(beyond_near.w()));
+    std::vector<char> reached;
+    e.c.object_tree.MarkPossible(
+        PlaneTests({Vec4(wide - vx), Vec4(wide + vx), Vec4(wide - vy), Vec4(wide + vy), behind}),
+        reached);
+    t.box_corners.resize(r.objects.size());
+    t.boxes.reserve(r.objects.size());
+    for (std::size_t i = 0; i < r.objects.size(); ++i) {
+        const SceneObject& o = r.objects[i];
         e.c.poll();
-        Eigen::Matrix<double, 8, 3> m;
+        if (!reached[i] && !e.c.object_boxes[i].empty()) {
+            t.boxes.push_back(NowhereOnScreen());
+            continue;
+        }
+        Eigen::Matrix<double, 8, 3>& m = t.box_corners[i];
         for (int k = 0; k < 8; ++k) {
             m.row(k) << ((k & 1) ? o.bounds.max.x() : o.bounds.min.x()),
                 ((k & 2) ? o.bounds.max.y() : o.bounds.min.y()),
                 ((k & 4) ? o.bounds.max.z() : o.bounds.min.z());
         }
-        t.box_corners.push_back(m);
         if (WhollyBehind(m, beyond_near)) {
             // Behind the eye: every ray and tile skips it, where the slab test found nothing.
             t.boxes.push_back(NowhereOnScreen());
