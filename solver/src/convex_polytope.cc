@@ -155,6 +155,20 @@ PolytopeBounds ConvexPolytope::Bounds() const {
     return b;
 }
 
+PolytopeBounds PolytopeBounds::OfBox(const Aabb& box) {
+    PolytopeBounds b;
+    // FromBox's own tests for an empty box.
+    if (!box.min.allFinite() || !box.max.allFinite()) return b;
+    if (!(box.min.array() < box.max.array()).all()) return b;
+    // extent() over the corners: their minimum and maximum are the box's, and the largest
+    // |coordinate| of any corner is the larger of the two ends' on some axis.
+    b.lo = box.min;
+    b.hi = box.max;
+    b.magnitude = std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+    b.size = (box.max - box.min).norm();
+    return b;
+}
+
 void PolytopeBounds::Merge(const PolytopeBounds& other) {
     if (other.empty()) return;
     lo = lo.cwiseMin(other.lo);
@@ -196,6 +210,15 @@ bool PolytopeBounds::KeepsNothingOf(const PlaneTest& t) const {
         16.0 * std::numeric_limits<double>::epsilon() * (t.n_sum * magnitude + std::abs(p.w()));
     const double tol = kRelativeTolerance * size + kMagnitudeUlps * magnitude;
     return highest + 8.0 * slack < -tol;
+}
+
+bool PolytopeBounds::InsideOf(const PlaneTest& t) const {
+    if (empty() || !t.finite) return false;  // KeepsNothingOf is true for every member
+    if (t.at_infinity) return t.plane.w() >= 0.0;
+    const Vec4& p = t.unit;
+    double lowest = p.w();
+    for (int a = 0; a < 3; ++a) lowest += p(a) * (p(a) > 0.0 ? lo(a) : hi(a));
+    return lowest >= 0.0;
 }
 
 ClipEffect ConvexPolytope::Effect(const Vec4& plane) const { return Effect(PlaneTest(plane)); }

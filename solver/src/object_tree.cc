@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <utility>
 
 namespace lixel::scheduling {
 namespace {
@@ -12,11 +13,10 @@ constexpr std::uint32_t kLeafBoxes = 4;
 
 }  // namespace
 
-ObjectTree::ObjectTree(const std::vector<ConvexPolytope>& boxes) : total_(boxes.size()) {
-    boxes_.reserve(boxes.size());
-    std::vector<Vec3> centres(boxes.size(), Vec3::Zero());
-    for (std::size_t i = 0; i < boxes.size(); ++i) {
-        boxes_.push_back(boxes[i].Bounds());
+ObjectTree::ObjectTree(std::vector<PolytopeBounds> boxes)
+    : boxes_(std::move(boxes)), total_(boxes_.size()) {
+    std::vector<Vec3> centres(boxes_.size(), Vec3::Zero());
+    for (std::size_t i = 0; i < boxes_.size(); ++i) {
         if (boxes_[i].empty()) continue;  // keeps nothing of any plane: never possible
         order_.push_back(static_cast<std::uint32_t>(i));
         centres[i] = 0.5 * (boxes_[i].lo + boxes_[i].hi);
@@ -67,25 +67,39 @@ void ObjectTree::MarkPossible(std::span<const PlaneTest> planes,
                               std::vector<char>& possible) const {
     possible.assign(total_, 0);
     if (nodes_.empty()) return;
-    std::vector<std::int32_t> stack = {0};
+    // Each node with the planes still to test below it: a plane a group lies inside of
+    // (PolytopeBounds::InsideOf) rejects none of its members, so its subtree skips it. Planes
+    // past the mask's 64 are tested at every node.
+    constexpr std::size_t kMaskPlanes = 64;
+    const std::size_t masked = std::min(planes.size(), kMaskPlanes);
+    const std::uint64_t all =
+        masked == kMaskPlanes ? ~std::uint64_t{0} : (std::uint64_t{1} << masked) - 1;
+    std::vector<std::pair<std::int32_t, std::uint64_t>> stack = {{0, all}};
+    const auto rejects = [&](const PolytopeBounds& bounds, std::uint64_t active) {
+        for (std::size_t p = 0; p < planes.size(); ++p) {
+            if (p < masked && !(active >> p & 1)) continue;
+            if (bounds.KeepsNothingOf(planes[p])) return true;
+        }
+        return false;
+    };
     while (!stack.empty()) {
-        const Node& node = nodes_[stack.back()];
+        const auto [at, mask] = stack.back();
         stack.pop_back();
-        const bool rejected = std::any_of(planes.begin(), planes.end(), [&](const PlaneTest& p) {
-            return node.bounds.KeepsNothingOf(p);
-        });
-        if (rejected) continue;
+        const Node& node = nodes_[at];
+        if (rejects(node.bounds, mask)) continue;
+        std::uint64_t active = mask;
+        for (std::size_t p = 0; p < masked; ++p) {
+            if ((active >> p & 1) && node.bounds.InsideOf(planes[p]))
+                active &= ~(std::uint64_t{1} << p);
+        }
         if (node.left < 0) {
             for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-                const PolytopeBounds& box = boxes_[order_[k]];
-                possible[order_[k]] =
-                    std::none_of(planes.begin(), planes.end(),
-                                 [&](const PlaneTest& p) { return box.KeepsNothingOf(p); });
+                possible[order_[k]] = !rejects(boxes_[order_[k]], active);
             }
             continue;
         }
-        stack.push_back(node.left);
-        stack.push_back(node.right);
+        stack.push_back({node.left, active});
+        stack.push_back({node.right, active});
     }
 }
 

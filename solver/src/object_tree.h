@@ -16,7 +16,7 @@ namespace lixel::scheduling {
 class ObjectTree {
   public:
     ObjectTree() = default;
-    explicit ObjectTree(const std::vector<ConvexPolytope>& boxes);
+    explicit ObjectTree(std::vector<PolytopeBounds> boxes);
 
     // possible[i] = 1 for every box that some clip by all of `planes` may leave non-empty, 0 for
     // those it provably empties (and for empty boxes); `possible` is resized to the boxes.

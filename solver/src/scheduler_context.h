@@ -15,14 +15,15 @@
 #include <lixel/solver/ray_cone.h>
 #include <lixel/solver/scheduler.h>
 
-#include "object_tree.h"
-
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "object_boxes.h"
+#include "object_tree.h"
 
 namespace lixel::scheduling {
 
@@ -84,8 +85,8 @@ struct Context {
     std::vector<Candidate> candidates;
     // Every object's box, thickened (request order), and its part inside the extent hull (the
     // hull itself when there are no objects): the same for every map and every budget attempt.
-    std::vector<ConvexPolytope> object_boxes;
-    ObjectTree object_tree;  // over object_boxes
+    ObjectBoxes object_boxes;
+    ObjectTree object_tree;  // over object_boxes' bounds
     std::vector<ConvexPolytope> held_regions;
     std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i].vertices()
     std::vector<ViewRegion> view_regions;          // visible part of every object

@@ -278,7 +278,7 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
     for (std::size_t i = 0; i < r.objects.size(); ++i) {
         const SceneObject& o = r.objects[i];
         e.c.poll();
-        if (!reached[i] && !e.c.object_boxes[i].empty()) {
+        if (!reached[i] && !e.c.object_boxes.empty(i)) {
             t.boxes.push_back(NowhereOnScreen());
             continue;
         }

@@ -98,7 +98,7 @@ std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate
     std::vector<const ConvexPolytope*> casters;
     for (size_t i = 0; i < r.objects.size(); ++i) {
         c.poll();
-        if (!possible[i] || c.object_boxes[i].empty()) continue;
+        if (!possible[i] || c.object_boxes.empty(i)) continue;
         const std::vector<Vec4> corners = BoxCorners(r.objects[i].bounds);
         const bool shielded = std::any_of(shields.begin(), shields.end(), [&](const Vec4& s) {
             return std::all_of(corners.begin(), corners.end(),

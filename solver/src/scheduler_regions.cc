@@ -1,10 +1,11 @@
 // The needed regions: each plane of interest's needed polygon (paper §3), the visible part of
 // every object and the part some map must hold.
-#include "scheduler_context.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+
+#include "scheduler_context.h"
 
 namespace lixel::scheduling {
 
@@ -255,10 +256,10 @@ void FindViewRegions(Context& c) {
     c.object_tree.MarkPossible(frustum, maybe_seen);
     for (size_t i = 0; i < c.object_boxes.size(); ++i) {
         c.poll();
-        const ConvexPolytope& box = c.object_boxes[i];
-        c.held_regions.push_back(maybe_held[i] ? ClippedByAll(box, inside_hull) : ConvexPolytope());
+        c.held_regions.push_back(maybe_held[i] ? ClippedByAll(c.object_boxes[i], inside_hull)
+                                               : ConvexPolytope());
         if (!maybe_seen[i]) continue;
-        ViewRegion v{ClippedByAll(box, frustum), static_cast<int>(i), -1};
+        ViewRegion v{ClippedByAll(c.object_boxes[i], frustum), static_cast<int>(i), -1};
         if (v.region.empty()) continue;
         // A slab standing for the plane itself (a floor mesh at y = 0): its box, unthickened,
         // lies on the plane or behind it, so what the viewer sees of it is on the plane. The test
@@ -291,11 +292,14 @@ Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& 
     Context c{r, bounds, hull, hull.light, FrustumPlanes(r.viewer), 1e-6 * bounds.Diagonal(),
               {}, {}, {}, {}, {}, {}, {}, CancelPoll(&r.cancelled)};
     FindCandidates(c);
+    std::vector<Aabb> boxes;
+    boxes.reserve(r.objects.size());
     for (const SceneObject& o : r.objects) {
         c.poll();
-        c.object_boxes.push_back(ConvexPolytope::FromBox(Thickened(o.bounds, c.thickness)));
+        boxes.push_back(Thickened(o.bounds, c.thickness));
     }
-    c.object_tree = ObjectTree(c.object_boxes);
+    c.object_boxes = ObjectBoxes(std::move(boxes));
+    c.object_tree = ObjectTree(c.object_boxes.bounds());
     FindViewRegions(c);
     return c;
 }

@@ -283,6 +283,42 @@ TEST(PolytopeBounds, AGroupRejectedForAPlaneHasNoMemberAnyClipLeavesPartOf) {
     EXPECT_GT(members_checked, 1000);
 }
 
+// The scheduler takes a box's bounds without building its polytope (PolytopeBounds::OfBox):
+// they must be FromBox(box).Bounds() bit for bit, over seeded boxes at every scale, flat,
+// inverted and not finite ones included, so that the object tree rejects exactly what it did.
+TEST(PolytopeBounds, OfABoxAreTheBoundsOfItsPolytopeBitForBit) {
+    std::mt19937_64 rng(2930);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    int empty = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const double scale = std::pow(10.0, -12.0 + 24.0 * (trial % 25) / 24.0);
+        const Vec3 p = scale * Vec3(unit(rng), unit(rng), unit(rng));
+        const Vec3 q = p + scale * Vec3(unit(rng), unit(rng), unit(rng));
+        // Ordered on every axis in three trials of four; else inverted on some axis at random.
+        Vec3 a = trial % 4 ? p.cwiseMin(q) : p;
+        Vec3 b = trial % 4 ? p.cwiseMax(q) : q;
+        if (trial % 7 == 0) b(trial % 3) = a(trial % 3);  // flat
+        if (trial % 11 == 0) b(trial % 3) = trial % 2 ? nan : inf;
+        const Aabb box{a, b};
+        const PolytopeBounds fast = PolytopeBounds::OfBox(box);
+        const PolytopeBounds built = ConvexPolytope::FromBox(box).Bounds();
+        SCOPED_TRACE("trial " + std::to_string(trial));
+        ASSERT_EQ(fast.empty(), built.empty());
+        empty += fast.empty();
+        if (fast.empty()) continue;
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(fast.lo(k), built.lo(k));
+            EXPECT_EQ(fast.hi(k), built.hi(k));
+        }
+        EXPECT_EQ(fast.magnitude, built.magnitude);
+        EXPECT_EQ(fast.size, built.size);
+    }
+    EXPECT_GT(empty, 4000);
+    EXPECT_LT(empty, 12000);
+}
+
 // The bounds are the ones Effect tests: a plane past a box's face by less than its tolerance is
 // not taken as keeping nothing; planes at infinity and non-finite planes follow Effect; empty
 // bounds keep nothing.

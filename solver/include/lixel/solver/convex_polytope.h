@@ -46,6 +46,10 @@ struct PolytopeBounds {
     double magnitude = 0.0;
     double size = 0.0;
 
+    // ConvexPolytope::FromBox(box).Bounds(), bit for bit, without building the polytope: empty
+    // where FromBox is, else the box's corners, their largest |coordinate| and the diagonal.
+    static PolytopeBounds OfBox(const Aabb& box);
+
     bool empty() const { return !(lo.array() <= hi.array()).all(); }
     // Grows to hold `other` too; the diagonal is recomputed over the new bounds.
     void Merge(const PolytopeBounds& other);
@@ -56,6 +60,11 @@ struct PolytopeBounds {
     // clips; the scheduler clips an object by at most the extent hull's faces or a cone's planes.
     bool KeepsNothingOf(const Vec4& plane) const;
     bool KeepsNothingOf(const PlaneTest& plane) const;
+    // True only when no bounds inside these (a group's member) can keep nothing of `plane` by
+    // KeepsNothingOf: the computed lowest value over them is at least 0, and rounding is
+    // monotone, so every member's computed highest is too. A hierarchy stops testing the plane
+    // below such a group.
+    bool InsideOf(const PlaneTest& plane) const;
 };
 
 class ConvexPolytope {
