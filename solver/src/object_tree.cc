@@ -1,5 +1,5 @@
-// The objects' bounding-volume hierarchy (object_tree.h): median splits along the longest axis of
-// the boxes' centres, leaves of a few boxes.
+// The objects' bounding-volume hierarchy (object_tree.h): splits at the middle of the longest axis
+// of the boxes' centres, leaves of a few boxes.
 #include "object_tree.h"
 
 #include <algorithm>
@@ -43,15 +43,15 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     }
     int axis = 0;
     (hi - lo).maxCoeff(&axis);
-    const std::uint32_t half = count / 2;
-    // The median by (centre along the axis, index), on pairs held side by side: the same order
-    // as comparing through the indices, without a scattered load per comparison.
-    std::vector<std::pair<double, std::uint32_t>> keys(count);
-    for (std::uint32_t k = 0; k < count; ++k) {
-        keys[k] = {centres[order_[first + k]](axis), order_[first + k]};
-    }
-    std::nth_element(keys.begin(), keys.begin() + half, keys.end());
-    for (std::uint32_t k = 0; k < count; ++k) order_[first + k] = keys[k].second;
+    // Split at the middle of the centres' extent along that axis, one pass over the boxes; where
+    // every centre falls on one side (they coincide along it), in two halves as they stand. The
+    // tree's shape decides only how many boxes a query visits: each box's own test decides it.
+    const double middle = 0.5 * (lo(axis) + hi(axis));
+    const auto begin = order_.begin() + first;
+    const auto split = std::partition(begin, begin + count,
+                                      [&](std::uint32_t i) { return centres[i](axis) < middle; });
+    std::uint32_t half = static_cast<std::uint32_t>(split - begin);
+    if (half == 0 || half == count) half = count / 2;
     const std::int32_t left = Build(first, half, centres);
     const std::int32_t right = Build(first + half, count - half, centres);
     nodes_[index].left = left;

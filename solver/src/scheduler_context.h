@@ -87,7 +87,7 @@ struct Context {
     // hull itself when there are no objects): the same for every map and every budget attempt.
     ObjectBoxes object_boxes;
     ObjectTree object_tree;  // over object_boxes' bounds
-    std::vector<ConvexPolytope> held_regions;
+    std::vector<ConvexPolytope> held_regions;      // the non-empty ones, in object order
     std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i].vertices()
     std::vector<ViewRegion> view_regions;          // visible part of every object
     std::vector<LeftOut> plane_left_out;           // from the candidate stage

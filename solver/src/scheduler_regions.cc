@@ -256,8 +256,11 @@ void FindViewRegions(Context& c) {
     c.object_tree.MarkPossible(frustum, maybe_seen);
     for (size_t i = 0; i < c.object_boxes.size(); ++i) {
         c.poll();
-        c.held_regions.push_back(maybe_held[i] ? ClippedByAll(c.object_boxes[i], inside_hull)
-                                               : ConvexPolytope());
+        // Only the parts that exist: the depth points read nothing of an empty one.
+        if (maybe_held[i]) {
+            ConvexPolytope held = ClippedByAll(c.object_boxes[i], inside_hull);
+            if (!held.empty()) c.held_regions.push_back(std::move(held));
+        }
         if (!maybe_seen[i]) continue;
         ViewRegion v{ClippedByAll(c.object_boxes[i], frustum), static_cast<int>(i), -1};
         if (v.region.empty()) continue;
