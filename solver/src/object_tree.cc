@@ -21,11 +21,12 @@ ObjectTree::ObjectTree(std::vector<PolytopeBounds> boxes)
         order_.push_back(static_cast<std::uint32_t>(i));
         centres[i] = 0.5 * (boxes_[i].lo + boxes_[i].hi);
     }
-    if (!order_.empty()) Build(0, static_cast<std::uint32_t>(order_.size()), centres);
+    if (!order_.empty()) Build(0, static_cast<std::uint32_t>(order_.size()), centres, 1);
 }
 
-std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
-                               std::vector<Vec3>& centres) {
+std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count, std::vector<Vec3>& centres,
+                               std::size_t level) {
+    depth_ = std::max(depth_, level);
     const auto index = static_cast<std::int32_t>(nodes_.size());
     nodes_.push_back({});
     nodes_[index].first = first;
@@ -43,17 +44,27 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     }
     int axis = 0;
     (hi - lo).maxCoeff(&axis);
-    // Split at the middle of the centres' extent along that axis, one pass over the boxes; where
-    // every centre falls on one side (they coincide along it), in two halves as they stand. The
+    // Split at the middle of the centres' extent along that axis, one pass over the boxes. The
     // tree's shape decides only how many boxes a query visits: each box's own test decides it.
+    // Where that leaves less than an eighth on one side, or none (centres bunched, coinciding
+    // along the axis, or spread over many scales, as a hostile request may send them: the middle
+    // then peels off one scale a level), at the median instead, so that the depth stays within
+    // log_{8/7} of the count (under 170 levels at 2^32 boxes) and the build within that many
+    // passes.
     const double middle = 0.5 * (lo(axis) + hi(axis));
     const auto begin = order_.begin() + first;
     const auto split = std::partition(begin, begin + count,
                                       [&](std::uint32_t i) { return centres[i](axis) < middle; });
     std::uint32_t half = static_cast<std::uint32_t>(split - begin);
-    if (half == 0 || half == count) half = count / 2;
-    const std::int32_t left = Build(first, half, centres);
-    const std::int32_t right = Build(first + half, count - half, centres);
+    if (std::min(half, count - half) < std::max<std::uint32_t>(1, count / 8)) {
+        half = count / 2;
+        std::nth_element(begin, begin + half, begin + count, [&](std::uint32_t a, std::uint32_t b) {
+            return centres[a](axis) < centres[b](axis) ||
+                   (centres[a](axis) == centres[b](axis) && a < b);
+        });
+    }
+    const std::int32_t left = Build(first, half, centres, level + 1);
+    const std::int32_t right = Build(first + half, count - half, centres, level + 1);
     nodes_[index].left = left;
     nodes_[index].right = right;
     // The children's bounds hold the same boxes: min, max and the diagonal over them come out

@@ -22,6 +22,9 @@ class ObjectTree {
     // those it provably empties (and for empty boxes); `possible` is resized to the boxes.
     void MarkPossible(std::span<const PlaneTest> planes, std::vector<char>& possible) const;
 
+    // Levels from the root to the deepest leaf (0 without boxes).
+    std::size_t depth() const noexcept { return depth_; }
+
   private:
     struct Node {
         PolytopeBounds bounds;
@@ -30,12 +33,14 @@ class ObjectTree {
         std::int32_t left = -1;   // children; -1 for a leaf
         std::int32_t right = -1;
     };
-    std::int32_t Build(std::uint32_t first, std::uint32_t count, std::vector<Vec3>& centres);
+    std::int32_t Build(std::uint32_t first, std::uint32_t count, std::vector<Vec3>& centres,
+                       std::size_t level);
 
     std::vector<Node> nodes_;
     std::vector<std::uint32_t> order_;  // box indices, grouped by node
     std::vector<PolytopeBounds> boxes_;
     std::size_t total_ = 0;
+    std::size_t depth_ = 0;
 };
 
 }  // namespace lixel::scheduling
