@@ -31,8 +31,9 @@ struct ScreenRect {
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
-// The rectangle of points no traced ray reaches (a box wholly behind the near plane): Disjoint
-// keeps it off every tile, and ScreenCells files it under no cell.
+// The rectangle of points no traced ray reaches (a box wholly behind the near plane, or past a
+// side of the pyramid the rays fill): Disjoint keeps it off every tile, and ScreenCells files it
+// under no cell.
 inline ScreenRect NowhereOnScreen() {
     return ScreenRect{
         true, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
