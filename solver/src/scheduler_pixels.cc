@@ -72,6 +72,12 @@ struct RaySample {
     int map = -1;      // index into plan.maps reading the end point, -1 when none or not counted
 };
 
+// Corner k of `box`: bit 0 of k picks max x, bit 1 max y, bit 2 max z.
+Vec3 BoxCorner(const Aabb& box, int k) {
+    return Vec3((k & 1) ? box.max.x() : box.min.x(), (k & 2) ? box.max.y() : box.min.y(),
+                (k & 4) ? box.max.z() : box.min.z());
+}
+
 // Rounding allowance of a x + d at x, for the tile proofs: kCullMargin of the terms' sizes, far
 // above the few ulps by which a ray's computed values (and hence its end point) stray.
 double Slack(const Vec3& a, double d, const Vec3& x) {
@@ -87,7 +93,6 @@ struct TileProofs {
     std::vector<ScreenRect> boxes;
     ScreenCells cells;  // the boxes by screen cell
     std::vector<ScreenRect> polygons;  // per candidate; invalid for an infinite plane
-    std::vector<Eigen::Matrix<double, 8, 3>> box_corners;
     std::vector<Vec4> map_sizes;  // per map, |row 0| + |row 1| + |row 3| of its matrix
 };
 
@@ -273,7 +278,6 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
     e.c.object_tree.MarkPossible(
         PlaneTests({Vec4(wide - vx), Vec4(wide + vx), Vec4(wide - vy), Vec4(wide + vy), behind}),
         reached);
-    t.box_corners.resize(r.objects.size());
     t.boxes.reserve(r.objects.size());
     for (std::size_t i = 0; i < r.objects.size(); ++i) {
         const SceneObject& o = r.objects[i];
@@ -282,12 +286,8 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
             t.boxes.push_back(NowhereOnScreen());
             continue;
         }
-        Eigen::Matrix<double, 8, 3>& m = t.box_corners[i];
-        for (int k = 0; k < 8; ++k) {
-            m.row(k) << ((k & 1) ? o.bounds.max.x() : o.bounds.min.x()),
-                ((k & 2) ? o.bounds.max.y() : o.bounds.min.y()),
-                ((k & 4) ? o.bounds.max.z() : o.bounds.min.z());
-        }
+        Eigen::Matrix<double, 8, 3> m;
+        for (int k = 0; k < 8; ++k) m.row(k) = BoxCorner(o.bounds, k).transpose();
         if (WhollyBehind(m, beyond_near)) {
             // Behind the eye: every ray and tile skips it, where the slab test found nothing.
             t.boxes.push_back(NowhereOnScreen());
@@ -426,7 +426,7 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
         }
         bool behind = true;
         for (int k = 0; k < 8 && behind; ++k) {
-            const Vec3 x = proofs.box_corners[b].row(k).transpose();
+            const Vec3 x = BoxCorner(box, k);
             const double v = normal.dot(x) + cand.plane.w();
             behind = -side * v > Slack(normal, cand.plane.w(), x);
         }
