@@ -99,17 +99,25 @@ TEST(PlanObjectLimit, ObjectsOrMeshesOverTheLimitAreRefusedNamingIt) {
     EXPECT_TRUE(client->Plan(PlanOverBoxes(3)).ok());  // the server serves on
 }
 
-// A deadline ends a plan over 8 000 objects while it plans: with one worker, a small plan sent
-// right after a long one whose deadline is a quarter of the long plan's time (measured in this
-// process first, on the same request: the deadline falls inside the plan, after its decode) is
-// served before three quarters of that time.
+// A deadline ends a long plan while it plans: with one worker, a small plan sent right after a
+// long one whose deadline is a quarter of the long plan's time (measured in this process first,
+// on the same request: the deadline falls inside the plan, after its decode) is served before
+// three quarters of that time. The long plan gets boxes enough (8 000, doubled up to 128 000)
+// to take at least 150 ms here, so that the quarter and the three quarters leave room for the
+// calls' own costs however fast planning gets (8 000 boxes take about 30 ms on the 2-core
+// machine).
 TEST(PlanObjectLimit, ADeadlineEndsALongPlanAndFreesTheWorker) {
-    const v1::PlanRequest big = PlanOverBoxes(8000);
-    auto decoded = service::DecodePlanRequest(big, nullptr, "plan");
-    ASSERT_TRUE(decoded.ok()) << decoded.error().Message();
-    auto start = std::chrono::steady_clock::now();
-    ASSERT_TRUE(PlanShadowMaps(*decoded).ok());
-    const auto whole = std::chrono::steady_clock::now() - start;
+    v1::PlanRequest big;
+    std::chrono::steady_clock::duration whole{};
+    for (int count = 8000;; count *= 2) {
+        big = PlanOverBoxes(count);
+        auto decoded = service::DecodePlanRequest(big, nullptr, "plan");
+        ASSERT_TRUE(decoded.ok()) << decoded.error().Message();
+        const auto planning = std::chrono::steady_clock::now();
+        ASSERT_TRUE(PlanShadowMaps(*decoded).ok());
+        whole = std::chrono::steady_clock::now() - planning;
+        if (whole >= std::chrono::milliseconds(150) || count >= 128000) break;
+    }
 
     service::ServerOptions options = SmallServerOptions("test-plan-deadline");
     options.service.workers = 1;
@@ -118,7 +126,7 @@ TEST(PlanObjectLimit, ADeadlineEndsALongPlanAndFreesTheWorker) {
     grpc::ClientContext context;
     WithDeadline(context, 0.25 * std::chrono::duration<double>(whole).count());
     v1::PlanResponse response;
-    start = std::chrono::steady_clock::now();
+    const auto start = std::chrono::steady_clock::now();
     EXPECT_EQ(stub->Plan(&context, big, &response).error_code(),
               grpc::StatusCode::DEADLINE_EXCEEDED);
     grpc::ClientContext next;
