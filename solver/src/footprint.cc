@@ -162,8 +162,7 @@ CornerFootprint CornerFootprintOf(const Mat4& matrix, const Vec4& plane, const V
     int past[4] = {0, 0, 0, 0};
     int inside = 0;
     for (int k = 0; k < 8; ++k) {
-        const Vec4 x(k & 1 ? bounds.hi.x() : bounds.lo.x(), k & 2 ? bounds.hi.y() : bounds.lo.y(),
-                     k & 4 ? bounds.hi.z() : bounds.lo.z(), 1.0);
+        const Vec4 x = Point(BoxCorner(Aabb{bounds.lo, bounds.hi}, k));
         const double above = plane.dot(x);
         if (!(above >= -thickness) || !(level->dot(x) > 0.0)) return out;
         highest = std::max(highest, above);

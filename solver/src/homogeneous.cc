@@ -26,11 +26,7 @@ Vec4 Cross4(const Vec4& a, const Vec4& b, const Vec4& c) noexcept {
 std::vector<Vec4> BoxCorners(const Aabb& box) {
     std::vector<Vec4> corners;
     corners.reserve(8);
-    for (int i = 0; i < 8; ++i) {
-        corners.emplace_back((i & 1) ? box.max.x() : box.min.x(),
-                             (i & 2) ? box.max.y() : box.min.y(),
-                             (i & 4) ? box.max.z() : box.min.z(), 1.0);
-    }
+    for (int i = 0; i < 8; ++i) corners.push_back(Point(BoxCorner(box, i)));
     return corners;
 }
 

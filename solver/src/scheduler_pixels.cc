@@ -72,12 +72,6 @@ struct RaySample {
     int map = -1;      // index into plan.maps reading the end point, -1 when none or not counted
 };
 
-// Corner k of `box`: bit 0 of k picks max x, bit 1 max y, bit 2 max z.
-Vec3 BoxCorner(const Aabb& box, int k) {
-    return Vec3((k & 1) ? box.max.x() : box.min.x(), (k & 2) ? box.max.y() : box.min.y(),
-                (k & 4) ? box.max.z() : box.min.z());
-}
-
 // Rounding allowance of a x + d at x, for the tile proofs: kCullMargin of the terms' sizes, far
 // above the few ulps by which a ray's computed values (and hence its end point) stray.
 double Slack(const Vec3& a, double d, const Vec3& x) {
@@ -207,20 +201,25 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
     return s;
 }
 
+// Whether every corner x of a box lies on the `sign` side of `plane` (sign (n . x + w) > 0) by
+// more than `margin` of the terms' sizes, |n|_1 |x|_max + |w|.
+bool CornersPast(const std::array<Vec3, 8>& corners, const Vec4& plane, double sign,
+                 double margin) {
+    const Vec3 n = plane.head<3>();
+    const double scale = n.cwiseAbs().sum();
+    for (const Vec3& x : corners) {
+        const double d = sign * (n.dot(x) + plane.w());
+        if (!(d > margin * (scale * x.cwiseAbs().maxCoeff() + std::abs(plane.w())))) return false;
+    }
+    return true;
+}
+
 // Whether the box (`corners` its eight corners) lies beyond `plane` by far more than the
 // rounding of ConvexPolytope::Effect's distances, with every side far longer than the polytope's
 // tolerance: FromBox(box).Clip(plane) then keeps the box as it is, and its vertices() are the
 // eight corners themselves (no two within the tolerance of each other).
-bool WhollyBeyond(const Aabb& box, const Eigen::Matrix<double, 8, 3>& corners, const Vec4& plane) {
-    const Vec3 n = plane.head<3>();
-    const double scale = n.cwiseAbs().sum();
-    for (int k = 0; k < 8; ++k) {
-        const Vec3 x = corners.row(k).transpose();
-        const double d = n.dot(x) + plane.w();
-        if (!(d > kCullMargin * (scale * x.cwiseAbs().maxCoeff() + std::abs(plane.w())))) {
-            return false;
-        }
-    }
+bool WhollyBeyond(const Aabb& box, const std::array<Vec3, 8>& corners, const Vec4& plane) {
+    if (!CornersPast(corners, plane, 1.0, kCullMargin)) return false;
     const Vec3 sides = box.max - box.min;
     const double reach = sides.norm() +
                          std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
@@ -234,17 +233,8 @@ bool WhollyBeyond(const Aabb& box, const Eigen::Matrix<double, 8, 3>& corners, c
 // relative where the tile proofs run), far below the margin. The slab test, whose parameters
 // keep the sign of the computed ray's exact ones, then finds no entry at a positive parameter:
 // no ray of the estimate meets the box (NowhereOnScreen).
-bool WhollyBehind(const Eigen::Matrix<double, 8, 3>& corners, const Vec4& plane) {
-    const Vec3 n = plane.head<3>();
-    const double scale = n.cwiseAbs().sum();
-    for (int k = 0; k < 8; ++k) {
-        const Vec3 x = corners.row(k).transpose();
-        const double d = n.dot(x) + plane.w();
-        if (!(-d > kScreenMargin * (scale * x.cwiseAbs().maxCoeff() + std::abs(plane.w())))) {
-            return false;
-        }
-    }
-    return true;
+bool WhollyBehind(const std::array<Vec3, 8>& corners, const Vec4& plane) {
+    return CornersPast(corners, plane, -1.0, kScreenMargin);
 }
 
 TileProofs PrepareTileProofs(const PixelEstimate& e) {
@@ -286,17 +276,15 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
             t.boxes.push_back(NowhereOnScreen());
             continue;
         }
-        Eigen::Matrix<double, 8, 3> m;
-        for (int k = 0; k < 8; ++k) m.row(k) = BoxCorner(o.bounds, k).transpose();
-        if (WhollyBehind(m, beyond_near)) {
+        std::array<Vec3, 8> corners;
+        for (int k = 0; k < 8; ++k) corners[k] = BoxCorner(o.bounds, k);
+        if (WhollyBehind(corners, beyond_near)) {
             // Behind the eye: every ray and tile skips it, where the slab test found nothing.
             t.boxes.push_back(NowhereOnScreen());
             continue;
         }
-        if (WhollyBeyond(o.bounds, m, beyond_near)) {
+        if (WhollyBeyond(o.bounds, corners, beyond_near)) {
             // The clip keeps the whole box, whose vertices are its eight corners.
-            std::array<Vec3, 8> corners;
-            for (int k = 0; k < 8; ++k) corners[k] = m.row(k).transpose();
             t.boxes.push_back(ScreenRectOf(r.viewer, corners));
             continue;
         }

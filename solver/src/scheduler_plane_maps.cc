@@ -3,6 +3,7 @@
 #include <lixel/solver/footprint.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -99,7 +100,8 @@ std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate
     for (size_t i = 0; i < r.objects.size(); ++i) {
         c.poll();
         if (!possible[i] || c.object_boxes.empty(i)) continue;
-        const std::vector<Vec4> corners = BoxCorners(r.objects[i].bounds);
+        std::array<Vec4, 8> corners;
+        for (int k = 0; k < 8; ++k) corners[k] = Point(BoxCorner(r.objects[i].bounds, k));
         const bool shielded = std::any_of(shields.begin(), shields.end(), [&](const Vec4& s) {
             return std::all_of(corners.begin(), corners.end(),
                                [&](const Vec4& x) { return s.dot(x) <= c.thickness; });

@@ -29,7 +29,13 @@ inline Mat4 Translation(const Vec3& t) {
     return m;
 }
 
-// The eight corners of a box as finite homogeneous points.
+// Corner k of a box, k in [0, 8): bit 0 of k picks the max x, bit 1 the max y, bit 2 the max z.
+inline Vec3 BoxCorner(const Aabb& box, int k) {
+    return Vec3((k & 1) ? box.max.x() : box.min.x(), (k & 2) ? box.max.y() : box.min.y(),
+                (k & 4) ? box.max.z() : box.min.z());
+}
+
+// The eight corners of a box as finite homogeneous points, in BoxCorner's order.
 std::vector<Vec4> BoxCorners(const Aabb& box);
 
 // True when every entry is finite.
