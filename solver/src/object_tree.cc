@@ -15,16 +15,22 @@ constexpr std::uint32_t kLeafBoxes = 4;
 
 ObjectTree::ObjectTree(std::vector<PolytopeBounds> boxes)
     : boxes_(std::move(boxes)), total_(boxes_.size()) {
-    std::vector<Vec3> centres(boxes_.size(), Vec3::Zero());
+    std::vector<Centred> items;
+    items.reserve(boxes_.size());
     for (std::size_t i = 0; i < boxes_.size(); ++i) {
         if (boxes_[i].empty()) continue;  // keeps nothing of any plane: never possible
-        order_.push_back(static_cast<std::uint32_t>(i));
-        centres[i] = 0.5 * (boxes_[i].lo + boxes_[i].hi);
+        items.push_back({0.5 * (boxes_[i].lo + boxes_[i].hi), static_cast<std::uint32_t>(i)});
     }
-    if (!order_.empty()) Build(0, static_cast<std::uint32_t>(order_.size()), centres, 1);
+    if (items.empty()) return;
+    order_.resize(items.size());
+    // A binary tree with leaves of at least one box has fewer than twice as many nodes.
+    nodes_.reserve(2 * items.size());
+    std::vector<Centred> scratch(items.size());
+    Build(0, static_cast<std::uint32_t>(items.size()), items, scratch, 1);
 }
 
-std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count, std::vector<Vec3>& centres,
+std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
+                               std::vector<Centred>& items, std::vector<Centred>& scratch,
                                std::size_t level) {
     depth_ = std::max(depth_, level);
     const auto index = static_cast<std::int32_t>(nodes_.size());
@@ -33,14 +39,15 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count, std::ve
     nodes_[index].count = count;
     if (count <= kLeafBoxes) {
         for (std::uint32_t k = first; k < first + count; ++k) {
+            order_[k] = items[k].index;
             nodes_[index].bounds.Merge(boxes_[order_[k]]);
         }
         return index;
     }
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (std::uint32_t k = first; k < first + count; ++k) {
-        lo = lo.cwiseMin(centres[order_[k]]);
-        hi = hi.cwiseMax(centres[order_[k]]);
+        lo = lo.cwiseMin(items[k].centre);
+        hi = hi.cwiseMax(items[k].centre);
     }
     int axis = 0;
     (hi - lo).maxCoeff(&axis);
@@ -52,19 +59,30 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count, std::ve
     // log_{8/7} of the count (under 170 levels at 2^32 boxes) and the build within that many
     // passes.
     const double middle = 0.5 * (lo(axis) + hi(axis));
-    const auto begin = order_.begin() + first;
-    const auto split = std::partition(begin, begin + count,
-                                      [&](std::uint32_t i) { return centres[i](axis) < middle; });
-    std::uint32_t half = static_cast<std::uint32_t>(split - begin);
+    // Without branches (which side a box falls on is a coin toss to the predictor): the lower
+    // side moves down in place, the upper side into `scratch` and back after it.
+    std::uint32_t below = 0, above = 0;
+    for (std::uint32_t k = first; k < first + count; ++k) {
+        const Centred item = items[k];
+        const bool lower = item.centre(axis) < middle;
+        items[first + below] = item;
+        scratch[above] = item;
+        below += lower;
+        above += !lower;
+    }
+    std::copy(scratch.begin(), scratch.begin() + above, items.begin() + first + below);
+    std::uint32_t half = below;
     if (std::min(half, count - half) < std::max<std::uint32_t>(1, count / 8)) {
         half = count / 2;
-        std::nth_element(begin, begin + half, begin + count, [&](std::uint32_t a, std::uint32_t b) {
-            return centres[a](axis) < centres[b](axis) ||
-                   (centres[a](axis) == centres[b](axis) && a < b);
-        });
+        const auto begin = items.begin() + first;
+        std::nth_element(begin, begin + half, begin + count,
+                         [axis](const Centred& a, const Centred& b) {
+                             return a.centre(axis) < b.centre(axis) ||
+                                    (a.centre(axis) == b.centre(axis) && a.index < b.index);
+                         });
     }
-    const std::int32_t left = Build(first, half, centres, level + 1);
-    const std::int32_t right = Build(first + half, count - half, centres, level + 1);
+    const std::int32_t left = Build(first, half, items, scratch, level + 1);
+    const std::int32_t right = Build(first + half, count - half, items, scratch, level + 1);
     nodes_[index].left = left;
     nodes_[index].right = right;
     // The children's bounds hold the same boxes: min, max and the diagonal over them come out

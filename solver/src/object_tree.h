@@ -33,8 +33,13 @@ class ObjectTree {
         std::int32_t left = -1;   // children; -1 for a leaf
         std::int32_t right = -1;
     };
-    std::int32_t Build(std::uint32_t first, std::uint32_t count, std::vector<Vec3>& centres,
-                       std::size_t level);
+    // A box's centre beside its index, so that the build's passes read them in order.
+    struct Centred {
+        Vec3 centre;
+        std::uint32_t index = 0;
+    };
+    std::int32_t Build(std::uint32_t first, std::uint32_t count, std::vector<Centred>& items,
+                       std::vector<Centred>& scratch, std::size_t level);
 
     std::vector<Node> nodes_;
     std::vector<std::uint32_t> order_;  // box indices, grouped by node
