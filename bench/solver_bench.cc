@@ -9,12 +9,14 @@
 #include <lixel/solver/crop.h>
 #include <lixel/solver/extent_hull.h>
 #include <lixel/solver/homogeneous.h>
+#include <lixel/solver/object_index.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/plane_optimal.h>
 #include <lixel/solver/polygon.h>
 #include <lixel/solver/scheduler.h>
 
 #include <Eigen/LU>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -295,6 +297,59 @@ void BM_PlanWorld(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanWorld)->RangeMultiplier(10)->Range(10, 100'000)->Unit(benchmark::kMillisecond);
 
+// An engine's frames of the world: WorldWithObjects(count), then each of 8 frames moves one box
+// in ten by up to 50 cm, and the benchmark plans the frames in turn.
+std::vector<PlanRequest> WorldFrames(int count) {
+    std::vector<PlanRequest> frames = {WorldWithObjects(count)};
+    std::mt19937_64 rng(2993);
+    std::uniform_real_distribution<double> step(-0.5, 0.5);
+    while (frames.size() < 8) {
+        PlanRequest next = frames.back();
+        for (std::size_t i = 0; i < next.objects.size(); i += 1 + rng() % 19) {
+            const Vec3 by(step(rng), 0, step(rng));
+            next.objects[i].bounds.min += by;
+            next.objects[i].bounds.max += by;
+        }
+        frames.push_back(std::move(next));
+    }
+    return frames;
+}
+
+// Plans the frames in turn, every plan given `index` (nullptr: none).
+void RunFrames(benchmark::State& state, std::shared_ptr<ObjectIndex> index) {
+    std::vector<PlanRequest> frames = WorldFrames(static_cast<int>(state.range(0)));
+    for (PlanRequest& f : frames) f.object_index = index;
+    std::size_t at = 0;
+    for (auto _ : state) {
+        auto plan = PlanShadowMaps(frames[at]);
+        benchmark::DoNotOptimize(plan);
+        at = (at + 1) % frames.size();
+    }
+    if (index != nullptr) {
+        state.counters["refits"] = static_cast<double>(index->counts().refits);
+        state.counters["builds"] = static_cast<double>(index->counts().builds);
+    }
+    state.SetItemsProcessed(state.iterations());
+}
+
+// The world's moving frames, each plan building its own object tree: BM_PlanWorldKeptIndex's
+// baseline.
+void BM_PlanWorldFrames(benchmark::State& state) { RunFrames(state, nullptr); }
+BENCHMARK(BM_PlanWorldFrames)
+    ->RangeMultiplier(10)
+    ->Range(1'000, 100'000)
+    ->Unit(benchmark::kMillisecond);
+
+// The same frames given one ObjectIndex, as a session's frames are (issue 29: the tree built
+// once per scene and refitted for moved instances).
+void BM_PlanWorldKeptIndex(benchmark::State& state) {
+    RunFrames(state, std::make_shared<ObjectIndex>());
+}
+BENCHMARK(BM_PlanWorldKeptIndex)
+    ->RangeMultiplier(10)
+    ->Range(1'000, 100'000)
+    ->Unit(benchmark::kMillisecond);
+
 // What any planner of the same room does at least: one extent hull, and for every plane in view
 // and lit, one plane-optimal solve and a crop to its visible part. No coverage tests between
 // planes, no fallback, no depth refit, no pass or pixel statistics: BM_Plan's baseline.
@@ -352,5 +407,6 @@ int main(int argc, char** argv) {
          {"BM_Plan", "BM_PlanSolvesOnly"},
          {"BM_PlanWholePlaneMaps", "BM_PlanSolvesOnly"},
          {"BM_PlanObjects", "BM_PlanObjects/10"},
-         {"BM_PlanWorld", "BM_PlanWorld/10"}});
+         {"BM_PlanWorld", "BM_PlanWorld/10"},
+         {"BM_PlanWorldKeptIndex", "BM_PlanWorldFrames"}});
 }

@@ -3,21 +3,25 @@
 // point (the object tree's groups, the pixel estimate's screen cells), up to 4 planes (some
 // bounded), budgets, texture limits and passes. No crash; an ok() plan is finite, within its
 // budget, and its lookup answers an index into its maps. Cancelled at a fuzzed poll, the plan
-// ends there with the cancel error, or finishes before it. The same request's baselines (uniform, PSM, LiSPSM,
-// cascades with random settings) from the plan's hull keep the same promises, and so does the
-// next frame planned frame-coherently from this one's maps (sizes, twists and settings
-// perturbed).
-#include "fuzz_input.h"
-
+// ends there with the cancel error, or finishes before it. The same request's baselines (uniform,
+// PSM, LiSPSM, cascades with random settings) from the plan's hull keep the same promises, and so
+// does the next frame planned frame-coherently from this one's maps (sizes, twists and settings
+// perturbed). Given an object index kept from a plan of the objects elsewhere, the plan is the
+// same in every field.
 #include <lixel/solver/baseline_plan.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/mesh.h>
+#include <lixel/solver/object_index.h>
 #include <lixel/solver/scheduler.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <string>
+
+#include "fuzz_input.h"
+#include "plan_text.h"
 
 namespace lixel::fuzz {
 namespace {
@@ -128,6 +132,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto plan = lixel::PlanShadowMaps(request);
     if (!plan) return 0;
     lixel::fuzz::CheckPlan(request, *plan, in);
+    // A kept object index whose tree was built over the objects elsewhere (some moved by a fuzzed
+    // step, as a session's earlier frame had them): refit to this request's objects, or built
+    // anew, the plan is this one in every field.
+    {
+        lixel::PlanRequest earlier = request;
+        const lixel::Vec3 step = lixel::fuzz::PickVec3(in);
+        for (lixel::SceneObject& o : earlier.objects) {
+            if (!in.ConsumeBool()) continue;
+            o.bounds.min += step;
+            o.bounds.max += step;
+        }
+        earlier.object_index = std::make_shared<lixel::ObjectIndex>();
+        (void)lixel::PlanShadowMaps(earlier);
+        lixel::PlanRequest kept = request;
+        kept.object_index = earlier.object_index;
+        if (lixel::plan_text::PlanText(lixel::PlanShadowMaps(kept)) !=
+            lixel::plan_text::PlanText(plan)) {
+            lixel::fuzz::Fail("a plan given a kept object index differs from the plan without");
+        }
+    }
     const auto fitting = static_cast<lixel::BaselineFitting>(in.ConsumeIntegralInRange<int>(0, 3));
     lixel::CascadeOptions cascades;
     cascades.count = in.ConsumeIntegralInRange<int>(0, lixel::kMaxCascades + 1);

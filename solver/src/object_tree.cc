@@ -92,6 +92,35 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     return index;
 }
 
+bool ObjectTree::Refit(const std::vector<PolytopeBounds>& boxes) {
+    if (boxes.size() != total_) return false;
+    for (std::size_t i = 0; i < total_; ++i) {
+        if (boxes[i].empty() != boxes_[i].empty()) return false;
+    }
+    boxes_.assign(boxes.begin(), boxes.end());  // into the storage it has
+    // Children come after their parent (Build numbers nodes in pre-order), so a pass from the
+    // back merges every child before its parent, as Build merges them.
+    for (std::size_t at = nodes_.size(); at-- > 0;) {
+        Node& node = nodes_[at];
+        if (node.left < 0) {
+            node.bounds = PolytopeBounds{};
+            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+                node.bounds.Merge(boxes_[order_[k]]);
+            }
+            continue;
+        }
+        node.bounds = nodes_[node.left].bounds;
+        node.bounds.Merge(nodes_[node.right].bounds);
+    }
+    return true;
+}
+
+double ObjectTree::spread() const noexcept {
+    double sum = 0.0;
+    for (const Node& node : nodes_) sum += node.bounds.size;
+    return sum;
+}
+
 void ObjectTree::MarkPossible(std::span<const PlaneTest> planes,
                               std::vector<char>& possible) const {
     possible.assign(total_, 0);

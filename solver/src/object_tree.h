@@ -22,8 +22,19 @@ class ObjectTree {
     // those it provably empties (and for empty boxes); `possible` is resized to the boxes.
     void MarkPossible(std::span<const PlaneTest> planes, std::vector<char>& possible) const;
 
+    // The same hierarchy over `boxes` (a scene's objects moved since the build): each node's
+    // bounds merged anew from its members, one pass, no split. MarkPossible answers for the new
+    // boxes exactly as a tree built over them would; only the number of boxes a query visits
+    // may grow as the groups spread. False, and the tree unchanged, where the boxes are not as
+    // many or not empty where they were: their hierarchy is not this one.
+    bool Refit(const std::vector<PolytopeBounds>& boxes);
+
     // Levels from the root to the deepest leaf (0 without boxes).
     std::size_t depth() const noexcept { return depth_; }
+    std::size_t size() const noexcept { return total_; }
+    // The sum of every node's diagonal: how loose the groups are (a refit tree's against its
+    // build's says when to build anew).
+    double spread() const noexcept;
 
   private:
     struct Node {

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "index_lease.h"
 #include "object_boxes.h"
 #include "object_tree.h"
 
@@ -86,7 +87,8 @@ struct Context {
     // Every object's box, thickened (request order), and its part inside the extent hull (the
     // hull itself when there are no objects): the same for every map and every budget attempt.
     ObjectBoxes object_boxes;
-    ObjectTree object_tree;  // over object_boxes' bounds
+    // The tree over object_boxes' bounds: the request's ObjectIndex's, or the plan's own.
+    IndexLease object_tree;
     std::vector<ConvexPolytope> held_regions;      // the non-empty ones, in object order
     std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i].vertices()
     std::vector<ViewRegion> view_regions;          // visible part of every object

@@ -16,7 +16,7 @@ std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m)
     // Only the objects the cone may keep some of (ObjectTree), in index order.
     const std::vector<PlaneTest> cone_planes = PlaneTests(cone.planes);
     thread_local std::vector<char> maybe_in_cone;
-    c.object_tree.MarkPossible(cone_planes, maybe_in_cone);
+    c.object_tree.tree().MarkPossible(cone_planes, maybe_in_cone);
     for (size_t i = 0; i < c.request.objects.size(); ++i) {
         c.poll();
         if (!maybe_in_cone[i]) continue;

@@ -265,7 +265,7 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
     behind.w() += kScreenMargin * (beyond_near.head<3>().cwiseAbs().sum() * magnitude +
                                    std::abs(beyond_near.w()));
     std::vector<char> reached;
-    e.c.object_tree.MarkPossible(
+    e.c.object_tree.tree().MarkPossible(
         PlaneTests({Vec4(wide - vx), Vec4(wide + vx), Vec4(wide - vy), Vec4(wide + vy), behind}),
         reached);
     t.boxes.reserve(r.objects.size());

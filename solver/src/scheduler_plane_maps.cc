@@ -95,7 +95,7 @@ std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate
     const std::vector<PlaneTest> cone =
         RegionCone(m.map.matrix, cand.plane, c.light, LookupRectangle(m.map, m.lookup));
     std::vector<char> possible;
-    c.object_tree.MarkPossible(cone, possible);
+    c.object_tree.tree().MarkPossible(cone, possible);
     std::vector<const ConvexPolytope*> casters;
     for (size_t i = 0; i < r.objects.size(); ++i) {
         c.poll();

@@ -252,8 +252,8 @@ void FindViewRegions(Context& c) {
         inside_hull.emplace_back(-c.hull.hull.face_plane(f));
     }
     std::vector<char> maybe_held, maybe_seen;
-    c.object_tree.MarkPossible(inside_hull, maybe_held);
-    c.object_tree.MarkPossible(frustum, maybe_seen);
+    c.object_tree.tree().MarkPossible(inside_hull, maybe_held);
+    c.object_tree.tree().MarkPossible(frustum, maybe_seen);
     for (size_t i = 0; i < c.object_boxes.size(); ++i) {
         c.poll();
         // Only the parts that exist: the depth points read nothing of an empty one.
@@ -302,7 +302,7 @@ Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& 
         boxes.push_back(Thickened(o.bounds, c.thickness));
     }
     c.object_boxes = ObjectBoxes(std::move(boxes));
-    c.object_tree = ObjectTree(c.object_boxes.bounds());
+    c.object_tree = IndexLease(r.object_index.get(), c.object_boxes.bounds());
     FindViewRegions(c);
     return c;
 }

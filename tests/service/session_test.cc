@@ -132,6 +132,12 @@ TEST(Session, FramesComeInOrderWithTheMapsARenderOfTheSameFrameGives) {
     const std::string metrics = r.server->service().state().metrics.Serialize();
     EXPECT_NE(metrics.find("lixel_session_frames_total{outcome=\"served\"} 8"), std::string::npos)
         << metrics.substr(0, 2000);
+    // Its frames kept one object tree, built for the first and refit for the moved instances
+    // of the rest, and their plans are still those of Render calls (above).
+    EXPECT_NE(metrics.find("lixel_session_object_trees_total{use=\"build\"} 1\n"),
+              std::string::npos);
+    EXPECT_NE(metrics.find("lixel_session_object_trees_total{use=\"refit\"} 7\n"),
+              std::string::npos);
 }
 
 TEST(Session, AClientRunningAheadHasItsOldestWaitingFramesSkippedAndToldWhich) {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -29,6 +30,46 @@ std::vector<char> EveryBoxAlone(const std::vector<PolytopeBounds>& boxes,
     return possible;
 }
 
+// A seeded scene of clustered boxes at `scale` (one in fifty flat, so empty).
+std::vector<PolytopeBounds> ClusteredBoxes(std::mt19937_64& rng, int scene, double scale) {
+    std::vector<PolytopeBounds> boxes;
+    const int clusters = 1 + scene % 7;
+    for (int c = 0; c < clusters; ++c) {
+        const Vec3 centre =
+            scale * Vec3(Uniform(rng, -50, 50), Uniform(rng, -5, 5), Uniform(rng, -50, 50));
+        for (int k = 0; k < 1 + (scene * 37 + c * 11) % 300; ++k) {
+            const Vec3 at =
+                centre + scale * Vec3(Uniform(rng, -3, 3), Uniform(rng, 0, 2), Uniform(rng, -3, 3));
+            const Vec3 half =
+                scale * Vec3(Uniform(rng, 0.01, 1), Uniform(rng, 0.01, 1), Uniform(rng, 0.01, 1));
+            const Vec3 hi =
+                k % 50 == 49 ? Vec3(at + half - Vec3(2 * half.x(), 0, 0)) : Vec3(at + half);
+            boxes.push_back(PolytopeBounds::OfBox(Aabb{at - half, hi}));
+        }
+    }
+    return boxes;
+}
+
+// Seeded set `set` of clip planes through the scene near its boxes, one at infinity, and (every
+// fifth set) one not finite; set 19 has 70, past the 64 the tree masks.
+std::vector<PlaneTest> SeededPlanes(std::mt19937_64& rng, const std::vector<PolytopeBounds>& boxes,
+                                    double scale, int set) {
+    std::vector<PlaneTest> planes;
+    const int count = set == 19 ? 70 : 1 + set % 8;
+    for (int p = 0; p < count; ++p) {
+        const Vec3 n = testing::RandomUnit(rng);
+        const PolytopeBounds& near = boxes[rng() % boxes.size()];
+        const Vec3 through = near.empty() ? Vec3::Zero() : Vec3(0.5 * (near.lo + near.hi));
+        Vec4 plane(n.x(), n.y(), n.z(), -n.dot(through) + scale * Uniform(rng, -8, 8));
+        if (p == 5) plane = Vec4(0, 0, 0, set % 2 ? 1.0 : -1.0);  // at infinity
+        if (p == 6 && set % 5 == 0) plane.w() = std::numeric_limits<double>::quiet_NaN();
+        planes.emplace_back(plane);
+    }
+    return planes;
+}
+
+double SceneScale(int scene) { return std::pow(10.0, -4.0 + 8.0 * (scene % 9) / 8.0); }
+
 // Seeded scenes of clustered boxes at every scale (empty ones among them), against sets of up to
 // 70 planes (past the 64 the tree masks), planes through the scene, near its clusters, at
 // infinity and not finite.
@@ -36,36 +77,11 @@ TEST(ObjectTree, MarksExactlyTheBoxesNoPlaneRejectsOverSeededScenes) {
     std::mt19937_64 rng(2977);
     int rejected = 0, kept = 0;
     for (int scene = 0; scene < 60; ++scene) {
-        const double scale = std::pow(10.0, -4.0 + 8.0 * (scene % 9) / 8.0);
-        std::vector<PolytopeBounds> boxes;
-        const int clusters = 1 + scene % 7;
-        for (int c = 0; c < clusters; ++c) {
-            const Vec3 centre =
-                scale * Vec3(Uniform(rng, -50, 50), Uniform(rng, -5, 5), Uniform(rng, -50, 50));
-            for (int k = 0; k < 1 + (scene * 37 + c * 11) % 300; ++k) {
-                const Vec3 at = centre + scale * Vec3(Uniform(rng, -3, 3), Uniform(rng, 0, 2),
-                                                      Uniform(rng, -3, 3));
-                const Vec3 half = scale * Vec3(Uniform(rng, 0.01, 1), Uniform(rng, 0.01, 1),
-                                               Uniform(rng, 0.01, 1));
-                // One box in fifty is flat, so empty.
-                const Vec3 hi =
-                    k % 50 == 49 ? Vec3(at + half - Vec3(2 * half.x(), 0, 0)) : Vec3(at + half);
-                boxes.push_back(PolytopeBounds::OfBox(Aabb{at - half, hi}));
-            }
-        }
+        const double scale = SceneScale(scene);
+        const std::vector<PolytopeBounds> boxes = ClusteredBoxes(rng, scene, scale);
         const ObjectTree tree(boxes);
         for (int set = 0; set < 20; ++set) {
-            std::vector<PlaneTest> planes;
-            const int count = set == 19 ? 70 : 1 + set % 8;
-            for (int p = 0; p < count; ++p) {
-                const Vec3 n = testing::RandomUnit(rng);
-                const PolytopeBounds& near = boxes[rng() % boxes.size()];
-                const Vec3 through = near.empty() ? Vec3::Zero() : Vec3(0.5 * (near.lo + near.hi));
-                Vec4 plane(n.x(), n.y(), n.z(), -n.dot(through) + scale * Uniform(rng, -8, 8));
-                if (p == 5) plane = Vec4(0, 0, 0, set % 2 ? 1.0 : -1.0);  // at infinity
-                if (p == 6 && set % 5 == 0) plane.w() = std::numeric_limits<double>::quiet_NaN();
-                planes.emplace_back(plane);
-            }
+            const std::vector<PlaneTest> planes = SeededPlanes(rng, boxes, scale, set);
             std::vector<char> possible;
             tree.MarkPossible(planes, possible);
             const std::vector<char> expected = EveryBoxAlone(boxes, planes);
@@ -80,6 +96,75 @@ TEST(ObjectTree, MarksExactlyTheBoxesNoPlaneRejectsOverSeededScenes) {
     }
     EXPECT_GT(rejected, 50000);
     EXPECT_GT(kept, 20000);
+}
+
+// A tree refit to moved boxes (frames of a scene whose objects move: a few far, most a little,
+// some grown or shrunk) marks exactly what testing every moved box alone marks, frame after
+// frame, while its groups are those of the first frame's boxes.
+TEST(ObjectTree, RefitMarksExactlyTheMovedBoxesNoPlaneRejects) {
+    std::mt19937_64 rng(2979);
+    int refits = 0, rejected = 0, kept = 0;
+    for (int scene = 0; scene < 30; ++scene) {
+        const double scale = SceneScale(scene);
+        std::vector<PolytopeBounds> boxes = ClusteredBoxes(rng, scene, scale);
+        ObjectTree tree(boxes);
+        for (int frame = 0; frame < 6; ++frame) {
+            for (PolytopeBounds& b : boxes) {
+                if (b.empty()) continue;
+                const double reach = rng() % 20 == 0 ? 100.0 : 0.5;
+                const Vec3 step =
+                    scale * reach *
+                    Vec3(Uniform(rng, -1, 1), Uniform(rng, -1, 1), Uniform(rng, -1, 1));
+                const Vec3 centre = 0.5 * (b.lo + b.hi) + step;
+                const Vec3 half = 0.5 * (b.hi - b.lo) * Uniform(rng, 0.5, 2.0);
+                // A sliver the move would round flat stays where it is: the same boxes empty.
+                const PolytopeBounds moved =
+                    PolytopeBounds::OfBox(Aabb{centre - half, centre + half});
+                if (!moved.empty()) b = moved;
+            }
+            ASSERT_TRUE(tree.Refit(boxes)) << "scene " << scene << " frame " << frame;
+            ++refits;
+            for (int set = 0; set < 10; ++set) {
+                const std::vector<PlaneTest> planes = SeededPlanes(rng, boxes, scale, set);
+                std::vector<char> possible;
+                tree.MarkPossible(planes, possible);
+                const std::vector<char> expected = EveryBoxAlone(boxes, planes);
+                ASSERT_EQ(possible, expected)
+                    << "scene " << scene << " frame " << frame << " set " << set;
+                for (const char e : expected) (e ? kept : rejected) += 1;
+            }
+        }
+    }
+    EXPECT_EQ(refits, 180);
+    EXPECT_GT(rejected, 20000);
+    EXPECT_GT(kept, 10000);
+}
+
+// Boxes of another count, or empty where they were not, have another hierarchy: the refit is
+// refused and the tree still answers for the boxes it holds.
+TEST(ObjectTree, RefitRefusesBoxesOfAnotherHierarchyAndKeepsItsOwn) {
+    std::mt19937_64 rng(2980);
+    const std::vector<PolytopeBounds> boxes = ClusteredBoxes(rng, 3, 1.0);
+    ObjectTree tree(boxes);
+    const double spread = tree.spread();
+    std::vector<PolytopeBounds> fewer(boxes.begin(), boxes.end() - 1);
+    EXPECT_FALSE(tree.Refit(fewer));
+    std::vector<PolytopeBounds> emptied = boxes;
+    const auto solid = std::find_if(emptied.begin(), emptied.end(),
+                                    [](const PolytopeBounds& b) { return !b.empty(); });
+    ASSERT_NE(solid, emptied.end());
+    *solid = PolytopeBounds{};
+    EXPECT_FALSE(tree.Refit(emptied));
+    EXPECT_EQ(tree.spread(), spread);
+    for (int set = 0; set < 10; ++set) {
+        const std::vector<PlaneTest> planes = SeededPlanes(rng, boxes, 1.0, set);
+        std::vector<char> possible;
+        tree.MarkPossible(planes, possible);
+        EXPECT_EQ(possible, EveryBoxAlone(boxes, planes)) << "set " << set;
+    }
+    // The same boxes refit: the same groups, the same spread.
+    EXPECT_TRUE(tree.Refit(boxes));
+    EXPECT_EQ(tree.spread(), spread);
 }
 
 // Centres over many scales (ten boxes at each power of two from 2^-1000 to 2^999), which a split

@@ -10,78 +10,20 @@
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/scheduler.h>
 
-#include <cstdio>
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <random>
 #include <string>
 #include <string_view>
 
+#include "plan_text.h"
+
 namespace lixel {
 namespace {
 
-void Number(const char* key, double v) { std::printf("%s %a\n", key, v); }
-
-template <class Matrix>
-void Numbers(const char* key, const Matrix& m) {
-    std::printf("%s", key);
-    for (Eigen::Index i = 0; i < m.size(); ++i) std::printf(" %a", m.data()[i]);
-    std::printf("\n");
-}
-
-void Polytope(const char* key, const ConvexPolytope& p) {
-    std::printf("%s %zu\n", key, p.vertices().size());
-    for (const Vec3& v : p.vertices()) Numbers("  v", v);
-}
-
-void DumpMap(const PlannedMap& m) {
-    std::printf("map %d %d %d %s %dx%d lixels %lld footprint %d\n", static_cast<int>(m.role),
-                m.plane_index, m.cube_face, m.name.c_str(), m.map.width, m.map.height,
-                static_cast<long long>(m.lixels), static_cast<int>(m.footprint));
-    Numbers(" matrix", m.map.matrix);
-    std::printf(" passes");
-    for (const Pass p : m.passes) std::printf(" %d", static_cast<int>(p));
-    std::printf("\n lookup guard %d unshadowed %d half_planes %zu\n", m.lookup.guard,
-                static_cast<int>(m.lookup.unshadowed), m.lookup.half_planes.size());
-    for (const Eigen::Vector3d& h : m.lookup.half_planes) Numbers("  half_plane", h);
-    Numbers(" world_limit", m.lookup.world_limit);
-    for (const Vec2& v : m.needed_image) Numbers(" needed_image", v);
-    for (const Vec3& v : m.needed_polygon) Numbers(" needed_polygon", v);
-    const SolveDiagnostics& d = m.diagnostics;
-    std::printf(" diagnostics %a %a %a %d %d %a %a %a %a %a %d\n", d.residual_lixels,
-                d.residual_lixels_float, d.conditioning, static_cast<int>(d.horizon_in_view),
-                d.sign, d.depth_resolution, d.depth_step_nearest, d.depth_step_farthest,
-                d.lixels_per_pixel_min, d.lixels_per_pixel_max, d.samples);
-    Number(" scale", m.scale);
-    std::printf(" scale_reason %s\n", m.scale_reason.c_str());
-    Number(" twist", m.twist_radians);
-    Number(" expected_pixels", m.expected_pixels);
-    std::printf(" kept_for %s\n", m.kept_for.c_str());
-}
-
-void Dump(const Result<Plan>& result) {
-    if (!result) {
-        std::printf("error %s | %s\n", result.error().field.c_str(),
-                    result.error().reason.c_str());
-        return;
-    }
-    const Plan& p = *result;
-    std::printf("maps %zu\n", p.maps.size());
-    for (const PlannedMap& m : p.maps) DumpMap(m);
-    for (const LeftOut& l : p.left_out)
-        std::printf("left_out %s | %s\n", l.item.c_str(), l.reason.c_str());
-    for (const std::string& w : p.warnings) std::printf("warning %s\n", w.c_str());
-    Polytope("hull.view_volume", p.hull.view_volume);
-    Polytope("hull.hull", p.hull.hull);
-    for (const Vec4& v : p.hull.vertices) Numbers(" hull.vertex", v);
-    for (const Vec4& v : p.hull.ray_points) Numbers(" hull.ray_point", v);
-    Numbers("hull.light", p.hull.light);
-    std::printf("hull.light_inside %d\n", static_cast<int>(p.hull.light_inside));
-    Number("plane_scale", p.plane_scale);
-    std::printf("total_lixels %lld volumes %d\n", static_cast<long long>(p.total_lixels),
-                static_cast<int>(p.volumes));
-}
+void Dump(const Result<Plan>& result) { std::fputs(plan_text::PlanText(result).c_str(), stdout); }
 
 using Random = std::mt19937_64;
 

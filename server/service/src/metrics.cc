@@ -47,6 +47,15 @@ Metrics::Metrics(const std::string& address)
                        .Register(*registry_);
     session_frames_ = &frames.Add({{"outcome", "served"}});
     session_frames_skipped_ = &frames.Add({{"outcome", "skipped"}});
+    auto& trees = prometheus::BuildCounter()
+                      .Name("lixel_session_object_trees_total")
+                      .Help(
+                          "Session plans by what they did with the session's object tree: "
+                          "build, refit or busy")
+                      .Register(*registry_);
+    object_tree_builds_ = &trees.Add({{"use", "build"}});
+    object_tree_refits_ = &trees.Add({{"use", "refit"}});
+    object_tree_busy_ = &trees.Add({{"use", "busy"}});
     session_frame_seconds_ =
         &prometheus::BuildHistogram()
              .Name("lixel_session_frame_seconds")

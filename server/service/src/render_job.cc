@@ -13,7 +13,7 @@ using namespace jobs;
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
                        const CancelCheck& cancelled,
                        const std::function<grpc::Status(std::uint64_t)>& reserve, RenderFeed& feed,
-                       RenderReport* report) {
+                       RenderReport* report, std::shared_ptr<ObjectIndex> object_index) {
     using Clock = std::chrono::steady_clock;
     const auto seconds = [](Clock::time_point since) {
         return std::chrono::duration<double>(Clock::now() - since).count();
@@ -27,6 +27,7 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     if (!decoded) return InvalidArgument(decoded.error());
     auto coding = DecodeMapEncoding(request.encoding(), "encoding");
     if (!coding) return InvalidArgument(coding.error());
+    decoded->object_index = std::move(object_index);
     auto plan = PlanPolling(decoded.value(), cancelled);
     if (!plan) return PlanFailed(plan.error());
     if (report != nullptr) report->plan_seconds = seconds(started);

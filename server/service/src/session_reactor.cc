@@ -263,9 +263,10 @@ class SessionReactor final
                 // A session opened with a view answers each frame with its mask.
                 const grpc::Status s =
                     view ? ViewFrameJob(service_.state(), service_.gpu(worker), *view,
-                                        request.encoding(), cancelled, reserve, *feed, report)
+                                        request.encoding(), cancelled, reserve, *feed, report,
+                                        object_index_)
                          : RenderJob(service_.state(), service_.gpu(worker), request, cancelled,
-                                     reserve, *feed, &report);
+                                     reserve, *feed, &report, object_index_);
                 // A client that took nothing for stream_idle_seconds: its write never completes,
                 // so the call is cancelled (OnWriteDone(false) then finishes it with the stall).
                 // While this job runs the call is not finished (Done defers), so the context
@@ -278,9 +279,16 @@ class SessionReactor final
                     }
                     context_->TryCancel();
                 }
+                // What this frame's plan did with the session's object tree.
+                const ObjectIndex::Counts counts = object_index_->counts();
+                service_.state().metrics.SessionObjectTrees(
+                    static_cast<double>(counts.builds - counted_trees_.builds),
+                    static_cast<double>(counts.refits - counted_trees_.refits),
+                    static_cast<double>(counts.busy - counted_trees_.busy));
                 std::optional<grpc::Status> deferred;
                 {
                     std::lock_guard lock(mutex_);
+                    counted_trees_ = counts;
                     item.report = std::move(report);
                     job_running_ = false;
                     if (s.ok()) {
@@ -472,6 +480,10 @@ class SessionReactor final
     std::mutex reserve_mutex_;
     std::uint64_t reserved_ = 0;
     ClientLease lease_;
+    // The session's object tree, refit from frame to frame (object_index.h); its frames plan one
+    // at a time.
+    const std::shared_ptr<ObjectIndex> object_index_ = std::make_shared<ObjectIndex>();
+    ObjectIndex::Counts counted_trees_;  // its counts the metrics have had (under mutex_)
 };
 
 }  // namespace

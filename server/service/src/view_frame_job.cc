@@ -26,7 +26,8 @@ double StageSeconds(const v1::ViewResponse& response, const std::string& stage) 
 grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
                           const v1::MapEncoding& encoding, const CancelCheck& cancelled,
                           const std::function<grpc::Status(std::uint64_t)>& reserve,
-                          RenderFeed& feed, RenderReport& report) {
+                          RenderFeed& feed, RenderReport& report,
+                          std::shared_ptr<ObjectIndex> object_index) {
     auto coding = DecodeMapEncoding(encoding, "encoding");
     if (!coding) return InvalidArgument(coding.error());
     // Timed whether or not the client asked: the frame's done reports plan and passes.
@@ -34,7 +35,8 @@ grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::View
     timed.set_timings(true);
     v1::ViewResponse response;
     const Clock::time_point started = Clock::now();
-    if (grpc::Status s = ViewJob(state, worker, timed, cancelled, &response, &report.plan);
+    if (grpc::Status s = ViewJob(state, worker, timed, cancelled, &response, &report.plan,
+                                 std::move(object_index));
         !s.ok()) {
         return s;
     }

@@ -280,7 +280,7 @@ void AddMaskTimes(const MaskJob& job, const MaskTimes& mask_times,
 
 grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
                      const CancelCheck& cancelled, v1::ViewResponse* response,
-                     v1::PlanResponse* scheduled) {
+                     v1::PlanResponse* scheduled, std::shared_ptr<ObjectIndex> object_index) {
     response->set_instance(state.options.instance);
     std::shared_ptr<const SceneRecord> scene;
     if (auto s = FindScene(state, request.plan(), true, "plan", &scene); !s.ok()) return s;
@@ -312,6 +312,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
 
     std::vector<std::pair<std::string, double>> times;
     auto start = Clock::now();
+    decoded->object_index = std::move(object_index);
     auto plan = PlanPolling(decoded.value(), cancelled);
     if (!plan) return PlanFailed(plan.error());
     MaskJob job;

@@ -6,12 +6,14 @@
 #include <lixel/solver/extent_hull.h>
 #include <lixel/solver/light_map.h>
 #include <lixel/solver/mesh.h>
+#include <lixel/solver/object_index.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/result.h>
 #include <lixel/solver/types.h>
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -140,6 +142,10 @@ struct PlanRequest {
     // true ends the plan with Error{"request", kPlanCancelled}, so a caller's deadline bounds a
     // plan over hundreds of thousands of objects. Empty: never.
     std::function<bool()> cancelled;
+    // The object tree kept from one plan of a scene to the next (object_index.h): a caller that
+    // plans the same objects frame after frame (a session) gives the same index to each plan,
+    // which then refits its tree instead of building one. The plan is the same without it.
+    std::shared_ptr<ObjectIndex> object_index;
 };
 
 inline constexpr const char* kPlanCancelled = "cancelled or past its deadline while planning";

@@ -12,6 +12,7 @@
 #include <lixel/service/scene_cache.h>
 #include <lixel/service/service_options.h>
 #include <lixel/service/upload_guards.h>
+#include <lixel/solver/object_index.h>
 #include <lixel/v1/lixel.pb.h>
 
 #include <cstdint>
@@ -73,10 +74,13 @@ struct RenderReport {
     double encode_seconds = 0.0;
     v1::ViewResponse view;  // ViewFrameJob: View's answer but its mask and plan
 };
+// `object_index`: the object tree a session keeps from frame to frame (object_index.h); the plan
+// is the same without it.
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
                        const CancelCheck& cancelled,
                        const std::function<grpc::Status(std::uint64_t)>& reserve, RenderFeed& feed,
-                       RenderReport* report = nullptr);
+                       RenderReport* report = nullptr,
+                       std::shared_ptr<ObjectIndex> object_index = nullptr);
 // The same stream collected into `stream` (tests, and callers that want it whole).
 grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderRequest& request,
                        const CancelCheck& cancelled, std::vector<v1::RenderChunk>* stream);
@@ -85,7 +89,8 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
 // whatever method drew this one): what a session's next frame is coherent with.
 grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
                      const CancelCheck& cancelled, v1::ViewResponse* response,
-                     v1::PlanResponse* scheduled = nullptr);
+                     v1::PlanResponse* scheduled = nullptr,
+                     std::shared_ptr<ObjectIndex> object_index = nullptr);
 
 // A session frame of a session opened with a view (SessionOpen.view): ViewJob's answer, its mask
 // streamed into `feed` as Render streams a map (a header naming the maps the method drew and one
@@ -94,7 +99,8 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
 grpc::Status ViewFrameJob(ServiceState& state, GpuWorker& worker, const v1::ViewRequest& request,
                           const v1::MapEncoding& encoding, const CancelCheck& cancelled,
                           const std::function<grpc::Status(std::uint64_t)>& reserve,
-                          RenderFeed& feed, RenderReport& report);
+                          RenderFeed& feed, RenderReport& report,
+                          std::shared_ptr<ObjectIndex> object_index = nullptr);
 
 grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& request,
                             v1::SilhouettesResponse* response, const CancelCheck& cancelled = {});

@@ -29,6 +29,13 @@ public:
     // arrival to its last message written, or skipped (superseded while the client ran ahead).
     void SessionFrame(double seconds);
     void SessionFramesSkipped(double frames) { session_frames_skipped_->Increment(frames); }
+    // What a session's plans did with its kept object tree (object_index.h): built it, refit it
+    // to moved objects, or (never, while a session's frames plan one at a time) found it busy.
+    void SessionObjectTrees(double builds, double refits, double busy) {
+        object_tree_builds_->Increment(builds);
+        object_tree_refits_->Increment(refits);
+        object_tree_busy_->Increment(busy);
+    }
     void CacheLookup(bool hit) { (hit ? cache_hits_ : cache_misses_)->Increment(); }
     void CacheBytes(double bytes) { cache_bytes_->Set(bytes); }
 
@@ -50,6 +57,9 @@ private:
     prometheus::Gauge* cache_bytes_;
     prometheus::Counter* session_frames_;
     prometheus::Counter* session_frames_skipped_;
+    prometheus::Counter* object_tree_builds_;
+    prometheus::Counter* object_tree_refits_;
+    prometheus::Counter* object_tree_busy_;
     prometheus::Histogram* session_frame_seconds_;
 };
 
