@@ -1,5 +1,5 @@
 // The objects' bounding-volume hierarchy (object_tree.h): splits at the middle of the longest axis
-// of the boxes' centres, leaves of a few boxes.
+// of the boxes' centres, leaves of up to 16 boxes.
 #include "object_tree.h"
 
 #include <algorithm>
@@ -9,7 +9,10 @@
 namespace lixel::scheduling {
 namespace {
 
-constexpr std::uint32_t kLeafBoxes = 4;
+// A leaf tests each of its boxes alone, a few comparisons each, where a node costs a build's
+// passes, a merge and a query's test: with leaves of 16, BM_PlanWorld's 10 k boxes plan in
+// 19.7-20.0 times its 10-object plan, where leaves of 4 took 21.5-22.0 (alternating runs).
+constexpr std::uint32_t kLeafBoxes = 16;
 
 }  // namespace
 

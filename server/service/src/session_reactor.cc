@@ -281,14 +281,11 @@ class SessionReactor final
                 }
                 // What this frame's plan did with the session's object tree.
                 const ObjectIndex::Counts counts = object_index_->counts();
-                service_.state().metrics.SessionObjectTrees(
-                    static_cast<double>(counts.builds - counted_trees_.builds),
-                    static_cast<double>(counts.refits - counted_trees_.refits),
-                    static_cast<double>(counts.busy - counted_trees_.busy));
+                ObjectIndex::Counts before;
                 std::optional<grpc::Status> deferred;
                 {
                     std::lock_guard lock(mutex_);
-                    counted_trees_ = counts;
+                    before = std::exchange(counted_trees_, counts);
                     item.report = std::move(report);
                     job_running_ = false;
                     if (s.ok()) {
@@ -297,6 +294,10 @@ class SessionReactor final
                     }
                     deferred = std::exchange(deferred_, std::nullopt);
                 }
+                service_.state().metrics.SessionObjectTrees(
+                    static_cast<double>(counts.builds - before.builds),
+                    static_cast<double>(counts.refits - before.refits),
+                    static_cast<double>(counts.busy - before.busy));
                 feed->Finish(s);
                 if (deferred) Done(*deferred);
                 StartNextFrame();
