@@ -3,8 +3,9 @@
 #   1. AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer: the whole test suite, in the
 #      clang-14 build it shares with the fuzz harnesses (scripts/lib/asan_build.sh), build-asan/.
 #   2. ThreadSanitizer: the service's concurrency tests (tests/service/concurrency_test.cc: one
-#      ShadowService, 4 GL workers, 8 caller threads, no gRPC in between) and Render's streaming
-#      hand-off (tests/service/render_feed_test.cc, RenderFeed.*), build-tsan/. Debian's
+#      ShadowService, 4 GL workers, 8 caller threads, no gRPC in between), Render's streaming
+#      hand-off (tests/service/render_feed_test.cc, RenderFeed.*) and plans sharing a kept object
+#      index across threads (tests/solver/object_index_test.cc, ObjectIndex.*), build-tsan/. Debian's
 #      gRPC is not built with TSan; its hand-offs between threads are invisible to TSan, so the
 #      gRPC-level suites report hundreds of races inside gRPC's inlined code (docs/reliability.md).
 # Either run can be skipped: LIXEL_SANITIZE_RUNS="asan", "tsan" or "asan tsan" (the default).
@@ -41,10 +42,12 @@ if [[ " $runs " == *" tsan "* ]]; then
     cmake -S "$root" -B "$tsan_dir" -G Ninja -DCMAKE_BUILD_TYPE=Debug \
           "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" -DLIXEL_SANITIZE=thread -DLIXEL_BUILD_TESTS=ON \
           -DLIXEL_BUILD_BENCH=OFF -DLIXEL_BUILD_EXAMPLES=OFF >/dev/null
-    cmake --build "$tsan_dir" --parallel "$jobs" --target lixel_service_tests
+    cmake --build "$tsan_dir" --parallel "$jobs" --target lixel_service_tests lixel_solver_tests
     built=$SECONDS
     ctest --test-dir "$tsan_dir/tests/service" --output-on-failure --timeout 1200 -j "$jobs" \
           -R '^(Concurrency|RenderFeed)\.'
+    ctest --test-dir "$tsan_dir/tests/solver" --output-on-failure --timeout 1200 -j "$jobs" \
+          -R '^ObjectIndex\.'
     echo "sanitize.sh: ThreadSanitizer concurrency tests ($LIXEL_TEST_WORKERS workers):" \
          "build $((built - start)) s, tests $((SECONDS - built)) s"
 fi

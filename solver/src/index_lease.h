@@ -7,6 +7,7 @@
 
 #include <memory>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #include "object_tree.h"
@@ -17,9 +18,20 @@ class IndexLease {
   public:
     IndexLease() : own_(std::make_unique<ObjectTree>()), tree_(own_.get()) {}
     // The tree over `boxes`: `index`'s (nullptr: none) when it is free, else one of its own.
-    IndexLease(ObjectIndex* index, std::vector<PolytopeBounds> boxes);
+    IndexLease(ObjectIndex* index, const std::vector<PolytopeBounds>& boxes);
+    // The tree, its lock and its storage go with the lease (a plan's context is returned by
+    // value); the lease moved from holds none.
+    IndexLease(IndexLease&& other) noexcept
+        : held_(std::move(other.held_)),
+          own_(std::move(other.own_)),
+          tree_(std::exchange(other.tree_, nullptr)) {}
+    IndexLease& operator=(IndexLease&& other) noexcept {
+        held_ = std::move(other.held_);
+        own_ = std::move(other.own_);
+        tree_ = std::exchange(other.tree_, nullptr);
+        return *this;
+    }
 
-    // Stays where it is when the lease moves (a plan's context is returned by value).
     const ObjectTree& tree() const noexcept { return *tree_; }
 
   private:

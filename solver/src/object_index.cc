@@ -15,7 +15,7 @@ ObjectIndex::Counts ObjectIndex::counts() const {
 
 namespace scheduling {
 
-IndexLease::IndexLease(ObjectIndex* index, std::vector<PolytopeBounds> boxes) {
+IndexLease::IndexLease(ObjectIndex* index, const std::vector<PolytopeBounds>& boxes) {
     if (index != nullptr) {
         std::unique_lock held(index->in_use_, std::try_to_lock);
         if (held.owns_lock()) {
@@ -24,7 +24,7 @@ IndexLease::IndexLease(ObjectIndex* index, std::vector<PolytopeBounds> boxes) {
                 !(index->tree_->spread() > ObjectIndex::kRebuildSpread * index->built_spread_)) {
                 counted.refits = 1;
             } else {
-                index->tree_ = std::make_unique<ObjectTree>(std::move(boxes));
+                index->tree_ = std::make_unique<ObjectTree>(boxes);
                 index->built_spread_ = index->tree_->spread();
                 counted.builds = 1;
             }
@@ -40,7 +40,7 @@ IndexLease::IndexLease(ObjectIndex* index, std::vector<PolytopeBounds> boxes) {
         std::lock_guard lock(index->counts_mutex_);
         ++index->counts_.busy;
     }
-    own_ = std::make_unique<ObjectTree>(std::move(boxes));
+    own_ = std::make_unique<ObjectTree>(boxes);
     tree_ = own_.get();
 }
 

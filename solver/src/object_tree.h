@@ -1,8 +1,9 @@
 // A bounding-volume hierarchy over the objects' thickened boxes (issue 29): what lets the
 // scheduler's clips against many planes (the extent hull, the view, a map's cone) skip at once the
 // objects that provably keep nothing, and run its own per-object tests, unchanged, on the rest.
-// Built once per plan; a group is rejected only where PolytopeBounds::KeepsNothingOf proves every
-// member's clip empty, so every result is what the scan over every object gives.
+// Built for a plan, or kept from one plan to the next and refit to moved boxes (object_index.h);
+// a group is rejected only where PolytopeBounds::KeepsNothingOf proves every member's clip empty,
+// so every result is what the scan over every object gives, whatever the groups.
 #pragma once
 
 #include <lixel/solver/convex_polytope.h>

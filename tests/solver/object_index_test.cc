@@ -144,5 +144,56 @@ TEST(ObjectIndex, PlansSharingAnIndexAcrossThreadsEqualPlansWithout) {
     EXPECT_EQ(counts.builds + counts.refits + counts.busy, kThreads * 3 * frames.size());
 }
 
+// A plan cancelled while it holds the index lets go of it: the next plan refits (or builds)
+// rather than finding it busy.
+TEST(ObjectIndex, ACancelledPlanLetsGoOfTheIndex) {
+    Random rng(2993);
+    PlanRequest r = BoxedRoom(rng, 200);
+    const auto index = std::make_shared<ObjectIndex>();
+    r.object_index = index;
+    for (const int stop_at : {1, 2, 5, 20}) {
+        PlanRequest stopped = r;
+        int polls = 0;
+        stopped.cancelled = [&] { return ++polls >= stop_at; };
+        const Result<Plan> cancelled = PlanShadowMaps(stopped);
+        ASSERT_FALSE(cancelled) << "stop at poll " << stop_at;
+        EXPECT_EQ(cancelled.error().reason, kPlanCancelled);
+    }
+    const std::uint64_t leases = index->counts().builds + index->counts().refits;
+    EXPECT_GE(leases, 1u) << "no cancel came after the index was taken";
+    PlanRequest without = r;
+    without.object_index = nullptr;
+    ASSERT_EQ(Planned(r, index), plan_text::PlanText(PlanShadowMaps(without)));
+    EXPECT_EQ(index->counts().busy, 0u);
+    EXPECT_GT(index->counts().builds + index->counts().refits, leases);
+}
+
+// A plan that finds the index held by another plan (here: planned from inside the first one's
+// cancellation poll, on another thread) builds its own tree, counts as busy, and plans the same.
+TEST(ObjectIndex, APlanFindingTheIndexHeldBuildsItsOwnTree) {
+    Random rng(2994);
+    PlanRequest r = BoxedRoom(rng, 150);
+    const std::string alone = plan_text::PlanText(PlanShadowMaps(r));
+    const auto index = std::make_shared<ObjectIndex>();
+    std::string beside;
+    bool ran = false;
+    PlanRequest first = r;
+    first.object_index = index;
+    // The index's counts move when the first plan takes it; from then on it holds it.
+    first.cancelled = [&] {
+        if (!ran && index->counts().builds == 1) {
+            ran = true;
+            std::thread other([&] { beside = Planned(r, index); });
+            other.join();
+        }
+        return false;
+    };
+    EXPECT_EQ(plan_text::PlanText(PlanShadowMaps(first)), alone);
+    ASSERT_TRUE(ran);
+    EXPECT_EQ(beside, alone);
+    EXPECT_EQ(index->counts().busy, 1u);
+    EXPECT_EQ(index->counts().builds, 1u);
+}
+
 }  // namespace
 }  // namespace lixel

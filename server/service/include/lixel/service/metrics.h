@@ -30,7 +30,8 @@ public:
     void SessionFrame(double seconds);
     void SessionFramesSkipped(double frames) { session_frames_skipped_->Increment(frames); }
     // What a session's plans did with its kept object tree (object_index.h): built it, refit it
-    // to moved objects, or (never, while a session's frames plan one at a time) found it busy.
+    // to moved objects, or found it busy (a session's frames plan one at a time, so only a
+    // spurious failure of std::mutex::try_lock could count one).
     void SessionObjectTrees(double builds, double refits, double busy) {
         object_tree_builds_->Increment(builds);
         object_tree_refits_->Increment(refits);
