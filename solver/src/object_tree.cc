@@ -41,10 +41,8 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     nodes_[index].first = first;
     nodes_[index].count = count;
     if (count <= kLeafBoxes) {
-        for (std::uint32_t k = first; k < first + count; ++k) {
-            order_[k] = items[k].index;
-            nodes_[index].bounds.Merge(boxes_[order_[k]]);
-        }
+        for (std::uint32_t k = first; k < first + count; ++k) order_[k] = items[k].index;
+        Bound(nodes_[index]);
         return index;
     }
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -88,11 +86,22 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     const std::int32_t right = Build(first + half, count - half, items, scratch, level + 1);
     nodes_[index].left = left;
     nodes_[index].right = right;
+    Bound(nodes_[index]);
+    return index;
+}
+
+void ObjectTree::Bound(Node& node) {
+    if (node.left < 0) {
+        node.bounds = PolytopeBounds{};
+        for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+            node.bounds.Merge(boxes_[order_[k]]);
+        }
+        return;
+    }
     // The children's bounds hold the same boxes: min, max and the diagonal over them come out
     // as merging every box would give, with two merges where that took one a box.
-    nodes_[index].bounds = nodes_[left].bounds;
-    nodes_[index].bounds.Merge(nodes_[right].bounds);
-    return index;
+    node.bounds = nodes_[node.left].bounds;
+    node.bounds.Merge(nodes_[node.right].bounds);
 }
 
 bool ObjectTree::Refit(const std::vector<PolytopeBounds>& boxes) {
@@ -102,19 +111,8 @@ bool ObjectTree::Refit(const std::vector<PolytopeBounds>& boxes) {
     }
     boxes_.assign(boxes.begin(), boxes.end());  // into the storage it has
     // Children come after their parent (Build numbers nodes in pre-order), so a pass from the
-    // back merges every child before its parent, as Build merges them.
-    for (std::size_t at = nodes_.size(); at-- > 0;) {
-        Node& node = nodes_[at];
-        if (node.left < 0) {
-            node.bounds = PolytopeBounds{};
-            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-                node.bounds.Merge(boxes_[order_[k]]);
-            }
-            continue;
-        }
-        node.bounds = nodes_[node.left].bounds;
-        node.bounds.Merge(nodes_[node.right].bounds);
-    }
+    // back bounds every child before its parent, as Build does.
+    for (std::size_t at = nodes_.size(); at-- > 0;) Bound(nodes_[at]);
     return true;
 }
 

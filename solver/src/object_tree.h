@@ -32,7 +32,6 @@ class ObjectTree {
 
     // Levels from the root to the deepest leaf (0 without boxes).
     std::size_t depth() const noexcept { return depth_; }
-    std::size_t size() const noexcept { return total_; }
     // The sum of every node's diagonal: how loose the groups are (a refit tree's against its
     // build's says when to build anew).
     double spread() const noexcept;
@@ -52,6 +51,9 @@ class ObjectTree {
     };
     std::int32_t Build(std::uint32_t first, std::uint32_t count, std::vector<Centred>& items,
                        std::vector<Centred>& scratch, std::size_t level);
+    // The node's bounds from its boxes (a leaf) or its children's bounds (a branch), which must
+    // be bounded first: what Build and Refit both merge.
+    void Bound(Node& node);
 
     std::vector<Node> nodes_;
     std::vector<std::uint32_t> order_;  // box indices, grouped by node
