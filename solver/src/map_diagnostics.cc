@@ -2,6 +2,7 @@
 #include <lixel/solver/camera.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/map_diagnostics.h>
+#include <lixel/solver/pixel_footprint.h>
 #include <lixel/solver/polygon.h>
 #include <lixel/solver/scheduler.h>
 
@@ -80,7 +81,7 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
                              const Viewport& viewport, std::span<const Receiver> receivers) {
     SolveDiagnostics d;
     const Mat4 pixel = PixelMatrix(viewer, viewport);
-    const Mat4 unproject = pixel.inverse();
+    const PixelFootprints footprints(pixel.inverse(), map);
     const GlLightTransform gl =
         ToGl(map, receivers.empty() ? Vec3::Zero() : receivers.front().point);
     DepthStepTally steps;
@@ -95,7 +96,7 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
             continue;
         }
         // A plane seen edge-on (a face a frustum plane cut, through the eye) has no footprint.
-        auto scale = FootprintAt(unproject, r.plane, map, at);
+        const std::optional<Vec2> scale = footprints.At(r.plane, at);
         if (!scale || !(scale->y() > 0.0) || !scale->allFinite()) continue;
         d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
         d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());

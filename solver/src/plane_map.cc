@@ -5,11 +5,10 @@
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/light_map.h>
 #include <lixel/solver/map_diagnostics.h>
+#include <lixel/solver/pixel_footprint.h>
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/polygon.h>
 #include <lixel/solver/ray_cone.h>
-
-#include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
@@ -35,29 +34,8 @@ Vec3 GlOrigin(const Mat4& viewer, const Vec4& plane, const std::vector<Vec3>& ne
 
 Result<Vec2> FootprintAt(const Mat4& unproject, const Vec4& plane, const LightMap& map,
                          const Vec2& pixel) {
-    // The plane point under a pixel: its ray a-b (near and far clip depth) meets P at
-    // (P.b) a - (P.a) b, a homogeneous point.
-    auto lixel_at = [&](const Vec2& at, Vec2& out) {
-        const Vec4 a = unproject * Vec4(at.x(), at.y(), kClipDepthNear, 1.0);
-        const Vec4 b = unproject * Vec4(at.x(), at.y(), kClipDepthFar, 1.0);
-        Vec4 x = plane.dot(b) * a - plane.dot(a) * b;
-        if (x.w() < 0.0) x = -x;
-        const Vec4 h = map.matrix * x;
-        if (!(h.w() > 0.0) || !h.allFinite()) return false;
-        out = Vec2(h.x() / h.w(), h.y() / h.w());
-        return out.allFinite();
-    };
-    constexpr double kStep = 0.5;  // pixels
-    Vec2 xp, xm, yp, ym;
-    if (!lixel_at(pixel + Vec2(kStep, 0.0), xp) || !lixel_at(pixel - Vec2(kStep, 0.0), xm) ||
-        !lixel_at(pixel + Vec2(0.0, kStep), yp) || !lixel_at(pixel - Vec2(0.0, kStep), ym)) {
-        return Error{"pixel", "its ray meets the plane nowhere the map holds"};
-    }
-    Eigen::Matrix2d jacobian;
-    jacobian.col(0) = (xp - xm) / (2.0 * kStep);
-    jacobian.col(1) = (yp - ym) / (2.0 * kStep);
-    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(jacobian);
-    return Vec2(svd.singularValues()(0), svd.singularValues()(1));
+    if (auto scale = PixelFootprints(unproject, map).At(plane, pixel)) return *scale;
+    return Error{"pixel", "its ray meets the plane nowhere the map holds"};
 }
 
 namespace {
@@ -67,10 +45,11 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
     SolveDiagnostics d;
     d.sign = solved.sign;
     const Mat4 pixel = PixelMatrix(request.input.viewer, request.input.viewport);
-    const Mat4 unproject = pixel.inverse();
     d.horizon_in_view = HorizonInView(pixel, solved.plane, request.input.viewport);
 
     const LightMap& map = crop.map;
+    std::optional<PixelFootprints> footprints;
+    if (request.footprint_diagnostics) footprints.emplace(pixel.inverse(), map);
     const Vec3 origin = GlOrigin(request.input.viewer, solved.plane, polygon);
     const GlLightTransform gl = ToGl(map, origin);
     const Vec4& l = solved.light;
@@ -103,9 +82,9 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
         worst_reach = std::max(worst_reach, (s - l.head<3>()).norm());
         const double step = DepthStepAt(map, gl, l, s);
         if (step > 0.0) steps.Add(d, l, s, step);
-        if (request.footprint_diagnostics) {
+        if (footprints) {
             const Vec2 at(v.x() / v.w(), v.y() / v.w());
-            if (auto scale = FootprintAt(unproject, solved.plane, map, at); scale) {
+            if (auto scale = footprints->At(solved.plane, at)) {
                 d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
                 d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());
             }

@@ -43,10 +43,10 @@ struct DepthStepTally {
 
 // SolveDiagnostics' figures that hold for any map (lixels per pixel, depth resolution and
 // steps at the nearest and farthest receiver, samples), over the receivers that are in the
-// viewport, in front of the viewer, held by the map (q > 0) and not seen edge-on (a footprint
-// with a zero or non-finite singular value, as on faces a frustum plane cut). The residuals,
-// conditioning
-// and sign are the plane solve's and stay at their defaults.
+// viewport, in front of the viewer, held by the map (q > 0) and not seen edge-on (a face through
+// the eye or the light, as a frustum plane or a map's cone cuts, or a footprint with a zero or
+// non-finite singular value: pixel_footprint.h). The residuals, conditioning and sign are the
+// plane solve's and stay at their defaults.
 SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4& viewer,
                              const Viewport& viewport, std::span<const Receiver> receivers);
 

@@ -68,9 +68,8 @@ Result<PlaneMap> SolvePlaneMap(const PlaneMapRequest& request) noexcept;
 
 // Lixels per viewer pixel of `map` at the point of `plane` under viewer pixel `pixel` (pixel
 // coordinates, edges at integers): the singular values, larger first, of the Jacobian of
-// pixel -> plane point -> lixel, by central differences of half a pixel (exact up to rounding
-// where the composite is affine, as for a plane-optimal map). Errors ("pixel") when the pixel's
-// ray meets P nowhere in front of the viewer or behind the light.
+// pixel -> plane point -> lixel, taken exactly (pixel_footprint.h). Errors ("pixel") when the
+// ray of the pixel, or of a point half a pixel from it, meets P nowhere the map holds.
 Result<Vec2> LixelsPerPixel(const Mat4& viewer, const Viewport& viewport, const Vec4& plane,
                             const LightMap& map, const Vec2& pixel) noexcept;
 
