@@ -19,19 +19,27 @@ namespace {
 // triangle.
 std::size_t SampleCount(std::size_t vertices) { return 8 * vertices + 1; }
 
-}  // namespace
-
-std::vector<Vec3> SamplePolygon(const std::vector<Vec3>& polygon) {
-    std::vector<Vec3> samples = polygon;
+// SamplePolygon's points in its order, each handed to `emit`, with no array of its own.
+template <class Emit>
+void ForEachSample(std::span<const Vec3> polygon, Emit emit) {
+    for (const Vec3& v : polygon) emit(v);
     const Vec3 centroid = PolygonCentroid(polygon);
-    samples.push_back(centroid);
+    emit(centroid);
     const double pattern[][2] = {{1.0 / 3, 1.0 / 3}, {0.05, 0.05}, {0.9, 0.05}, {0.05, 0.9},
                                  {0.45, 0.45},       {0.7, 0.2},   {0.2, 0.7}};
     for (size_t i = 0; i < polygon.size(); ++i) {
         const Vec3 e0 = polygon[i] - centroid;
         const Vec3 e1 = polygon[(i + 1) % polygon.size()] - centroid;
-        for (const auto& ab : pattern) samples.push_back(centroid + ab[0] * e0 + ab[1] * e1);
+        for (const auto& ab : pattern) emit(Vec3(centroid + ab[0] * e0 + ab[1] * e1));
     }
+}
+
+}  // namespace
+
+std::vector<Vec3> SamplePolygon(const std::vector<Vec3>& polygon) {
+    std::vector<Vec3> samples;
+    samples.reserve(SampleCount(polygon.size()));
+    ForEachSample(polygon, [&](const Vec3& s) { samples.push_back(s); });
     return samples;
 }
 
@@ -78,15 +86,23 @@ void DepthStepTally::Add(SolveDiagnostics& d, const Vec4& light, const Vec3& x, 
 }
 
 SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4& viewer,
-                             const Viewport& viewport, std::span<const Receiver> receivers) {
+                             const Viewport& viewport, std::span<const Receiver> receivers,
+                             std::span<const std::uint8_t> held) {
     SolveDiagnostics d;
+    const auto counts = [&](std::size_t i) {
+        return held.empty() || (i < held.size() && held[i] != 0);
+    };
+    std::size_t first = 0;
+    while (first < receivers.size() && !counts(first)) ++first;
     const Mat4 pixel = PixelMatrix(viewer, viewport);
     const PixelFootprints footprints(pixel.inverse(), map);
     const GlLightTransform gl =
-        ToGl(map, receivers.empty() ? Vec3::Zero() : receivers.front().point);
+        ToGl(map, first == receivers.size() ? Vec3::Zero() : receivers[first].point);
     DepthStepTally steps;
     d.lixels_per_pixel_min = std::numeric_limits<double>::infinity();
-    for (const Receiver& r : receivers) {
+    for (std::size_t i = first; i < receivers.size(); ++i) {
+        if (!counts(i)) continue;
+        const Receiver& r = receivers[i];
         const Vec4 x = Point(r.point);
         const Vec4 v = pixel * x;
         if (!(v.w() > 0.0) || !((map.matrix * x).w() > 0.0)) continue;
@@ -107,7 +123,6 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
     if (d.samples == 0) d.lixels_per_pixel_min = 0.0;
     return d;
 }
-
 
 std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions,
                                       std::size_t max_receivers) {
@@ -135,15 +150,23 @@ std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions,
             if (kept <= max_receivers || stride >= faces) break;
         }
     }
-    std::vector<Receiver> out;
+    std::size_t kept = 0;
     std::size_t index = 0;
     for (const ConvexPolytope& region : regions) {
         for (std::size_t f = 0; f < region.face_count(); ++f) {
+            if (index++ % stride == 0) kept += SampleCount(region.face_polygon(f).size());
+        }
+    }
+    std::vector<Receiver> out;
+    out.reserve(kept);
+    index = 0;
+    for (const ConvexPolytope& region : regions) {
+        for (std::size_t f = 0; f < region.face_count(); ++f) {
             if (index++ % stride != 0) continue;
-            const std::span<const Vec3> polygon = region.face_polygon(f);
-            for (const Vec3& s : SamplePolygon(std::vector<Vec3>(polygon.begin(), polygon.end()))) {
-                out.push_back({s, region.face_plane(f)});
-            }
+            const Vec4& plane = region.face_plane(f);
+            ForEachSample(region.face_polygon(f), [&](const Vec3& s) {
+                out.push_back({s, plane});
+            });
         }
     }
     return out;

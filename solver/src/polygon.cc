@@ -71,7 +71,7 @@ std::vector<Vec4> FrustumPlanes(const Mat4& viewer) {
     return planes;
 }
 
-Vec3 PolygonCentroid(const std::vector<Vec3>& polygon) {
+Vec3 PolygonCentroid(std::span<const Vec3> polygon) {
     Vec3 sum = Vec3::Zero();
     for (const Vec3& p : polygon) sum += p;
     return polygon.empty() ? sum : Vec3(sum / static_cast<double>(polygon.size()));

@@ -168,12 +168,12 @@ auto FitWithGuard(Fit fit, std::int64_t budget, int max_side, int& guard)
 // of the faces of the region it is kept for, where its own lookup takes them.
 SolveDiagnostics DiagnoseHeld(const Context& c, const PlannedMap& m,
                               std::span<const Receiver> receivers) {
-    std::vector<Receiver> held;
-    for (const Receiver& r : receivers) {
+    std::vector<std::uint8_t> held(receivers.size());
+    for (std::size_t i = 0; i < receivers.size(); ++i) {
         c.poll();
-        if (LookupAccepts(m, Point(r.point))) held.push_back(r);
+        held[i] = LookupAccepts(m, Point(receivers[i].point)) ? 1 : 0;
     }
-    return DiagnoseMap(m.map, c.light, c.request.viewer, c.request.viewport, held);
+    return DiagnoseMap(m.map, c.light, c.request.viewer, c.request.viewport, receivers, held);
 }
 
 // The fallback as one light frustum over `points` (the uncovered pieces' vertices), with the

@@ -8,6 +8,7 @@
 #include <lixel/solver/plane_map.h>
 #include <lixel/solver/types.h>
 
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <vector>
@@ -46,9 +47,11 @@ struct DepthStepTally {
 // viewport, in front of the viewer, held by the map (q > 0) and not seen edge-on (a face through
 // the eye or the light, as a frustum plane or a map's cone cuts, or a footprint with a zero or
 // non-finite singular value: pixel_footprint.h). The residuals, conditioning and sign are the
-// plane solve's and stay at their defaults.
+// plane solve's and stay at their defaults. With `held` (one flag a receiver), only the receivers
+// flagged non-zero count, as if the others were not given.
 SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4& viewer,
-                             const Viewport& viewport, std::span<const Receiver> receivers);
+                             const Viewport& viewport, std::span<const Receiver> receivers,
+                             std::span<const std::uint8_t> held = {});
 
 // The most receivers RegionReceivers gives by default: a map's figures are a min and max over
 // samples, which a few thousand spread over the region estimate as well as millions, and their

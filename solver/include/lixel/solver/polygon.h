@@ -4,6 +4,7 @@
 
 #include <lixel/solver/types.h>
 
+#include <span>
 #include <vector>
 
 namespace lixel {
@@ -22,7 +23,7 @@ std::vector<Vec3> PlaneBoxPolygon(const Vec4& plane, const Aabb& box);
 std::vector<Vec4> FrustumPlanes(const Mat4& viewer);
 
 // Mean of a polygon's vertices (zero for an empty one).
-Vec3 PolygonCentroid(const std::vector<Vec3>& polygon);
+Vec3 PolygonCentroid(std::span<const Vec3> polygon);
 
 // 2D convex hull (Andrew's monotone chain), counter-clockwise, collinear points dropped.
 std::vector<Vec2> ConvexHull2d(std::vector<Vec2> points);
