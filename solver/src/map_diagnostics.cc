@@ -100,6 +100,8 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
         ToGl(map, first == receivers.size() ? Vec3::Zero() : receivers[first].point);
     DepthStepTally steps;
     d.lixels_per_pixel_min = std::numeric_limits<double>::infinity();
+    Vec4 plane = Vec4::Zero();
+    std::optional<PixelFootprints::OnPlane> on_plane;
     for (std::size_t i = first; i < receivers.size(); ++i) {
         if (!counts(i)) continue;
         const Receiver& r = receivers[i];
@@ -112,7 +114,12 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
             continue;
         }
         // A plane seen edge-on (a face a frustum plane cut, through the eye) has no footprint.
-        const std::optional<Vec2> scale = footprints.At(r.plane, at);
+        // A face's receivers come one after another: what its plane's pixels share, once.
+        if (!on_plane || (plane.array() != r.plane.array()).any()) {
+            plane = r.plane;
+            on_plane = footprints.On(plane);
+        }
+        const std::optional<Vec2> scale = on_plane->At(at);
         if (!scale || !(scale->y() > 0.0) || !scale->allFinite()) continue;
         d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
         d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());

@@ -49,7 +49,11 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
 
     const LightMap& map = crop.map;
     std::optional<PixelFootprints> footprints;
-    if (request.footprint_diagnostics) footprints.emplace(pixel.inverse(), map);
+    std::optional<PixelFootprints::OnPlane> on_plane;
+    if (request.footprint_diagnostics) {
+        footprints.emplace(pixel.inverse(), map);
+        on_plane = footprints->On(solved.plane);
+    }
     const Vec3 origin = GlOrigin(request.input.viewer, solved.plane, polygon);
     const GlLightTransform gl = ToGl(map, origin);
     const Vec4& l = solved.light;
@@ -82,9 +86,9 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
         worst_reach = std::max(worst_reach, (s - l.head<3>()).norm());
         const double step = DepthStepAt(map, gl, l, s);
         if (step > 0.0) steps.Add(d, l, s, step);
-        if (footprints) {
+        if (on_plane) {
             const Vec2 at(v.x() / v.w(), v.y() / v.w());
-            if (auto scale = footprints->At(solved.plane, at)) {
+            if (auto scale = on_plane->At(at)) {
                 d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
                 d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());
             }
