@@ -48,15 +48,24 @@ RayCone AcceptedCone(const LightMap& map, const Eigen::Vector4d& rectangle,
     return cone;
 }
 
-std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayCone& cone) {
+RayConeTests::RayConeTests(const RayCone& cone) {
+    inside.reserve(cone.planes.size());
+    outside.reserve(cone.planes.size());
+    for (const Vec4& plane : cone.planes) {
+        inside.emplace_back(plane);
+        outside.emplace_back(Vec4(-plane));
+    }
+}
+
+std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayConeTests& cone) {
     std::vector<ConvexPolytope> pieces;
     ConvexPolytope inside = region;
     // Most pieces come out empty: clip a per-thread scratch copy, whose storage assignment
     // reuses, and copy only the pieces that remain.
     thread_local ConvexPolytope outside;
-    for (const Vec4& plane : cone.planes) {
+    for (std::size_t k = 0; k < cone.inside.size(); ++k) {
         if (inside.empty()) break;
-        switch (inside.Effect(-plane)) {
+        switch (inside.Effect(cone.outside[k])) {
             case ClipEffect::kKeepsNothing:
                 break;
             case ClipEffect::kKeepsAll:
@@ -64,13 +73,17 @@ std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayCone
                 break;
             case ClipEffect::kCuts:
                 outside = inside;
-                outside.Clip(-plane);
+                outside.Clip(cone.outside[k]);
                 if (!outside.empty()) pieces.push_back(outside);
                 break;
         }
-        inside.Clip(plane);
+        inside.Clip(cone.inside[k]);
     }
     return pieces;
+}
+
+std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayCone& cone) {
+    return Subtract(region, RayConeTests(cone));
 }
 
 std::vector<std::vector<Vec3>> Subtract(const std::vector<Vec3>& polygon, const RayCone& cone) {
@@ -90,10 +103,10 @@ std::vector<std::vector<Vec3>> Subtract(const std::vector<Vec3>& polygon, const 
 
 namespace {
 
-template <typename Piece>
-std::vector<Piece> SubtractEach(const Piece& whole, std::span<const RayCone> cones) {
+template <typename Piece, typename Cone>
+std::vector<Piece> SubtractEach(const Piece& whole, std::span<const Cone> cones) {
     std::vector<Piece> remaining = {whole};
-    for (const RayCone& cone : cones) {
+    for (const Cone& cone : cones) {
         if (remaining.empty()) break;
         std::vector<Piece> next;
         for (const Piece& piece : remaining) {
@@ -108,6 +121,11 @@ std::vector<Piece> SubtractEach(const Piece& whole, std::span<const RayCone> con
 
 std::vector<ConvexPolytope> SubtractAll(const ConvexPolytope& region,
                                         std::span<const RayCone> cones) {
+    return SubtractEach(region, cones);
+}
+
+std::vector<ConvexPolytope> SubtractAll(const ConvexPolytope& region,
+                                        std::span<const RayConeTests> cones) {
     return SubtractEach(region, cones);
 }
 

@@ -33,6 +33,9 @@ std::vector<UncoveredPiece> Uncovered(const Context& c, const std::vector<Planne
     std::vector<RayCone> cones;
     cones.reserve(maps.size());
     for (const PlannedMap& m : maps) cones.push_back(LookupCone(m.map, m.lookup));
+    std::vector<RayConeTests> cone_tests;
+    cone_tests.reserve(cones.size());
+    for (const RayCone& cone : cones) cone_tests.emplace_back(cone);
     std::vector<int> plane_held(c.request.planes.size(), -1);  // -1 unknown, 0 no, 1 yes
     std::vector<UncoveredPiece> out;
     for (const ViewRegion& v : c.view_regions) {
@@ -42,7 +45,7 @@ std::vector<UncoveredPiece> Uncovered(const Context& c, const std::vector<Planne
             if (held < 0) held = PlaneHeld(c, cones, v.on_plane) ? 1 : 0;
             if (held == 1) continue;
         }
-        for (ConvexPolytope& piece : SubtractAll(v.region, cones)) {
+        for (ConvexPolytope& piece : SubtractAll(v.region, std::span(cone_tests))) {
             out.push_back({std::move(piece), v.object});
         }
     }

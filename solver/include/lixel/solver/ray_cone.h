@@ -31,6 +31,16 @@ RayCone AcceptedCone(const LightMap& map, const Eigen::Vector4d& rectangle,
 // p_k < 0} for each bounding plane p_k); pieces without volume are dropped.
 std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayCone& cone);
 
+// A cone's planes and their negations as ConvexPolytope's Effect and Clip test them (PlaneTest),
+// made once for subtracting one cone from many regions (the fallback's coverage of every object
+// in view); Subtract with them is Subtract with the cone, bit for bit.
+struct RayConeTests {
+    explicit RayConeTests(const RayCone& cone);
+    std::vector<PlaneTest> inside;   // the cone's planes, in order
+    std::vector<PlaneTest> outside;  // their negations
+};
+std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayConeTests& cone);
+
 // The same for a convex polygon (finite vertices in order); pieces without area are dropped.
 std::vector<std::vector<Vec3>> Subtract(const std::vector<Vec3>& polygon, const RayCone& cone);
 
@@ -38,6 +48,8 @@ std::vector<std::vector<Vec3>> Subtract(const std::vector<Vec3>& polygon, const 
 // convex pieces; empty as soon as the cones together accept all of it.
 std::vector<ConvexPolytope> SubtractAll(const ConvexPolytope& region,
                                         std::span<const RayCone> cones);
+std::vector<ConvexPolytope> SubtractAll(const ConvexPolytope& region,
+                                        std::span<const RayConeTests> cones);
 std::vector<std::vector<Vec3>> SubtractAll(const std::vector<Vec3>& polygon,
                                            std::span<const RayCone> cones);
 
