@@ -3,10 +3,13 @@
 // pass kMaxRegionReceivers, so a plan over thousands of objects measures a bounded sample.
 #include <gtest/gtest.h>
 #include <lixel/solver/convex_polytope.h>
+#include <lixel/solver/homogeneous.h>
+#include <lixel/solver/light_frustum.h>
 #include <lixel/solver/map_diagnostics.h>
 #include <lixel/solver/scheduler.h>
 
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -134,6 +137,53 @@ TEST(RegionReceivers, ALargeScenesFallbackIsMeasuredOnABoundedSample) {
     EXPECT_GT(d.lixels_per_pixel_min, 0.0);
     EXPECT_LE(d.lixels_per_pixel_min, d.lixels_per_pixel_max);
     EXPECT_GT(d.depth_resolution, 0.0);
+}
+
+// DiagnoseMap with a flag a receiver gives, bit for bit, what it gives the flagged receivers
+// alone (the fallback's figures flag the receivers its lookup holds, where it copied them), the
+// first flagged one still its GL origin: seeded random views, frustum maps fitted around them,
+// receivers on the faces of boxes there, one in three to all flagged.
+TEST(DiagnoseMap, FlaggedReceiversGiveTheFiguresOfThoseReceiversAlone) {
+    std::mt19937_64 rng(2904);
+    int compared = 0;
+    for (int i = 0; i < 300; ++i) {
+        const testing::Configuration c = testing::RandomConfiguration(rng);
+        const double reach = (c.target - c.eye).norm();
+        std::vector<Vec4> corners;
+        std::vector<ConvexPolytope> boxes;
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 centre =
+                c.target + reach * Vec3(Uniform(rng, -0.5, 0.5), Uniform(rng, -0.5, 0.5),
+                                        Uniform(rng, -0.5, 0.5));
+            const Vec3 half = reach * Vec3(Uniform(rng, 0.05, 0.3), Uniform(rng, 0.05, 0.3),
+                                           Uniform(rng, 0.05, 0.3));
+            boxes.push_back(ConvexPolytope::FromBox(Aabb{centre - half, centre + half}));
+            for (const Vec3& v : boxes.back().vertices()) corners.push_back(Point(v));
+        }
+        const auto map = FitFrustum(c.light, corners, MapSize{0, 0, 256 * 256});
+        if (!map) continue;
+        const std::vector<Receiver> receivers = RegionReceivers(boxes);
+        const double share = Uniform(rng, 0.3, 1.0);
+        std::vector<std::uint8_t> held(receivers.size());
+        std::vector<Receiver> alone;
+        for (std::size_t k = 0; k < receivers.size(); ++k) {
+            held[k] = std::bernoulli_distribution(share)(rng) ? 1 : 0;
+            if (held[k] != 0) alone.push_back(receivers[k]);
+        }
+        const SolveDiagnostics flagged =
+            DiagnoseMap(*map, c.light, c.viewer, c.viewport, receivers, held);
+        const SolveDiagnostics subset = DiagnoseMap(*map, c.light, c.viewer, c.viewport, alone);
+        EXPECT_EQ(flagged.samples, subset.samples) << "view " << i;
+        for (const auto field :
+             {&SolveDiagnostics::lixels_per_pixel_min, &SolveDiagnostics::lixels_per_pixel_max,
+              &SolveDiagnostics::depth_resolution, &SolveDiagnostics::depth_step_nearest,
+              &SolveDiagnostics::depth_step_farthest}) {
+            EXPECT_EQ(std::memcmp(&(flagged.*field), &(subset.*field), sizeof(double)), 0)
+                << "view " << i << ": " << flagged.*field << " against " << subset.*field;
+        }
+        compared += subset.samples > 0 ? 1 : 0;
+    }
+    EXPECT_GT(compared, 150);
 }
 
 }  // namespace
