@@ -2,6 +2,7 @@
 #include "scheduler_screen.h"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 namespace lixel::scheduling {
@@ -36,6 +37,11 @@ ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes) {
 }
 
 std::array<int, 4> ScreenCells::SpanOf(const ScreenRect& r) {
+    // A side at infinity (NowhereOnScreen, most boxes of a large world) holds no cell: every
+    // cell's right edge is left of +inf and every left edge right of -inf, as the walks below
+    // would find in a few steps each.
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    if (r.x0 == kInf || r.y0 == kInf || r.x1 == -kInf || r.y1 == -kInf) return {0, -1, 0, -1};
     // The sample at or below an NDC coordinate, clamped to [0, kCells] (NaN: 0): where the
     // searches below start, so that they take a step or two, not one a cell.
     const auto near_sample = [](double ndc) {
