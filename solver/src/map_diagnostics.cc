@@ -143,11 +143,13 @@ std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions,
     }
     // A stride whose faces' samples fit: faces differ in size, so strides are tried up from the
     // average's, each an eighth larger (one pass over the faces' sizes each), ending at one face.
+    // `kept` is the samples of the stride chosen.
     std::size_t stride = 1;
+    std::size_t kept = total;
     if (total > max_receivers && max_receivers > 0) {
         stride = std::max<std::size_t>(1, total / max_receivers);
         for (;; stride += std::max<std::size_t>(1, stride / 8)) {
-            std::size_t kept = 0;
+            kept = 0;
             std::size_t index = 0;
             for (const ConvexPolytope& region : regions) {
                 for (std::size_t f = 0; f < region.face_count(); ++f) {
@@ -157,16 +159,9 @@ std::vector<Receiver> RegionReceivers(std::span<const ConvexPolytope> regions,
             if (kept <= max_receivers || stride >= faces) break;
         }
     }
-    std::size_t kept = 0;
-    std::size_t index = 0;
-    for (const ConvexPolytope& region : regions) {
-        for (std::size_t f = 0; f < region.face_count(); ++f) {
-            if (index++ % stride == 0) kept += SampleCount(region.face_polygon(f).size());
-        }
-    }
     std::vector<Receiver> out;
     out.reserve(kept);
-    index = 0;
+    std::size_t index = 0;
     for (const ConvexPolytope& region : regions) {
         for (std::size_t f = 0; f < region.face_count(); ++f) {
             if (index++ % stride != 0) continue;
