@@ -1,4 +1,5 @@
 // Exact pixel footprints of a light map on a plane (pixel_footprint.h).
+#include <lixel/solver/homogeneous.h>
 #include <lixel/solver/pixel_footprint.h>
 
 #include <algorithm>
@@ -13,19 +14,10 @@ namespace {
 constexpr double kEdgeOn = 1e-9;
 
 // The map's centre of projection (the light, homogeneous): the point rows 0, 1 and 3 of its
-// matrix all vanish on, as their generalised cross product (signed 3x3 minors).
+// matrix all vanish on (its sign does not matter here).
 Vec4 CentreOf(const LightMap& map) {
-    Eigen::Matrix<double, 3, 4> rows;
-    rows << map.matrix.row(0), map.matrix.row(1), map.matrix.row(3);
-    Vec4 centre;
-    for (int i = 0; i < 4; ++i) {
-        Eigen::Matrix3d minor;
-        for (int c = 0, k = 0; c < 4; ++c) {
-            if (c != i) minor.col(k++) = rows.col(c);
-        }
-        centre(i) = (i % 2 == 0 ? 1.0 : -1.0) * minor.determinant();
-    }
-    return centre;
+    return Cross4(map.matrix.row(0).transpose(), map.matrix.row(1).transpose(),
+                  map.matrix.row(3).transpose());
 }
 
 // Whether `plane` passes through homogeneous point `x` to kEdgeOn of its terms' sizes.
