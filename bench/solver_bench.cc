@@ -17,29 +17,32 @@
 
 #include <Eigen/LU>
 #include <memory>
-#include <numbers>
 #include <random>
 #include <vector>
 
+#include "planning_rooms.h"
 #include "ratio_reporter.h"
 
 namespace lixel {
 namespace {
 
+using bench::RoomWithObjects;
+using bench::RoomWithPlanes;
+using bench::WorldWithObjects;
+
 // The paper's floor/wall room, floor as the plane of interest, with everything a per-frame
 // solve would have at hand: the needed polygon and the depth points.
 struct FloorCase {
     PlaneOptimalInput input;
-    Aabb bounds{Vec3(-10, 0, -5), Vec3(10, 8, 10)};
+    Aabb bounds = bench::RoomBounds();
     std::vector<Vec4> needed;
     std::vector<Vec4> depth_points;
     ExtentHull hull;
 
     FloorCase() {
-        input.viewer = Perspective(60.0 * std::numbers::pi / 180.0, 1.0, 0.1, 100.0) *
-                       LookAt(Vec3(0, 3, 8), Vec3(0, 0.5, -2), Vec3::UnitY());
-        input.viewport = {1024, 1024};
-        input.light = Point(Vec3(4, 9, 3));
+        input.viewer = bench::RoomViewer();
+        input.viewport = bench::kRoomViewport;
+        input.light = bench::RoomLight();
         input.plane = Vec4(0, 1, 0, 0);
         for (const Vec3& p : VisiblePlanePolygon(input.viewer, input.plane, bounds)) {
             needed.push_back(Point(p));
@@ -190,38 +193,6 @@ BENCHMARK(BM_BaselineHull)
     ->Arg(static_cast<int>(BaselineMethod::kPsm))
     ->Arg(static_cast<int>(BaselineMethod::kLispsm));
 
-// The floor/wall room with `count` planes of interest: the floor, up to three walls, then
-// table tops (bounded polygons) in a row, as a scene with many receivers would declare them.
-PlanRequest RoomWithPlanes(int count) {
-    const FloorCase& c = Case();
-    PlanRequest r;
-    r.viewer = c.input.viewer;
-    r.viewport = c.input.viewport;
-    r.light = c.input.light;
-    r.scene_bounds = c.bounds;
-    r.objects = {{"floor", Aabb{Vec3(-10, -0.1, -5), Vec3(10, 0, 10)}},
-                 {"cube", Aabb{Vec3(-1, 0, -2), Vec3(0, 1, -1)}},
-                 {"ball", Aabb{Vec3(1, 0.5, -3), Vec3(2, 1.5, -2)}}};
-    const std::vector<Vec4> infinite = {Vec4(0, 1, 0, 0), Vec4(0, 0, 1, 5), Vec4(1, 0, 0, 10),
-                                        Vec4(-1, 0, 0, 10)};
-    for (int i = 0; i < count; ++i) {
-        if (i < static_cast<int>(infinite.size())) {
-            r.planes.push_back({"plane" + std::to_string(i), infinite[i], {}});
-            continue;
-        }
-        const int k = i - static_cast<int>(infinite.size());
-        const double x = -6.0 + 1.0 * (k % 12);
-        const double y = 0.6 + 0.05 * k;
-        r.planes.push_back({"table" + std::to_string(k), Vec4(0, 1, 0, -y),
-                            {Vec3(x, y, -1), Vec3(x + 0.8, y, -1), Vec3(x + 0.8, y, -2),
-                             Vec3(x, y, -2)}});
-        r.objects.push_back({"table" + std::to_string(k),
-                             Aabb{Vec3(x, y - 0.05, -2), Vec3(x + 0.8, y, -1)}});
-    }
-    r.lixel_budget = 1024 * 1024;
-    return r;
-}
-
 // Plans `r` over and over, counting its maps.
 void RunPlans(benchmark::State& state, const PlanRequest& r) {
     std::int64_t maps = 0;
@@ -248,50 +219,17 @@ void BM_PlanWholePlaneMaps(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanWholePlaneMaps)->Arg(1)->Arg(2)->Arg(4)->Arg(16)->Unit(benchmark::kMicrosecond);
 
-// Seeded boxes 5 cm to 1 m across standing on the floor, centres uniform over [x0, x1] x
-// [z0, z1], added until `r` holds `count` objects. The first boxes are the same for every count,
-// so the counts differ only in what is added.
-void AddStandingBoxes(PlanRequest& r, int count, double x0, double x1, double z0, double z1) {
-    std::mt19937_64 rng(29);
-    std::uniform_real_distribution<double> x(x0, x1), z(z0, z1), side(0.05, 1.0);
-    while (static_cast<int>(r.objects.size()) < count) {
-        const double cx = x(rng), cz = z(rng), w = side(rng), h = side(rng), d = side(rng);
-        r.objects.push_back(
-            {"box" + std::to_string(r.objects.size()),
-             Aabb{Vec3(cx - w / 2, 0, cz - d / 2), Vec3(cx + w / 2, h, cz + d / 2)}});
-    }
-}
-
-// The floor/wall room (RoomWithPlanes(2): floor and back wall) with `count` objects: its floor,
-// cube and ball, then seeded boxes standing on the floor over the whole room: almost all of them
-// lie in the extent hull and the casters' cones, so an index skips few of them.
-PlanRequest RoomWithObjects(int count) {
-    PlanRequest r = RoomWithPlanes(2);
-    AddStandingBoxes(r, count, -9.5, 9.5, -4.5, 9.5);
-    return r;
-}
-
 // Planning cost against the number of objects, each count against the 10-object plan of the
 // same view in the same run (issue 29: at 10 k objects at most 20 times).
 void BM_PlanObjects(benchmark::State& state) {
     RunPlans(state, RoomWithObjects(static_cast<int>(state.range(0))));
 }
 
-// An engine's world rather than a room: the same view of the floor/wall room, with the scene
-// bounds and the seeded boxes spread over 400 m x 400 m around it, so that most boxes lie out
-// of view (behind the eye, beside the frustum, beyond the far plane) and cast nowhere near the
-// planes' maps. Each count against the 10-object world in the same run: what an object costs
-// the plan when the scheduler can prove it does not matter.
-PlanRequest WorldWithObjects(int count) {
-    PlanRequest r = RoomWithPlanes(2);
-    r.scene_bounds = Aabb{Vec3(-200, 0, -200), Vec3(200, 8, 200)};
-    AddStandingBoxes(r, count, -199, 199, -199, 199);
-    return r;
-}
-
 // 10, 100, 1 k, 10 k and 100 k objects.
 BENCHMARK(BM_PlanObjects)->RangeMultiplier(10)->Range(10, 100'000)->Unit(benchmark::kMillisecond);
 
+// The same view over an engine's world (WorldWithObjects), each count against the 10-object
+// world in the same run.
 void BM_PlanWorld(benchmark::State& state) {
     RunPlans(state, WorldWithObjects(static_cast<int>(state.range(0))));
 }

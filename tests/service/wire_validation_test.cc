@@ -5,6 +5,9 @@
 #include <lixel/client/coherence.h>
 
 #include <limits>
+#include <random>
+#include <string>
+#include <vector>
 
 #include "service_fixture.h"
 
@@ -177,6 +180,74 @@ TEST_F(WireValidation, SolverErrorsAreNamedFromThePlanRoot) {
     const grpc::Status s = stub_->Plan(&context, plan, &response);
     ASSERT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << s.error_message();
     EXPECT_EQ(s.error_message().rfind("plan.camera", 0), 0u) << s.error_message();
+}
+
+// A Plan request's objects over the wire: every box decoded as sent, a missing name given its
+// index, and each bad box refused naming objects[i] and the part at fault, the same words the
+// field-by-field decoding gave (it now builds a field's name only for a box it refuses).
+TEST_F(WireValidation, ObjectBoundsAreDecodedAsSentOrRefusedByName) {
+    v1::PlanRequest plan;
+    *plan.mutable_camera() = testing::SmallSolve().views(0);
+    plan.add_planes()->mutable_plane()->set_y(1.0);
+    service::EncodeVec4(Vec4(4, 9, 3, 1), plan.mutable_light()->mutable_position());
+    std::mt19937_64 rng(2905);
+    std::uniform_real_distribution<double> coordinate(-9.0, 9.0), side(0.0, 2.0);
+    std::vector<Aabb> sent;
+    for (int i = 0; i < 200; ++i) {
+        const Vec3 min(coordinate(rng), coordinate(rng) / 9.0, coordinate(rng));
+        const Vec3 max = min + Vec3(side(rng), side(rng), i % 7 == 0 ? 0.0 : side(rng));
+        v1::ObjectBounds* o = plan.add_objects();
+        if (i % 3 != 0) o->set_name("box" + std::to_string(i));
+        o->set_closed(i % 2 == 0);
+        service::EncodeVec3(min, o->mutable_bounds()->mutable_min());
+        service::EncodeVec3(max, o->mutable_bounds()->mutable_max());
+        sent.push_back({min, max});
+    }
+    auto decoded = service::DecodePlanRequest(plan, nullptr, "plan");
+    ASSERT_TRUE(decoded.ok()) << decoded.error().Message();
+    ASSERT_EQ(decoded->objects.size(), sent.size());
+    for (std::size_t i = 0; i < sent.size(); ++i) {
+        const SceneObject& o = decoded->objects[i];
+        EXPECT_EQ(o.bounds.min, sent[i].min) << i;
+        EXPECT_EQ(o.bounds.max, sent[i].max) << i;
+        EXPECT_EQ(o.name, i % 3 != 0 ? "box" + std::to_string(i) : "object " + std::to_string(i));
+        EXPECT_EQ(o.closed, i % 2 == 0) << i;
+    }
+
+    const double inf = std::numeric_limits<double>::infinity();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const auto refused = [&](auto change, const std::string& message) {
+        v1::PlanRequest bad = plan;
+        change(*bad.mutable_objects(137));
+        const auto refusal = service::DecodePlanRequest(bad, nullptr, "plan");
+        ASSERT_FALSE(refusal.ok());
+        EXPECT_EQ(refusal.error().Message(), message);
+        grpc::ClientContext context;
+        WithDeadline(context, 30.0);
+        v1::PlanResponse response;
+        const grpc::Status status = stub_->Plan(&context, bad, &response);
+        EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+        EXPECT_EQ(status.error_message(), message);
+    };
+    refused([](v1::ObjectBounds& o) { o.clear_bounds(); }, "plan.objects[137].bounds: is required");
+    refused([&](v1::ObjectBounds& o) { o.mutable_bounds()->mutable_min()->set_y(nan); },
+            "plan.objects[137].bounds.min: is not finite");
+    refused([&](v1::ObjectBounds& o) { o.mutable_bounds()->mutable_max()->set_z(-inf); },
+            "plan.objects[137].bounds.max: is not finite");
+    refused([&](v1::ObjectBounds& o) { o.mutable_bounds()->mutable_min()->set_x(inf); },
+            "plan.objects[137].bounds.min: is not finite");
+    refused(
+        [](v1::ObjectBounds& o) {
+            o.mutable_bounds()->mutable_min()->set_x(o.bounds().max().x() + 1e-9);
+        },
+        "plan.objects[137].bounds: min exceeds max");
+    // The server still plans the good request.
+    grpc::ClientContext context;
+    WithDeadline(context, 30.0);
+    v1::PlanResponse response;
+    const grpc::Status status = stub_->Plan(&context, plan, &response);
+    EXPECT_TRUE(status.ok()) << status.error_message();
+    EXPECT_GT(response.maps_size(), 0);
 }
 
 // Frame coherence on the wire: each bad field of PlanRequest.coherence is refused by its name

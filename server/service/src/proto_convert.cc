@@ -315,16 +315,23 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
         if (instances != nullptr) instances->clear();
         out.objects = scene->Objects();
     } else {
+        out.objects.reserve(static_cast<std::size_t>(message.objects_size()));
         for (int i = 0; i < message.objects_size(); ++i) {
             const auto& o = message.objects(i);
-            const std::string path = Index(field + ".objects", i);
-            auto bounds = DecodeAabb(o.bounds(), o.has_bounds(), path + ".bounds");
-            if (!bounds) return bounds.error();
-            SceneObject object;
+            SceneObject& object = out.objects.emplace_back();
+            object.bounds =
+                Aabb{Vec3(o.bounds().min().x(), o.bounds().min().y(), o.bounds().min().z()),
+                     Vec3(o.bounds().max().x(), o.bounds().max().y(), o.bounds().max().z())};
+            // The field's name only for a box DecodeAabb refuses: building it for every object
+            // cost a tenth of a 10 000-object Plan call.
+            if (!o.has_bounds() || !object.bounds.min.allFinite() ||
+                !object.bounds.max.allFinite() ||
+                !(object.bounds.min.array() <= object.bounds.max.array()).all()) {
+                const std::string path = Index(field + ".objects", i) + ".bounds";
+                return DecodeAabb(o.bounds(), o.has_bounds(), path).error();
+            }
             object.name = o.name().empty() ? "object " + std::to_string(i) : o.name();
-            object.bounds = *bounds;
             object.closed = o.closed();
-            out.objects.push_back(object);
         }
         if (out.objects.empty()) {
             return Error{field + ".objects", "empty and no scene_id: nothing bounds the scene"};

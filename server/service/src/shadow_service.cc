@@ -313,6 +313,10 @@ ShadowService::ShadowService(ServiceOptions options, const std::string& metrics_
     : state_(std::move(options), metrics_address),
       on_gl_ready_(std::move(on_gl_ready)),
       idle_uploads_(std::make_unique<IdleStreams>(state_.options.upload_idle_seconds)) {
+    SetMessageAllocatorFor_Solve(&solve_messages_);
+    SetMessageAllocatorFor_Plan(&plan_messages_);
+    SetMessageAllocatorFor_View(&view_messages_);
+    SetMessageAllocatorFor_Silhouettes(&silhouettes_messages_);
     for (int i = 0; i < state_.options.workers; ++i) {
         auto worker = std::make_unique<GpuWorker>();
         worker->options = state_.options.gl;

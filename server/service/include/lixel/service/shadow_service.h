@@ -3,6 +3,7 @@
 #pragma once
 
 #include <grpcpp/grpcpp.h>
+#include <lixel/service/arena_messages.h>
 #include <lixel/service/gpu_worker.h>
 #include <lixel/service/jobs.h>
 #include <lixel/service/work_pool.h>
@@ -65,6 +66,12 @@ public:
     IdleStreams& idle_uploads() noexcept { return *idle_uploads_; }
 
 private:
+    // Every unary call's request and response in one arena (set on the handlers in the
+    // constructor; they outlive every call, since the server stops before the service goes).
+    ArenaMessages<v1::SolveRequest, v1::SolveResponse> solve_messages_;
+    ArenaMessages<v1::PlanRequest, v1::PlanResponse> plan_messages_;
+    ArenaMessages<v1::ViewRequest, v1::ViewResponse> view_messages_;
+    ArenaMessages<v1::SilhouettesRequest, v1::SilhouettesResponse> silhouettes_messages_;
     ServiceState state_;
     std::vector<std::unique_ptr<GpuWorker>> gpus_;
     std::atomic<bool> gl_reported_{false};
