@@ -227,7 +227,7 @@ void RunPlanRpc(benchmark::State& state, const PlanRequest& r) {
         const grpc::Status status = stub->Plan(&context, request, &response);
         if (!status.ok()) {
             state.SkipWithError(status.error_message().c_str());
-            return;
+            break;
         }
         maps = response.maps_size();
     }

@@ -16,8 +16,8 @@ constexpr std::uint32_t kLeafBoxes = 16;
 
 }  // namespace
 
-ObjectTree::ObjectTree(std::vector<PolytopeBounds> boxes)
-    : boxes_(std::move(boxes)), total_(boxes_.size()) {
+ObjectTree::ObjectTree(std::span<const PolytopeBounds> boxes)
+    : boxes_(boxes), total_(boxes.size()) {
     std::vector<Centred> items;
     items.reserve(boxes_.size());
     for (std::size_t i = 0; i < boxes_.size(); ++i) {
@@ -104,12 +104,17 @@ void ObjectTree::Bound(Node& node) {
     node.bounds.Merge(nodes_[node.right].bounds);
 }
 
-bool ObjectTree::Refit(const std::vector<PolytopeBounds>& boxes) {
+bool ObjectTree::Refit(std::span<const PolytopeBounds> boxes) {
     if (boxes.size() != total_) return false;
-    for (std::size_t i = 0; i < total_; ++i) {
-        if (boxes[i].empty() != boxes_[i].empty()) return false;
+    // The tree holds every non-empty box once (order_): the same boxes are empty when as many
+    // are non-empty and each box it holds still is.
+    std::size_t solid = 0;
+    for (const PolytopeBounds& b : boxes) solid += b.empty() ? 0 : 1;
+    if (solid != order_.size()) return false;
+    for (const std::uint32_t i : order_) {
+        if (boxes[i].empty()) return false;
     }
-    boxes_.assign(boxes.begin(), boxes.end());  // into the storage it has
+    boxes_ = boxes;
     // Children come after their parent (Build numbers nodes in pre-order), so a pass from the
     // back bounds every child before its parent, as Build does.
     for (std::size_t at = nodes_.size(); at-- > 0;) Bound(nodes_[at]);

@@ -17,7 +17,10 @@ namespace lixel::scheduling {
 class ObjectTree {
   public:
     ObjectTree() = default;
-    explicit ObjectTree(std::vector<PolytopeBounds> boxes);
+    // The tree reads `boxes` (the plan's ObjectBoxes::bounds()) in its queries, where it kept a
+    // copy of them (a plan's largest array at 10 k objects, faulted in afresh every plan): they
+    // must stay as given until the next Refit.
+    explicit ObjectTree(std::span<const PolytopeBounds> boxes);
 
     // possible[i] = 1 for every box that some clip by all of `planes` may leave non-empty, 0 for
     // those it provably empties (and for empty boxes); `possible` is resized to the boxes.
@@ -27,8 +30,9 @@ class ObjectTree {
     // bounds merged anew from its members, one pass, no split. MarkPossible answers for the new
     // boxes exactly as a tree built over them would; only the number of boxes a query visits
     // may grow as the groups spread. False, and the tree unchanged, where the boxes are not as
-    // many or not empty where they were: their hierarchy is not this one.
-    bool Refit(const std::vector<PolytopeBounds>& boxes);
+    // many or not empty where they were: their hierarchy is not this one. The boxes it read
+    // before need not exist any more.
+    bool Refit(std::span<const PolytopeBounds> boxes);
 
     // Levels from the root to the deepest leaf (0 without boxes).
     std::size_t depth() const noexcept { return depth_; }
@@ -57,7 +61,7 @@ class ObjectTree {
 
     std::vector<Node> nodes_;
     std::vector<std::uint32_t> order_;  // box indices, grouped by node
-    std::vector<PolytopeBounds> boxes_;
+    std::span<const PolytopeBounds> boxes_;
     std::size_t total_ = 0;
     std::size_t depth_ = 0;
 };

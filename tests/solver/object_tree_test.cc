@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -165,6 +166,33 @@ TEST(ObjectTree, RefitRefusesBoxesOfAnotherHierarchyAndKeepsItsOwn) {
     // The same boxes refit: the same groups, the same spread.
     EXPECT_TRUE(tree.Refit(boxes));
     EXPECT_EQ(tree.spread(), spread);
+}
+
+// A tree reads the boxes it was built or refit over in place (a plan's own array): a kept tree
+// is refit to the next plan's boxes after the last plan's are gone, so neither a refit nor a
+// refused one may read them. Under AddressSanitizer (scripts/sanitize.sh) a read of the freed
+// array is a reported error.
+TEST(ObjectTree, RefitNeedsOnlyTheBoxesItIsGiven) {
+    std::mt19937_64 rng(2981);
+    auto first = std::make_unique<std::vector<PolytopeBounds>>(ClusteredBoxes(rng, 5, 1.0));
+    ObjectTree tree(*first);
+    std::vector<PolytopeBounds> next = *first;
+    for (PolytopeBounds& b : next) {
+        if (b.empty()) continue;
+        const Vec3 step(Uniform(rng, -1, 1), Uniform(rng, -1, 1), Uniform(rng, -1, 1));
+        const PolytopeBounds moved = PolytopeBounds::OfBox(Aabb{b.lo + step, b.hi + step});
+        if (!moved.empty()) b = moved;
+    }
+    first.reset();
+    const std::vector<PolytopeBounds> fewer(next.begin(), next.end() - 1);
+    EXPECT_FALSE(tree.Refit(fewer));
+    ASSERT_TRUE(tree.Refit(next));
+    for (int set = 0; set < 10; ++set) {
+        const std::vector<PlaneTest> planes = SeededPlanes(rng, next, 1.0, set);
+        std::vector<char> possible;
+        tree.MarkPossible(planes, possible);
+        EXPECT_EQ(possible, EveryBoxAlone(next, planes)) << "set " << set;
+    }
 }
 
 // Centres over many scales (ten boxes at each power of two from 2^-1000 to 2^999), which a split
