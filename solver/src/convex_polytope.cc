@@ -20,17 +20,34 @@ constexpr double kRelativeTolerance = 1e-9;
 // from the origin): a few hundred ulps of the coordinates' magnitude.
 constexpr double kMagnitudeUlps = 256.0 * std::numeric_limits<double>::epsilon();
 
+// Coordinates at least this far apart have squares far above the least normal double, so the
+// rounded norm of their difference is at least the coordinate difference itself.
+constexpr double kNoUnderflow = 1e-150;
+
+// Whether |a - b| > tol, as the rounded norm decides it. A coordinate difference above tol (and
+// above kNoUnderflow) decides it without the square root: the rounded sum of squares is at least
+// the rounded square of that coordinate, and the correctly rounded square root of x^2 rounded is
+// |x|, so the rounded norm is at least |x| > tol. A NaN coordinate fails every comparison and
+// goes to the norm, which says false as it did.
+bool FartherThan(const Vec3& a, const Vec3& b, double tol) {
+    const Vec3 d = a - b;
+    const double limit = std::max(tol, kNoUnderflow);
+    const double x = std::abs(d.x()), y = std::abs(d.y()), z = std::abs(d.z());
+    if ((x > limit || y > limit || z > limit) && !std::isnan(x + y + z)) return true;
+    return d.norm() > tol;
+}
+
 // Drops consecutive vertices closer than `tol` (cyclically); a polygon left with fewer than
 // three vertices is cleared. In place: every kept vertex is compared with the last one kept,
 // which lies at or before the read position.
 void MergeCloseVertices(std::vector<Vec3>& polygon, double tol) {
     size_t kept = 0;
     for (size_t i = 0; i < polygon.size(); ++i) {
-        if (kept == 0 || (polygon[i] - polygon[kept - 1]).norm() > tol) {
+        if (kept == 0 || FartherThan(polygon[i], polygon[kept - 1], tol)) {
             polygon[kept++] = polygon[i];
         }
     }
-    while (kept > 1 && (polygon[0] - polygon[kept - 1]).norm() <= tol) --kept;
+    while (kept > 1 && !FartherThan(polygon[0], polygon[kept - 1], tol)) --kept;
     if (kept < 3) kept = 0;
     polygon.resize(kept);
 }
