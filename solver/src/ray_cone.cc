@@ -2,6 +2,7 @@
 #include <lixel/solver/polygon.h>
 #include <lixel/solver/ray_cone.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -132,6 +133,27 @@ std::vector<ConvexPolytope> SubtractAll(const ConvexPolytope& region,
 std::vector<std::vector<Vec3>> SubtractAll(const std::vector<Vec3>& polygon,
                                            std::span<const RayCone> cones) {
     return SubtractEach(polygon, cones);
+}
+
+namespace {
+
+// Clips past a polytope's own bounds within which PolytopeBounds::KeepsNothingOf still holds for
+// its parts (the count its margin is sized for).
+constexpr std::size_t kClipsKeepsNothingCovers = 40;
+
+}  // namespace
+
+bool SubtractAllLeavesNothing(const PolytopeBounds& b, std::span<const RayConeTests> cones) {
+    std::size_t clips = 0;  // the most planes the parts reaching the next cone are clipped by
+    for (const RayConeTests& cone : cones) {
+        if (clips > kClipsKeepsNothingCovers) return false;
+        if (std::all_of(cone.outside.begin(), cone.outside.end(),
+                        [&](const PlaneTest& t) { return b.KeepsNothingOf(t); })) {
+            return true;
+        }
+        clips += cone.inside.size();
+    }
+    return false;
 }
 
 }  // namespace lixel

@@ -8,10 +8,14 @@ namespace lixel::scheduling {
 
 namespace {
 
-// Objects that can cast into a map: their boxes meet the map's accepted cone, and for a plane
-// map they rise above the plane on its lit side.
-std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m) {
-    std::vector<const SceneObject*> casters;
+bool Closed(const SceneObject& o) { return o.mesh != nullptr ? o.mesh->closed : o.closed; }
+
+// Visits, in index order, the objects that can cast into a map: their boxes meet the map's
+// accepted cone, and for a plane map they rise above the plane on its lit side. Only the objects
+// `asked(o)` names are tested (the test clips the box by the cone); the visit stops when
+// `visit(o)` returns false.
+template <class Asked, class Visit>
+void VisitCasters(const Context& c, const PlannedMap& m, Asked asked, Visit visit) {
     const RayCone cone = AcceptedCone(m.map, m.lookup.half_planes);
     // Only the objects the cone may keep some of (ObjectTree), in index order.
     const std::vector<PlaneTest> cone_planes = PlaneTests(cone.planes);
@@ -21,6 +25,7 @@ std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m)
         c.poll();
         if (!maybe_in_cone[i]) continue;
         const SceneObject& o = c.request.objects[i];
+        if (!asked(o)) continue;
         const Aabb box = Thickened(o.bounds, c.thickness);
         if (m.role == MapRole::kPlane) {
             const Vec4& p = c.request.planes[m.plane_index].plane;
@@ -30,11 +35,8 @@ std::vector<const SceneObject*> CastersOf(const Context& c, const PlannedMap& m)
             if (!(highest > c.thickness)) continue;
         }
         thread_local ConvexPolytope scratch;
-        if (!ClipInto(scratch, c.object_boxes[i], cone_planes).empty()) {
-            casters.push_back(&o);
-        }
+        if (!ClipInto(scratch, c.object_boxes[i], cone_planes).empty() && !visit(o)) return;
     }
-    return casters;
 }
 
 }  // namespace
@@ -46,21 +48,32 @@ void PlanPasses(const Context& c, Plan& plan) {
     bool any_caster = false;
     std::vector<std::string> open_casters;
     bool second_depth_used = false;
+    // Nothing asked: no map's casters are needed (they decide only which passes run).
+    const bool any_asked = asked.second_depth || asked.silhouette_map || asked.volumes;
     for (PlannedMap& m : plan.maps) {
+        // Volumes alone need one caster anywhere.
+        if (!any_asked || (!asked.second_depth && !asked.silhouette_map && any_caster)) break;
         if (m.lookup.unshadowed) continue;  // no texels, so no passes
-        const auto casters = CastersOf(c, m);
-        if (casters.empty()) continue;
+        // One caster decides the map's passes; second depth also names every open caster
+        // (in object order, each once), so only those are tested once one is found.
+        bool has_caster = false;
+        VisitCasters(
+            c, m,
+            [&](const SceneObject& o) { return !has_caster || (asked.second_depth && !Closed(o)); },
+            [&](const SceneObject& o) {
+                has_caster = true;
+                if (asked.second_depth && !Closed(o) &&
+                    std::find(open_casters.begin(), open_casters.end(), o.name) ==
+                        open_casters.end()) {
+                    open_casters.push_back(o.name);
+                }
+                return asked.second_depth;
+            });
+        if (!has_caster) continue;
         any_caster = true;
         if (asked.second_depth) {
             m.passes.push_back(Pass::kSecondDepth);
             second_depth_used = true;
-            for (const SceneObject* o : casters) {
-                const bool closed = o->mesh != nullptr ? o->mesh->closed : o->closed;
-                if (!closed && std::find(open_casters.begin(), open_casters.end(), o->name) ==
-                                   open_casters.end()) {
-                    open_casters.push_back(o->name);
-                }
-            }
         }
         if (asked.silhouette_map) m.passes.push_back(Pass::kSilhouetteMap);
     }

@@ -53,4 +53,12 @@ std::vector<ConvexPolytope> SubtractAll(const ConvexPolytope& region,
 std::vector<std::vector<Vec3>> SubtractAll(const std::vector<Vec3>& polygon,
                                            std::span<const RayCone> cones);
 
+// True only when SubtractAll(region, cones) is empty for every region with bounds `b` (issue 29:
+// most objects of a crowded view lie inside some map's cone, and their subtraction, a copy and
+// a clip a plane, proves it). Some cone keeps nothing of `b` outside any of its planes
+// (PolytopeBounds::KeepsNothingOf every negated plane), and the cones before it clip the
+// region by at most the clips KeepsNothingOf's margin covers, so every part they leave lies in
+// it too and leaves no piece.
+bool SubtractAllLeavesNothing(const PolytopeBounds& b, std::span<const RayConeTests> cones);
+
 }  // namespace lixel

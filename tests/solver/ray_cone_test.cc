@@ -1,0 +1,105 @@
+// Tests for ray_cone.h's proof that a region needs no subtraction (SubtractAllLeavesNothing):
+// wherever it holds, SubtractAll leaves nothing, over seeded regions at every scale and cones
+// through a light whose planes pass the regions by little or touch their corners.
+#include <gtest/gtest.h>
+#include <lixel/solver/convex_polytope.h>
+#include <lixel/solver/homogeneous.h>
+#include <lixel/solver/ray_cone.h>
+
+#include <cmath>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "test_scenes.h"
+
+namespace lixel {
+namespace {
+
+using testing::RandomUnit;
+using testing::Uniform;
+
+// A plane through `light` with normal n, oriented so that `inside` is on its side.
+Vec4 PlaneThrough(const Vec3& light, const Vec3& n, const Vec3& inside) {
+    const Vec4 plane(n.x(), n.y(), n.z(), -n.dot(light));
+    return plane.dot(Point(inside)) >= 0.0 ? plane : Vec4(-plane);
+}
+
+TEST(RayCone, SubtractAllLeavesNothingWhereItSaysSo) {
+    std::mt19937_64 rng(2931);
+    int proved = 0, proved_past_a_cutting_cone = 0, refused = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+        const double scale = std::pow(10.0, -3.0 + 8.0 * (trial % 9) / 8.0);
+        const Vec3 centre =
+            4.0 * scale * Vec3(Uniform(rng, -1, 1), Uniform(rng, -1, 1), Uniform(rng, -1, 1));
+        const Vec3 half =
+            0.5 * scale * Vec3(Uniform(rng, 0.05, 1), Uniform(rng, 0.05, 1), Uniform(rng, 0.05, 1));
+        // A view region: the box, cut by up to three planes through points inside it.
+        ConvexPolytope region = ConvexPolytope::FromBox(Aabb{centre - half, centre + half});
+        for (int k = 0; k < trial % 4; ++k) {
+            const Vec3 n = RandomUnit(rng);
+            const Vec3 through =
+                centre + half.cwiseProduct(Vec3(Uniform(rng, -0.8, 0.8), Uniform(rng, -0.8, 0.8),
+                                                Uniform(rng, -0.8, 0.8)));
+            region.Clip(Vec4(n.x(), n.y(), n.z(), -n.dot(through)));
+        }
+        if (region.empty()) continue;
+        const PolytopeBounds bounds = region.Bounds();
+        const Vec3 middle = 0.5 * (bounds.lo + bounds.hi);
+        const std::vector<Vec3> corners = region.vertices();
+        // The light from 1.5 to 30 region sizes away: near, many planes cut the region.
+        const Vec3 light = middle + scale * Uniform(rng, 1.5, 30.0) * RandomUnit(rng);
+        std::vector<RayConeTests> cones;
+        const int cone_count = 1 + trial % 3;
+        for (int c = 0; c < cone_count; ++c) {
+            RayCone cone;
+            for (int p = 0; p < 4 + (trial + c) % 4; ++p) {
+                Vec3 n = RandomUnit(rng);
+                if ((trial + c) % 3 == 0 && p == 2) {
+                    // Through the light and a vertex of the region: it touches the region there.
+                    const Vec3 towards = corners[rng() % corners.size()] - light;
+                    n = towards.cross(RandomUnit(rng)).normalized();
+                }
+                cone.planes.push_back(PlaneThrough(light, n, middle));
+            }
+            cones.emplace_back(cone);
+        }
+        if (!SubtractAllLeavesNothing(bounds, cones)) {
+            ++refused;
+            continue;
+        }
+        ++proved;
+        EXPECT_TRUE(SubtractAll(region, std::span<const RayConeTests>(cones)).empty())
+            << "trial " << trial;
+        // Proved by a later cone where the first one cuts the region into pieces.
+        if (!Subtract(region, cones.front()).empty()) ++proved_past_a_cutting_cone;
+    }
+    EXPECT_GT(proved, 400);
+    EXPECT_GT(proved_past_a_cutting_cone, 50);
+    EXPECT_GT(refused, 400);
+}
+
+// Past the clips its margin covers, the proof is not offered: 41 and more planes of the cones
+// before can cut the parts that reach a cone.
+TEST(RayCone, SubtractAllLeavesNothingOnlyWithinTheClipsItsMarginCovers) {
+    const ConvexPolytope region = ConvexPolytope::FromBox(Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)});
+    const Vec3 light(0, 0, 50);
+    // A cone holding the region, and one that holds nothing of it.
+    RayCone holding, elsewhere;
+    for (const Vec3& n : {Vec3(1, 0, 0.1), Vec3(-1, 0, 0.1), Vec3(0, 1, 0.1), Vec3(0, -1, 0.1)}) {
+        holding.planes.push_back(PlaneThrough(light, n.normalized(), Vec3::Zero()));
+    }
+    for (int k = 0; k < 41; ++k) {
+        elsewhere.planes.push_back(PlaneThrough(light, Vec3(1, 0, 0), Vec3(10, 0, 0)));
+    }
+    std::vector<RayConeTests> cones = {RayConeTests(holding)};
+    EXPECT_TRUE(SubtractAllLeavesNothing(region.Bounds(), cones));
+    cones.insert(cones.begin(), RayConeTests(elsewhere));
+    EXPECT_FALSE(SubtractAllLeavesNothing(region.Bounds(), cones));
+    elsewhere.planes.pop_back();
+    cones.front() = RayConeTests(elsewhere);
+    EXPECT_TRUE(SubtractAllLeavesNothing(region.Bounds(), cones));
+}
+
+}  // namespace
+}  // namespace lixel
