@@ -16,6 +16,7 @@
 #include <lixel/solver/scheduler.h>
 
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <optional>
 #include <span>
@@ -41,7 +42,7 @@ struct Candidate {
 // The part of one object's box (thickened) in view and in front of every plane that hides its
 // back side: what some map must hold.
 struct ViewRegion {
-    ConvexPolytope region;
+    const ConvexPolytope* region = nullptr;  // an object's box, or in Context::cut_regions
     int object = -1;  // into PlanRequest::objects; -1 for the scene bounds when there are none
     // An infinite plane of interest the object lies on or behind (its box on the plane's back
     // side, the plane hiding that side, the box inside the scene bounds), else -1: then every
@@ -89,8 +90,12 @@ struct Context {
     ObjectBoxes object_boxes;
     // The tree over object_boxes' bounds: the request's ObjectIndex's, or the plan's own.
     IndexLease object_tree;
-    std::vector<ConvexPolytope> held_regions;      // the non-empty ones, in object order
-    std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i].vertices()
+    // The parts of boxes some plane cut (held or visible): most boxes of a crowded view lie
+    // wholly inside the extent hull and the view, and their regions are the boxes themselves.
+    std::deque<ConvexPolytope> cut_regions;
+    // The non-empty ones, in object order: object_boxes' polytopes or cut_regions'.
+    std::vector<const ConvexPolytope*> held_regions;
+    std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i]->vertices()
     std::vector<ViewRegion> view_regions;          // visible part of every object
     std::vector<LeftOut> plane_left_out;           // from the candidate stage
     CancelPoll poll;                               // request.cancelled

@@ -25,7 +25,7 @@ std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
     thread_local ConvexPolytope scratch;
     for (size_t i = 0; i < c.held_regions.size(); ++i) {
         c.poll();
-        const ConvexPolytope& held = c.held_regions[i];
+        const ConvexPolytope& held = *c.held_regions[i];
         if (held.empty()) continue;
         const ConvexPolytope& region = ClipInto(scratch, held, cone_planes);
         const std::vector<Vec3> cut = &region == &held ? std::vector<Vec3>{} : region.vertices();

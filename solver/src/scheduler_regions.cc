@@ -242,9 +242,19 @@ void FindViewRegions(Context& c) {
     }
     const std::vector<PlaneTest> frustum = PlaneTests(c.frustum);
     if (r.objects.empty()) {
-        c.held_regions.push_back(c.hull.hull);
-        c.view_regions.push_back({ClippedByAll(ConvexPolytope::FromBox(c.bounds), frustum), -1, -1});
+        c.held_regions.push_back(&c.cut_regions.emplace_back(c.hull.hull));
+        ConvexPolytope seen = ClippedByAll(ConvexPolytope::FromBox(c.bounds), frustum);
+        for (const Vec4& front : hiding) seen.Clip(front);
+        if (!seen.empty()) c.view_regions.push_back({&c.cut_regions.emplace_back(seen), -1, -1});
     }
+    // What the viewer sees of a box: its part in view, then in front of every hiding plane.
+    std::vector<PlaneTest> seen_planes = frustum;
+    for (const Vec4& front : hiding) seen_planes.emplace_back(front);
+    // A region no plane cuts is the box itself; one some plane cuts is kept in cut_regions.
+    ConvexPolytope scratch;
+    const auto keep = [&](const ConvexPolytope& part) {
+        return &part == &scratch ? &c.cut_regions.emplace_back(scratch) : &part;
+    };
     // The objects some hull face or view plane provably leaves nothing of (ObjectTree) get the
     // empty part the clips would give them, without the clips.
     std::vector<PlaneTest> inside_hull;
@@ -258,12 +268,13 @@ void FindViewRegions(Context& c) {
         c.poll();
         // Only the parts that exist: the depth points read nothing of an empty one.
         if (maybe_held[i]) {
-            ConvexPolytope held = ClippedByAll(c.object_boxes[i], inside_hull);
-            if (!held.empty()) c.held_regions.push_back(std::move(held));
+            const ConvexPolytope& held = ClipInto(scratch, c.object_boxes[i], inside_hull);
+            if (!held.empty()) c.held_regions.push_back(keep(held));
         }
         if (!maybe_seen[i]) continue;
-        ViewRegion v{ClippedByAll(c.object_boxes[i], frustum), static_cast<int>(i), -1};
-        if (v.region.empty()) continue;
+        const ConvexPolytope& seen = ClipInto(scratch, c.object_boxes[i], seen_planes);
+        if (seen.empty()) continue;
+        ViewRegion v{keep(seen), static_cast<int>(i), -1};
         // A slab standing for the plane itself (a floor mesh at y = 0): its box, unthickened,
         // lies on the plane or behind it, so what the viewer sees of it is on the plane. The test
         // is exact, with no tolerance: a point above the plane by any amount has its light ray
@@ -280,20 +291,27 @@ void FindViewRegions(Context& c) {
         }
         c.view_regions.push_back(std::move(v));
     }
-    for (const Vec4& front : hiding) {
-        for (ViewRegion& v : c.view_regions) {
-            if (!v.region.empty()) v.region.Clip(front);
-        }
-    }
-    std::erase_if(c.view_regions, [](const ViewRegion& v) { return v.region.empty(); });
-    for (const ConvexPolytope& held : c.held_regions) c.held_vertices.push_back(held.vertices());
+    for (const ConvexPolytope* held : c.held_regions) c.held_vertices.push_back(held->vertices());
 }
 
 }  // namespace
 
 Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& hull) {
-    Context c{r, bounds, hull, hull.light, FrustumPlanes(r.viewer), 1e-6 * bounds.Diagonal(),
-              {}, {}, {}, {}, {}, {}, {}, CancelPoll(&r.cancelled)};
+    Context c{r,
+              bounds,
+              hull,
+              hull.light,
+              FrustumPlanes(r.viewer),
+              1e-6 * bounds.Diagonal(),
+              {},
+              {},
+              {},
+              {},
+              {},
+              {},
+              {},
+              {},
+              CancelPoll(&r.cancelled)};
     FindCandidates(c);
     std::vector<Aabb> boxes;
     boxes.reserve(r.objects.size());
