@@ -127,8 +127,8 @@ double ObjectTree::spread() const noexcept {
     return sum;
 }
 
-void ObjectTree::MarkPossible(std::span<const PlaneTest> planes,
-                              std::vector<char>& possible) const {
+void ObjectTree::MarkPossible(std::span<const PlaneTest> planes, std::vector<char>& possible,
+                              bool mark_inside) const {
     possible.assign(total_, 0);
     if (nodes_.empty()) return;
     // Each node with the planes still to test below it: a plane a group lies inside of
@@ -146,6 +146,15 @@ void ObjectTree::MarkPossible(std::span<const PlaneTest> planes,
         }
         return false;
     };
+    // Every plane not yet proved for the group holds the box inside it.
+    const auto inside = [&](const PolytopeBounds& bounds, std::uint64_t active) {
+        if (bounds.empty()) return false;
+        for (std::size_t p = 0; p < planes.size(); ++p) {
+            if (p < masked && !(active >> p & 1)) continue;
+            if (!bounds.InsideOf(planes[p])) return false;
+        }
+        return true;
+    };
     while (!stack.empty()) {
         const auto [at, mask] = stack.back();
         stack.pop_back();
@@ -158,7 +167,10 @@ void ObjectTree::MarkPossible(std::span<const PlaneTest> planes,
         }
         if (node.left < 0) {
             for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-                possible[order_[k]] = !rejects(boxes_[order_[k]], active);
+                const PolytopeBounds& box = boxes_[order_[k]];
+                possible[order_[k]] = rejects(box, active)                 ? 0
+                                      : mark_inside && inside(box, active) ? kInside
+                                                                           : 1;
             }
             continue;
         }

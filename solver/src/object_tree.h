@@ -24,7 +24,12 @@ class ObjectTree {
 
     // possible[i] = 1 for every box that some clip by all of `planes` may leave non-empty, 0 for
     // those it provably empties (and for empty boxes); `possible` is resized to the boxes.
-    void MarkPossible(std::span<const PlaneTest> planes, std::vector<char>& possible) const;
+    // With `mark_inside`, 2 for a non-empty box inside every plane (PolytopeBounds::InsideOf):
+    // the box's own polytope then keeps all of itself for each of them (ConvexPolytope::Effect),
+    // so a clip of it by all of `planes` is the box itself.
+    static constexpr char kInside = 2;
+    void MarkPossible(std::span<const PlaneTest> planes, std::vector<char>& possible,
+                      bool mark_inside = false) const;
 
     // The same hierarchy over `boxes` (a scene's objects moved since the build): each node's
     // bounds merged anew from its members, one pass, no split. MarkPossible answers for the new

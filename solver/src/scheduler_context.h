@@ -95,6 +95,7 @@ struct Context {
     std::deque<ConvexPolytope> cut_regions;
     // The non-empty ones, in object order: object_boxes' polytopes or cut_regions'.
     std::vector<const ConvexPolytope*> held_regions;
+    std::vector<int> held_objects;  // each held region's object; -1 for the extent hull
     std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i]->vertices()
     std::vector<ViewRegion> view_regions;          // visible part of every object
     std::vector<LeftOut> plane_left_out;           // from the candidate stage

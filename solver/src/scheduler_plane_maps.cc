@@ -23,11 +23,20 @@ std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
     const std::vector<PlaneTest> cone_planes = PlaneTests(cone.planes);
     std::vector<Vec4> points;
     thread_local ConvexPolytope scratch;
+    // The object tree finds the boxes the cone keeps nothing of and those it holds whole: a held
+    // region that is its box (no face of the hull cut it) then needs no clip.
+    thread_local std::vector<char> marks;
+    c.object_tree.tree().MarkPossible(cone_planes, marks, true);
     for (size_t i = 0; i < c.held_regions.size(); ++i) {
         c.poll();
         const ConvexPolytope& held = *c.held_regions[i];
         if (held.empty()) continue;
-        const ConvexPolytope& region = ClipInto(scratch, held, cone_planes);
+        const int object = c.held_objects[i];
+        const bool whole_box = object >= 0 && &held == &c.object_boxes[object];
+        if (whole_box && marks[object] == 0) continue;  // the clip leaves nothing
+        const ConvexPolytope& region = whole_box && marks[object] == ObjectTree::kInside
+                                           ? held
+                                           : ClipInto(scratch, held, cone_planes);
         const std::vector<Vec3> cut = &region == &held ? std::vector<Vec3>{} : region.vertices();
         for (const Vec3& v : &region == &held ? c.held_vertices[i] : cut) {
             points.push_back(Point(v));

@@ -243,6 +243,7 @@ void FindViewRegions(Context& c) {
     const std::vector<PlaneTest> frustum = PlaneTests(c.frustum);
     if (r.objects.empty()) {
         c.held_regions.push_back(&c.cut_regions.emplace_back(c.hull.hull));
+        c.held_objects.push_back(-1);
         ConvexPolytope seen = ClippedByAll(ConvexPolytope::FromBox(c.bounds), frustum);
         for (const Vec4& front : hiding) seen.Clip(front);
         if (!seen.empty()) c.view_regions.push_back({&c.cut_regions.emplace_back(seen), -1, -1});
@@ -256,23 +257,32 @@ void FindViewRegions(Context& c) {
         return &part == &scratch ? &c.cut_regions.emplace_back(scratch) : &part;
     };
     // The objects some hull face or view plane provably leaves nothing of (ObjectTree) get the
-    // empty part the clips would give them, without the clips.
+    // empty part the clips would give them, and those every plane holds whole (kInside) the box
+    // itself, without the clips.
     std::vector<PlaneTest> inside_hull;
     for (std::size_t f = 0; f < c.hull.hull.face_count(); ++f) {
         inside_hull.emplace_back(-c.hull.hull.face_plane(f));
     }
     std::vector<char> maybe_held, maybe_seen;
-    c.object_tree.tree().MarkPossible(inside_hull, maybe_held);
-    c.object_tree.tree().MarkPossible(frustum, maybe_seen);
+    c.object_tree.tree().MarkPossible(inside_hull, maybe_held, true);
+    c.object_tree.tree().MarkPossible(seen_planes, maybe_seen, true);
+    const auto clipped = [&](std::size_t i, char mark,
+                             std::span<const PlaneTest> planes) -> const ConvexPolytope& {
+        return mark == ObjectTree::kInside ? c.object_boxes[i]
+                                           : ClipInto(scratch, c.object_boxes[i], planes);
+    };
     for (size_t i = 0; i < c.object_boxes.size(); ++i) {
         c.poll();
         // Only the parts that exist: the depth points read nothing of an empty one.
         if (maybe_held[i]) {
-            const ConvexPolytope& held = ClipInto(scratch, c.object_boxes[i], inside_hull);
-            if (!held.empty()) c.held_regions.push_back(keep(held));
+            const ConvexPolytope& held = clipped(i, maybe_held[i], inside_hull);
+            if (!held.empty()) {
+                c.held_regions.push_back(keep(held));
+                c.held_objects.push_back(static_cast<int>(i));
+            }
         }
         if (!maybe_seen[i]) continue;
-        const ConvexPolytope& seen = ClipInto(scratch, c.object_boxes[i], seen_planes);
+        const ConvexPolytope& seen = clipped(i, maybe_seen[i], seen_planes);
         if (seen.empty()) continue;
         ViewRegion v{keep(seen), static_cast<int>(i), -1};
         // A slab standing for the plane itself (a floor mesh at y = 0): its box, unthickened,
@@ -303,6 +313,7 @@ Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& 
               hull.light,
               FrustumPlanes(r.viewer),
               1e-6 * bounds.Diagonal(),
+              {},
               {},
               {},
               {},

@@ -99,6 +99,53 @@ TEST(ObjectTree, MarksExactlyTheBoxesNoPlaneRejectsOverSeededScenes) {
     EXPECT_GT(kept, 20000);
 }
 
+// With mark_inside, the boxes every plane holds inside it (PolytopeBounds::InsideOf) are marked
+// kInside, as testing every box alone finds, and each such box's polytope keeps all of itself
+// for every plane (ConvexPolytope::Effect), also for planes through one of its corners.
+TEST(ObjectTree, MarksInsideExactlyTheBoxesEveryPlaneHoldsAndTheirClipsKeepThemWhole) {
+    std::mt19937_64 rng(2981);
+    int inside = 0, touching = 0;
+    for (int scene = 0; scene < 60; ++scene) {
+        const double scale = SceneScale(scene);
+        const std::vector<PolytopeBounds> boxes = ClusteredBoxes(rng, scene, scale);
+        const ObjectTree tree(boxes);
+        for (int set = 0; set < 20; ++set) {
+            std::vector<PlaneTest> planes = SeededPlanes(rng, boxes, scale, set);
+            // A plane through a corner of a box, facing into it: the box lies on the plane.
+            const PolytopeBounds& b = boxes[rng() % boxes.size()];
+            if (!b.empty() && set % 2 == 0) {
+                const Vec3 n = testing::RandomUnit(rng);
+                const Vec3 corner(n.x() > 0 ? b.lo.x() : b.hi.x(), n.y() > 0 ? b.lo.y() : b.hi.y(),
+                                  n.z() > 0 ? b.lo.z() : b.hi.z());
+                planes.insert(planes.begin(), PlaneTest(Vec4(n.x(), n.y(), n.z(), -n.dot(corner))));
+            }
+            std::vector<char> marks;
+            tree.MarkPossible(planes, marks, true);
+            const std::vector<char> possible = EveryBoxAlone(boxes, planes);
+            ASSERT_EQ(marks.size(), boxes.size());
+            for (std::size_t i = 0; i < boxes.size(); ++i) {
+                const bool held = !boxes[i].empty() && std::all_of(planes.begin(), planes.end(),
+                                                                   [&](const PlaneTest& p) {
+                                                                       return boxes[i].InsideOf(p);
+                                                                   });
+                const char expected = !possible[i] ? 0 : held ? ObjectTree::kInside : 1;
+                ASSERT_EQ(marks[i], expected)
+                    << "scene " << scene << " set " << set << " box " << i;
+                if (marks[i] != ObjectTree::kInside) continue;
+                ++inside;
+                const ConvexPolytope box = ConvexPolytope::FromBox(Aabb{boxes[i].lo, boxes[i].hi});
+                for (const PlaneTest& p : planes) {
+                    ASSERT_EQ(box.Effect(p), ClipEffect::kKeepsAll)
+                        << "scene " << scene << " set " << set << " box " << i;
+                }
+                touching += &boxes[i] == &b && set % 2 == 0;
+            }
+        }
+    }
+    EXPECT_GT(inside, 20000);
+    EXPECT_GT(touching, 5);
+}
+
 // A tree refit to moved boxes (frames of a scene whose objects move: a few far, most a little,
 // some grown or shrunk) marks exactly what testing every moved box alone marks, frame after
 // frame, while its groups are those of the first frame's boxes.
