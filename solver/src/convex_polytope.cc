@@ -90,6 +90,7 @@ ConvexPolytope ConvexPolytope::FromBox(const Aabb& box) {
             out.points_.insert(out.points_.end(), std::begin(quad), std::end(quad));
         }
     }
+    out.whole_box_ = true;
     return out;
 }
 
@@ -132,6 +133,24 @@ double ConvexPolytope::Tolerance() const {
 std::vector<Vec3> ConvexPolytope::vertices() const {
     const double tol = Tolerance();
     std::vector<Vec3> out;
+    if (whole_box_) {
+        // FromBox's corners first appear on its two x faces (the low one reversed); the other
+        // faces repeat them bit for bit. Two distinct corners differ by a whole side on some axis,
+        // computed here as the loop below computes it: with every side above tol (and far above
+        // underflow) the rounded norm of their difference exceeds tol too (FartherThan), so the
+        // loop keeps each corner once, in this order.
+        const Extent& e = extent();
+        const Vec3 sides = e.hi - e.lo;
+        if (sides.minCoeff() > std::max(tol, kNoUnderflow)) {
+            const Vec3& lo = e.lo;
+            const Vec3& hi = e.hi;
+            out = {Vec3(lo.x(), lo.y(), hi.z()), Vec3(lo.x(), hi.y(), hi.z()),
+                   Vec3(lo.x(), hi.y(), lo.z()), Vec3(lo.x(), lo.y(), lo.z()),
+                   Vec3(hi.x(), lo.y(), lo.z()), Vec3(hi.x(), hi.y(), lo.z()),
+                   Vec3(hi.x(), hi.y(), hi.z()), Vec3(hi.x(), lo.y(), hi.z())};
+            return out;
+        }
+    }
     for (const Vec3& p : points_) {
         // |p - q| <= tol needs every coordinate within tol: most pairs fail that first, without
         // the square root (the norm then decides exactly as it did).
@@ -282,6 +301,7 @@ void ConvexPolytope::Clip(const Vec4& plane) { Clip(PlaneTest(plane)); }
 void ConvexPolytope::Clip(const PlaneTest& t) {
     const ClipEffect effect = Effect(t);
     if (effect == ClipEffect::kKeepsAll) return;
+    whole_box_ = false;
     if (effect == ClipEffect::kKeepsNothing) {
         faces_.clear();
         points_.clear();

@@ -58,28 +58,54 @@ RayConeTests::RayConeTests(const RayCone& cone) {
     }
 }
 
-std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayConeTests& cone) {
-    std::vector<ConvexPolytope> pieces;
-    ConvexPolytope inside = region;
-    // Most pieces come out empty: clip a per-thread scratch copy, whose storage assignment
-    // reuses, and copy only the pieces that remain.
+namespace {
+
+// Subtract, appended to `pieces`; false (and nothing appended) where the result is `region`
+// itself, whole: wholly outside one of the cone's planes before any other plane cut it.
+bool SubtractInto(const ConvexPolytope& region, const RayConeTests& cone,
+                  std::vector<ConvexPolytope>& pieces) {
+    const std::size_t first_piece = pieces.size();
+    // `inside` stays the region itself until a plane cuts it (most regions lie wholly inside or
+    // wholly outside a cone's planes), then a copy. Most pieces come out empty: clip a per-thread
+    // scratch copy, whose storage assignment reuses, and copy only the pieces that remain.
+    const ConvexPolytope* inside = &region;
+    ConvexPolytope cut;
     thread_local ConvexPolytope outside;
     for (std::size_t k = 0; k < cone.inside.size(); ++k) {
-        if (inside.empty()) break;
-        switch (inside.Effect(cone.outside[k])) {
+        if (inside->empty()) break;
+        const ClipEffect beyond = inside->Effect(cone.outside[k]);
+        const ClipEffect within = inside->Effect(cone.inside[k]);
+        if (inside == &region && pieces.size() == first_piece && beyond == ClipEffect::kKeepsAll &&
+            within == ClipEffect::kKeepsNothing) {
+            return false;  // the region is the only piece, and nothing is left inside
+        }
+        switch (beyond) {
             case ClipEffect::kKeepsNothing:
                 break;
             case ClipEffect::kKeepsAll:
-                pieces.push_back(inside);
+                pieces.push_back(*inside);
                 break;
             case ClipEffect::kCuts:
-                outside = inside;
+                outside = *inside;
                 outside.Clip(cone.outside[k]);
                 if (!outside.empty()) pieces.push_back(outside);
                 break;
         }
-        inside.Clip(cone.inside[k]);
+        if (within == ClipEffect::kKeepsAll) continue;
+        if (inside == &region) {
+            cut = region;
+            inside = &cut;
+        }
+        cut.Clip(cone.inside[k]);
     }
+    return true;
+}
+
+}  // namespace
+
+std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayConeTests& cone) {
+    std::vector<ConvexPolytope> pieces;
+    if (!SubtractInto(region, cone, pieces)) pieces.push_back(region);
     return pieces;
 }
 
@@ -115,6 +141,34 @@ std::vector<Piece> SubtractEach(const Piece& whole, std::span<const Cone> cones)
         }
         remaining = std::move(next);
     }
+    return remaining;
+}
+
+// The same for polytopes, where a piece a cone leaves whole moves on without a copy.
+std::vector<ConvexPolytope> SubtractEach(const ConvexPolytope& whole,
+                                         std::span<const RayConeTests> cones) {
+    std::vector<ConvexPolytope> remaining;
+    bool first = true;  // `whole` itself, not yet copied into `remaining`
+    std::vector<ConvexPolytope> next, pieces;
+    for (const RayConeTests& cone : cones) {
+        if (first) {
+            if (!SubtractInto(whole, cone, remaining)) remaining.push_back(whole);
+            first = false;
+            continue;
+        }
+        if (remaining.empty()) break;
+        next.clear();
+        for (ConvexPolytope& piece : remaining) {
+            pieces.clear();
+            if (!SubtractInto(piece, cone, pieces)) {
+                next.push_back(std::move(piece));
+                continue;
+            }
+            for (ConvexPolytope& rest : pieces) next.push_back(std::move(rest));
+        }
+        std::swap(remaining, next);
+    }
+    if (first) remaining.push_back(whole);
     return remaining;
 }
 

@@ -340,5 +340,57 @@ TEST(PolytopeBounds, FollowsEffectAtInfinityAndHoldsBackNearTheBox) {
     EXPECT_TRUE(ConvexPolytope().Bounds().empty());
 }
 
+// A box's vertices are taken from its corners without comparing its 24 face points pairwise:
+// they must be what that comparison gives (each point kept unless within Tolerance() of one kept
+// before, in face order), bit for bit and in order, over boxes at every scale and distance from
+// the origin, with sides far above, near and below the tolerance; and a box some plane cut is a
+// box no more.
+TEST(ConvexPolytope, VerticesOfABoxAreItsDistinctFacePointsInOrder) {
+    std::mt19937_64 rng(2933);
+    int merged = 0, whole = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const double scale = std::pow(10.0, -6.0 + 12.0 * (trial % 13) / 12.0);
+        const double offset = std::pow(10.0, -3.0 + 12.0 * (trial % 7) / 6.0);
+        const Vec3 centre =
+            offset * Vec3(Uniform(rng, -1, 1), Uniform(rng, -1, 1), Uniform(rng, -1, 1));
+        Vec3 half =
+            scale * Vec3(Uniform(rng, 0.01, 1), Uniform(rng, 0.01, 1), Uniform(rng, 0.01, 1));
+        // One side near the tolerance the box will have: about 1e-9 of its size, or 256 ulps of
+        // its coordinates.
+        if (trial % 3 == 0) {
+            const double tol =
+                1e-9 * 2.0 * half.norm() + 256.0 * std::numeric_limits<double>::epsilon() *
+                                               (centre.cwiseAbs().maxCoeff() + half.maxCoeff());
+            half(trial % 3) = 0.5 * tol * Uniform(rng, 0.5, 2.0);
+        }
+        ConvexPolytope box = ConvexPolytope::FromBox(Aabb{centre - half, centre + half});
+        if (box.empty()) continue;
+        if (trial % 5 == 0) {
+            // Cut through the middle: the general path on what is left.
+            const Vec3 n = RandomUnit(rng);
+            box.Clip(Vec4(n.x(), n.y(), n.z(), -n.dot(centre)));
+            if (box.empty()) continue;
+        }
+        const double tol = box.Tolerance();
+        std::vector<Vec3> expected;
+        for (const PolytopeFace& f : box.faces()) {
+            for (const Vec3& p : f.polygon) {
+                const bool seen = std::any_of(expected.begin(), expected.end(),
+                                              [&](const Vec3& q) { return (p - q).norm() <= tol; });
+                if (!seen) expected.push_back(p);
+            }
+        }
+        const std::vector<Vec3> got = box.vertices();
+        ASSERT_EQ(got.size(), expected.size()) << "trial " << trial;
+        for (std::size_t i = 0; i < got.size(); ++i) {
+            for (int k = 0; k < 3; ++k) ASSERT_EQ(got[i](k), expected[i](k)) << "trial " << trial;
+        }
+        merged += trial % 5 != 0 && got.size() < 8;
+        whole += trial % 5 != 0 && got.size() == 8;
+    }
+    EXPECT_GT(merged, 100);
+    EXPECT_GT(whole, 10000);
+}
+
 }  // namespace
 }  // namespace lixel

@@ -101,5 +101,94 @@ TEST(RayCone, SubtractAllLeavesNothingOnlyWithinTheClipsItsMarginCovers) {
     EXPECT_TRUE(SubtractAllLeavesNothing(region.Bounds(), cones));
 }
 
+// Subtract as written plainly: a copy of the region clipped plane after plane, each piece a copy
+// clipped by one negated plane. Subtract and SubtractAll take pieces left whole on without
+// copies; their pieces must be these, bit for bit and in order.
+std::vector<ConvexPolytope> PlainSubtract(const ConvexPolytope& region, const RayCone& cone) {
+    std::vector<ConvexPolytope> pieces;
+    ConvexPolytope inside = region;
+    for (const Vec4& plane : cone.planes) {
+        if (inside.empty()) break;
+        ConvexPolytope outside = inside;
+        outside.Clip(Vec4(-plane));
+        if (!outside.empty()) pieces.push_back(outside);
+        inside.Clip(plane);
+    }
+    return pieces;
+}
+
+void ExpectSamePieces(const std::vector<ConvexPolytope>& got,
+                      const std::vector<ConvexPolytope>& expected, int trial) {
+    ASSERT_EQ(got.size(), expected.size()) << "trial " << trial;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        const std::vector<PolytopeFace> a = got[i].faces(), b = expected[i].faces();
+        ASSERT_EQ(a.size(), b.size()) << "trial " << trial << " piece " << i;
+        for (std::size_t f = 0; f < a.size(); ++f) {
+            ASSERT_EQ(a[f].polygon.size(), b[f].polygon.size());
+            for (std::size_t k = 0; k < a[f].polygon.size(); ++k) {
+                for (int c = 0; c < 3; ++c) {
+                    ASSERT_EQ(a[f].polygon[k](c), b[f].polygon[k](c)) << "trial " << trial;
+                }
+            }
+            for (int c = 0; c < 4; ++c) ASSERT_EQ(a[f].outward_plane(c), b[f].outward_plane(c));
+        }
+    }
+}
+
+TEST(RayCone, SubtractGivesThePiecesOfThePlainSubtractionBitForBit) {
+    std::mt19937_64 rng(2937);
+    int whole = 0, cut = 0, gone = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const double scale = std::pow(10.0, -3.0 + 6.0 * (trial % 7) / 6.0);
+        const Vec3 centre =
+            scale * Vec3(Uniform(rng, -3, 3), Uniform(rng, -3, 3), Uniform(rng, -3, 3));
+        const Vec3 half =
+            scale * Vec3(Uniform(rng, 0.05, 1), Uniform(rng, 0.05, 1), Uniform(rng, 0.05, 1));
+        const ConvexPolytope region = ConvexPolytope::FromBox(Aabb{centre - half, centre + half});
+        const Vec3 light = centre + scale * Uniform(rng, 2.0, 20.0) * RandomUnit(rng);
+        std::vector<RayCone> cones(1 + trial % 4);
+        std::vector<RayConeTests> tests;
+        for (RayCone& cone : cones) {
+            // Planes through the light, each toward a point near the region: some hold it whole,
+            // some pass through it, some leave it wholly outside.
+            const long kind = (trial + (&cone - cones.data())) % 3;
+            for (int p = 0; p < 3 + static_cast<int>(rng() % 4); ++p) {
+                if (kind != 0) {
+                    // Random planes through the light with the region's centre inside, most of
+                    // them holding the whole region; the first one turned away from it.
+                    const Vec4 plane = PlaneThrough(light, RandomUnit(rng), centre);
+                    cone.planes.push_back(kind == 2 && p == 0 ? Vec4(-plane) : plane);
+                    continue;
+                }
+                const Vec3 toward =
+                    centre + 1.5 * half.cwiseProduct(Vec3(Uniform(rng, -1, 1), Uniform(rng, -1, 1),
+                                                          Uniform(rng, -1, 1)));
+                const Vec3 n = (toward - light).cross(RandomUnit(rng)).normalized();
+                cone.planes.push_back(PlaneThrough(light, n, toward + scale * RandomUnit(rng)));
+            }
+            tests.emplace_back(cone);
+        }
+        const std::vector<ConvexPolytope> one = Subtract(region, tests.front());
+        ExpectSamePieces(one, PlainSubtract(region, cones.front()), trial);
+        whole += one.size() == 1 && one.front().Size() == region.Size();
+        cut += one.size() > 1;
+        // SubtractAll: the plain subtraction cone after cone.
+        std::vector<ConvexPolytope> remaining = {region};
+        for (const RayCone& cone : cones) {
+            std::vector<ConvexPolytope> next;
+            for (const ConvexPolytope& piece : remaining) {
+                for (ConvexPolytope& rest : PlainSubtract(piece, cone)) next.push_back(rest);
+            }
+            remaining = std::move(next);
+        }
+        gone += remaining.empty();
+        ExpectSamePieces(SubtractAll(region, std::span<const RayConeTests>(tests)), remaining,
+                         trial);
+    }
+    EXPECT_GT(whole, 200);
+    EXPECT_GT(cut, 200);
+    EXPECT_GT(gone, 100);
+}
+
 }  // namespace
 }  // namespace lixel

@@ -143,6 +143,8 @@ class ConvexPolytope {
     std::vector<FaceRange> faces_;
     mutable Extent extent_;
     mutable bool extent_valid_ = false;
+    // FromBox's faces, uncut: vertices() is then the eight corners in the order they first appear.
+    bool whole_box_ = false;
 };
 
 }  // namespace lixel
