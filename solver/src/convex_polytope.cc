@@ -91,6 +91,11 @@ ConvexPolytope ConvexPolytope::FromBox(const Aabb& box) {
         }
     }
     out.whole_box_ = true;
+    // The extent the corners give (PolytopeBounds::OfBox, bit for bit): set here, since most
+    // boxes are asked for their tolerance before anything cuts them.
+    const PolytopeBounds bounds = PolytopeBounds::OfBox(box);
+    out.extent_ = Extent{bounds.lo, bounds.hi, bounds.size, bounds.magnitude};
+    out.extent_valid_ = true;
     return out;
 }
 

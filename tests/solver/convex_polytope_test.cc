@@ -303,7 +303,28 @@ TEST(PolytopeBounds, OfABoxAreTheBoundsOfItsPolytopeBitForBit) {
         if (trial % 11 == 0) b(trial % 3) = trial % 2 ? nan : inf;
         const Aabb box{a, b};
         const PolytopeBounds fast = PolytopeBounds::OfBox(box);
-        const PolytopeBounds built = ConvexPolytope::FromBox(box).Bounds();
+        // The bounds of the built polytope's face points, as ConvexPolytope's extent takes them
+        // (FromBox now sets its extent from OfBox: both must be these).
+        const ConvexPolytope polytope = ConvexPolytope::FromBox(box);
+        PolytopeBounds built;
+        for (const PolytopeFace& f : polytope.faces()) {
+            for (const Vec3& v : f.polygon) {
+                built.lo = built.lo.cwiseMin(v);
+                built.hi = built.hi.cwiseMax(v);
+                built.magnitude = std::max(built.magnitude, v.cwiseAbs().maxCoeff());
+            }
+        }
+        if (!polytope.empty()) built.size = (built.hi - built.lo).norm();
+        ASSERT_EQ(polytope.Bounds().empty(), built.empty());
+        if (!built.empty()) {
+            EXPECT_EQ(polytope.Bounds().size, built.size);
+            EXPECT_EQ(polytope.Bounds().magnitude, built.magnitude);
+            EXPECT_EQ(polytope.Tolerance(), Reference{polytope.faces()}.Tolerance());
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_EQ(polytope.Bounds().lo(k), built.lo(k));
+                EXPECT_EQ(polytope.Bounds().hi(k), built.hi(k));
+            }
+        }
         SCOPED_TRACE("trial " + std::to_string(trial));
         ASSERT_EQ(fast.empty(), built.empty());
         empty += fast.empty();
