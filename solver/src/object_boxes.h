@@ -5,7 +5,8 @@
 
 #include <lixel/solver/convex_polytope.h>
 
-#include <memory>
+#include <cstdint>
+#include <deque>
 #include <vector>
 
 namespace lixel::scheduling {
@@ -26,7 +27,12 @@ class ObjectBoxes {
   private:
     std::vector<Aabb> boxes_;
     std::vector<PolytopeBounds> bounds_;
-    mutable std::vector<std::unique_ptr<ConvexPolytope>> built_;
+    // The boxes built so far, in the order they were asked for (a deque: the references handed
+    // out stay valid as it grows, and a box costs no allocation of its own), and each object's
+    // place among them.
+    static constexpr std::uint32_t kNotBuilt = ~std::uint32_t{0};
+    mutable std::deque<ConvexPolytope> built_;
+    mutable std::vector<std::uint32_t> slots_;
 };
 
 }  // namespace lixel::scheduling
