@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace lixel {
 
@@ -43,11 +44,19 @@ std::vector<Vec3> SamplePolygon(const std::vector<Vec3>& polygon) {
     return samples;
 }
 
+DepthStepLight::DepthStepLight(const Vec4& light)
+    : directional(light.w() == 0.0),
+      at(directional ? Vec3(-light.head<3>().normalized()) : Vec3(light.head<3>() / light.w())) {}
+
 double DepthStepAt(const LightMap& map, const GlLightTransform& gl, const Vec4& light,
                    const Vec3& x) {
-    const bool directional = light.w() == 0.0;
-    const Vec3 dir3 = directional ? Vec3(-light.head<3>().normalized())
-                                  : Vec3((x - light.head<3>() / light.w()).normalized());
+    return DepthStepAt(map, gl, DepthStepLight(light), x).step;
+}
+
+namespace {
+
+// The step along unit direction `dir3` at x (DepthStepAt).
+double StepAlong(const LightMap& map, const GlLightTransform& gl, const Vec3& dir3, const Vec3& x) {
     const Vec4 dir(dir3.x(), dir3.y(), dir3.z(), 0.0);
     const Vec4 p = Point(x);
     const RowVec4 r_z = map.matrix.row(2);
@@ -69,19 +78,39 @@ double DepthStepAt(const LightMap& map, const GlLightTransform& gl, const Vec4& 
     return std::max(storage, computed) / std::abs(dz);
 }
 
+// The unit propagation direction at x and x's distance along the light: depth grows with the
+// distance from a point light, and with -l.X (the propagation direction's dot x) for a
+// directional one. A point light's offset is normalised as Eigen's normalized() does it (the
+// vector over the square root of its squared norm), and that square root is its norm.
+std::pair<Vec3, double> Propagation(const DepthStepLight& light, const Vec3& x) {
+    if (light.directional) return {light.at, light.at.dot(x)};
+    const Vec3 offset = x - light.at;
+    const double squared = offset.squaredNorm();
+    const double length = std::sqrt(squared);
+    return {squared > 0.0 ? Vec3(offset / length) : offset, length};
+}
+
+}  // namespace
+
+DepthStep DepthStepAt(const LightMap& map, const GlLightTransform& gl, const DepthStepLight& light,
+                      const Vec3& x) {
+    const auto [direction, along] = Propagation(light, x);
+    return {StepAlong(map, gl, direction, x), along};
+}
+
 void DepthStepTally::Add(SolveDiagnostics& d, const Vec4& light, const Vec3& x, double step) {
-    d.depth_resolution = std::max(d.depth_resolution, step);
-    // Distance along the light: depth grows with the distance from a point light, and with
-    // -l.X for a directional one.
-    const double along = light.w() == 0.0 ? -light.head<3>().normalized().dot(x)
-                                          : (x - light.head<3>() / light.w()).norm();
-    if (along < nearest) {
-        nearest = along;
-        d.depth_step_nearest = step;
+    Add(d, DepthStep{step, Propagation(DepthStepLight(light), x).second});
+}
+
+void DepthStepTally::Add(SolveDiagnostics& d, const DepthStep& at) {
+    d.depth_resolution = std::max(d.depth_resolution, at.step);
+    if (at.along < nearest) {
+        nearest = at.along;
+        d.depth_step_nearest = at.step;
     }
-    if (along > farthest) {
-        farthest = along;
-        d.depth_step_farthest = step;
+    if (at.along > farthest) {
+        farthest = at.along;
+        d.depth_step_farthest = at.step;
     }
 }
 
@@ -99,6 +128,7 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
     const GlLightTransform gl =
         ToGl(map, first == receivers.size() ? Vec3::Zero() : receivers[first].point);
     DepthStepTally steps;
+    const DepthStepLight rays(light);
     d.lixels_per_pixel_min = std::numeric_limits<double>::infinity();
     Vec4 plane = Vec4::Zero();
     std::optional<PixelFootprints::OnPlane> on_plane;
@@ -123,8 +153,8 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
         if (!scale || !(scale->y() > 0.0) || !scale->allFinite()) continue;
         d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
         d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());
-        const double step = DepthStepAt(map, gl, light, r.point);
-        if (step > 0.0) steps.Add(d, light, r.point, step);
+        const DepthStep step = DepthStepAt(map, gl, rays, r.point);
+        if (step.step > 0.0) steps.Add(d, step);
         ++d.samples;
     }
     if (d.samples == 0) d.lixels_per_pixel_min = 0.0;

@@ -60,6 +60,8 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
     const bool directional = l.w() == 0.0;
     double worst_reach = 0.0;
     DepthStepTally steps;
+    const DepthStepLight rays(l);
+    const bool reach_is_along = !directional && l.w() == 1.0;
     d.lixels_per_pixel_min = std::numeric_limits<double>::infinity();
     for (const Vec3& s : SamplePolygon(polygon)) {
         const Vec4 x = Point(s);
@@ -83,9 +85,10 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
                      std::isnan(float_error) ? std::numeric_limits<double>::infinity()
                                              : float_error);
 
-        worst_reach = std::max(worst_reach, (s - l.head<3>()).norm());
-        const double step = DepthStepAt(map, gl, l, s);
-        if (step > 0.0) steps.Add(d, l, s, step);
+        const DepthStep step = DepthStepAt(map, gl, rays, s);
+        // A point light's distance along the light is this reach (its light has w = 1).
+        worst_reach = std::max(worst_reach, reach_is_along ? step.along : (s - l.head<3>()).norm());
+        if (step.step > 0.0) steps.Add(d, step);
         if (on_plane) {
             const Vec2 at(v.x() / v.w(), v.y() / v.w());
             if (auto scale = on_plane->At(at)) {

@@ -8,8 +8,11 @@
 #include <lixel/solver/map_diagnostics.h>
 #include <lixel/solver/scheduler.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -184,6 +187,72 @@ TEST(DiagnoseMap, FlaggedReceiversGiveTheFiguresOfThoseReceiversAlone) {
         compared += subset.samples > 0 ? 1 : 0;
     }
     EXPECT_GT(compared, 150);
+}
+
+// DepthStepAt as first written: the light's point or direction taken at every receiver, the
+// distance along the light apart.
+double PlainDepthStep(const LightMap& map, const GlLightTransform& gl, const Vec4& light,
+                      const Vec3& x) {
+    const bool directional = light.w() == 0.0;
+    const Vec3 dir3 = directional ? Vec3(-light.head<3>().normalized())
+                                  : Vec3((x - light.head<3>() / light.w()).normalized());
+    const Vec4 dir(dir3.x(), dir3.y(), dir3.z(), 0.0);
+    const Vec4 p = Point(x);
+    const RowVec4 r_z = map.matrix.row(2);
+    const RowVec4 r_w = map.matrix.row(3);
+    const double q = r_w.dot(p);
+    const double dz = (r_z.dot(dir) * q - r_z.dot(p) * r_w.dot(dir)) / (q * q);
+    if (!(dz != 0.0) || !std::isfinite(dz)) return 0.0;
+    const Eigen::Vector3f local = (x - gl.origin).cast<float>();
+    const Eigen::Vector4f local4(local.x(), local.y(), local.z(), 1.0f);
+    const Eigen::Vector4f row = gl.projection.row(2).transpose();
+    const float w = gl.projection.row(3).dot(local4.transpose());
+    const float d = std::clamp(row.dot(local4) / w, 0.0f, 1.0f);
+    const double storage = static_cast<double>(std::nextafter(d, 2.0f)) - static_cast<double>(d);
+    const double terms = row.cwiseProduct(local4).cwiseAbs().cast<double>().sum();
+    const double computed = 0.5 * std::numeric_limits<float>::epsilon() * terms / std::abs(w);
+    return std::max(storage, computed) / std::abs(dz);
+}
+
+// The light taken once (DepthStepLight) gives every receiver the step and the distance along the
+// light the plain computation gives, bit for bit: point lights with w other than 1, directional
+// lights, receivers at the light.
+TEST(DepthStepAt, TheLightTakenOnceGivesThePlainStepsAndDistancesBitForBit) {
+    std::mt19937_64 rng(2941);
+    int compared = 0;
+    for (int i = 0; i < 300; ++i) {
+        const testing::Configuration c = testing::RandomConfiguration(rng);
+        const double reach = (c.target - c.eye).norm();
+        std::vector<Vec4> corners;
+        for (int k = 0; k < 8; ++k) {
+            corners.push_back(
+                Point(Vec3(c.target + reach * Vec3(Uniform(rng, -0.5, 0.5), Uniform(rng, -0.5, 0.5),
+                                                   Uniform(rng, -0.5, 0.5)))));
+        }
+        Vec4 light = c.light;
+        if (i % 3 == 1 && light.w() != 0.0) light *= Uniform(rng, 0.01, 100.0);  // w not 1
+        const auto map = FitFrustum(light, corners, MapSize{0, 0, 256 * 256});
+        if (!map) continue;
+        const GlLightTransform gl = ToGl(*map, corners[0].head<3>());
+        const DepthStepLight once(light);
+        for (int k = 0; k < 20; ++k) {
+            Vec3 x = c.target + reach * Vec3(Uniform(rng, -0.5, 0.5), Uniform(rng, -0.5, 0.5),
+                                             Uniform(rng, -0.5, 0.5));
+            if (k == 0 && light.w() != 0.0) x = light.head<3>() / light.w();  // at the light
+            const DepthStep got = DepthStepAt(*map, gl, once, x);
+            const double step = PlainDepthStep(*map, gl, light, x);
+            const double along = light.w() == 0.0 ? -light.head<3>().normalized().dot(x)
+                                                  : (x - light.head<3>() / light.w()).norm();
+            EXPECT_EQ(std::memcmp(&got.step, &step, sizeof(double)), 0)
+                << "view " << i << ": " << got.step << " against " << step;
+            EXPECT_EQ(std::memcmp(&got.along, &along, sizeof(double)), 0)
+                << "view " << i << ": " << got.along << " against " << along;
+            const double legacy = DepthStepAt(*map, gl, light, x);
+            EXPECT_EQ(std::memcmp(&legacy, &step, sizeof(double)), 0) << "view " << i;
+            ++compared;
+        }
+    }
+    EXPECT_GT(compared, 3000);
 }
 
 }  // namespace

@@ -34,12 +34,30 @@ std::vector<Vec3> SamplePolygon(const std::vector<Vec3>& polygon);
 double DepthStepAt(const LightMap& map, const GlLightTransform& gl, const Vec4& light,
                    const Vec3& x);
 
+// The light as DepthStepAt and DepthStepTally read it at each receiver, taken once for many: its
+// point (l / l_w), or a directional light's propagation direction (-l normalised).
+struct DepthStepLight {
+    explicit DepthStepLight(const Vec4& light);
+    bool directional = false;
+    Vec3 at = Vec3::Zero();
+};
+
+// A receiver's depth step (DepthStepAt's, the same bits) and its distance along the light
+// (DepthStepTally's: from a point light, or along a directional one's propagation).
+struct DepthStep {
+    double step = 0.0;
+    double along = 0.0;
+};
+DepthStep DepthStepAt(const LightMap& map, const GlLightTransform& gl, const DepthStepLight& light,
+                      const Vec3& x);
+
 // Folds receiver `x`'s depth step (DepthStepAt, > 0) into d's worst step and the steps at the
 // receivers nearest to and farthest from the light seen so far.
 struct DepthStepTally {
     double nearest = std::numeric_limits<double>::infinity();
     double farthest = -std::numeric_limits<double>::infinity();
     void Add(SolveDiagnostics& d, const Vec4& light, const Vec3& x, double step);
+    void Add(SolveDiagnostics& d, const DepthStep& at);
 };
 
 // SolveDiagnostics' figures that hold for any map (lixels per pixel, depth resolution and
