@@ -24,17 +24,24 @@ constexpr double kMagnitudeUlps = 256.0 * std::numeric_limits<double>::epsilon()
 // rounded norm of their difference is at least the coordinate difference itself.
 constexpr double kNoUnderflow = 1e-150;
 
-// Whether |a - b| > tol, as the rounded norm decides it. A coordinate difference above tol (and
-// above kNoUnderflow) decides it without the square root: the rounded sum of squares is at least
+// Whether some coordinate of a - b is above tol (and above kNoUnderflow), none NaN: then the
+// rounded norm is above tol too, without the square root. The rounded sum of squares is at least
 // the rounded square of that coordinate, and the correctly rounded square root of x^2 rounded is
-// |x|, so the rounded norm is at least |x| > tol. A NaN coordinate fails every comparison and
-// goes to the norm, which says false as it did.
-bool FartherThan(const Vec3& a, const Vec3& b, double tol) {
-    const Vec3 d = a - b;
+// |x|. A NaN coordinate fails every comparison here, so the callers take the norm, as before.
+bool ClearlyApart(const Vec3& d, double tol) {
     const double limit = std::max(tol, kNoUnderflow);
     const double x = std::abs(d.x()), y = std::abs(d.y()), z = std::abs(d.z());
-    if ((x > limit || y > limit || z > limit) && !std::isnan(x + y + z)) return true;
-    return d.norm() > tol;
+    return (x > limit || y > limit || z > limit) && !std::isnan(x + y + z);
+}
+
+// |a - b| > tol and |a - b| <= tol as the rounded norm decides them (both false where it is NaN).
+bool FartherThan(const Vec3& a, const Vec3& b, double tol) {
+    const Vec3 d = a - b;
+    return ClearlyApart(d, tol) || d.norm() > tol;
+}
+bool WithinTolerance(const Vec3& a, const Vec3& b, double tol) {
+    const Vec3 d = a - b;
+    return !ClearlyApart(d, tol) && d.norm() <= tol;
 }
 
 // Drops consecutive vertices closer than `tol` (cyclically); a polygon left with fewer than
@@ -47,7 +54,7 @@ void MergeCloseVertices(std::vector<Vec3>& polygon, double tol) {
             polygon[kept++] = polygon[i];
         }
     }
-    while (kept > 1 && !FartherThan(polygon[0], polygon[kept - 1], tol)) --kept;
+    while (kept > 1 && WithinTolerance(polygon[0], polygon[kept - 1], tol)) --kept;
     if (kept < 3) kept = 0;
     polygon.resize(kept);
 }
@@ -138,7 +145,7 @@ double ConvexPolytope::Tolerance() const {
 std::vector<Vec3> ConvexPolytope::vertices() const {
     const double tol = Tolerance();
     std::vector<Vec3> out;
-    if (whole_box_) {
+    if (whole_box_ && !empty()) {
         // FromBox's corners first appear on its two x faces (the low one reversed); the other
         // faces repeat them bit for bit. Two distinct corners differ by a whole side on some axis,
         // computed here as the loop below computes it: with every side above tol (and far above

@@ -98,10 +98,6 @@ DepthStep DepthStepAt(const LightMap& map, const GlLightTransform& gl, const Dep
     return {StepAlong(map, gl, direction, x), along};
 }
 
-void DepthStepTally::Add(SolveDiagnostics& d, const Vec4& light, const Vec3& x, double step) {
-    Add(d, DepthStep{step, Propagation(DepthStepLight(light), x).second});
-}
-
 void DepthStepTally::Add(SolveDiagnostics& d, const DepthStep& at) {
     d.depth_resolution = std::max(d.depth_resolution, at.step);
     if (at.along < nearest) {
@@ -153,8 +149,8 @@ SolveDiagnostics DiagnoseMap(const LightMap& map, const Vec4& light, const Mat4&
         if (!scale || !(scale->y() > 0.0) || !scale->allFinite()) continue;
         d.lixels_per_pixel_min = std::min(d.lixels_per_pixel_min, scale->y());
         d.lixels_per_pixel_max = std::max(d.lixels_per_pixel_max, scale->x());
-        const DepthStep step = DepthStepAt(map, gl, rays, r.point);
-        if (step.step > 0.0) steps.Add(d, step);
+        const DepthStep depth = DepthStepAt(map, gl, rays, r.point);
+        if (depth.step > 0.0) steps.Add(d, depth);
         ++d.samples;
     }
     if (d.samples == 0) d.lixels_per_pixel_min = 0.0;

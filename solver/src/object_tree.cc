@@ -139,8 +139,11 @@ void ObjectTree::MarkPossible(std::span<const PlaneTest> planes, std::vector<cha
     const std::uint64_t all =
         masked == kMaskPlanes ? ~std::uint64_t{0} : (std::uint64_t{1} << masked) - 1;
     std::vector<std::pair<std::int32_t, std::uint64_t>> stack = {{0, all}};
+    // A plane past the first kKeepsNothingClips + 1 rejects nothing: a clip by all of `planes`
+    // in order reaches it only after more clips than KeepsNothingOf's margin covers.
+    const std::size_t rejecting = std::min(planes.size(), kKeepsNothingClips + 1);
     const auto rejects = [&](const PolytopeBounds& bounds, std::uint64_t active) {
-        for (std::size_t p = 0; p < planes.size(); ++p) {
+        for (std::size_t p = 0; p < rejecting; ++p) {
             if (p < masked && !(active >> p & 1)) continue;
             if (bounds.KeepsNothingOf(planes[p])) return true;
         }
@@ -168,9 +171,9 @@ void ObjectTree::MarkPossible(std::span<const PlaneTest> planes, std::vector<cha
         if (node.left < 0) {
             for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
                 const PolytopeBounds& box = boxes_[order_[k]];
-                possible[order_[k]] = rejects(box, active)                 ? 0
+                possible[order_[k]] = rejects(box, active)                 ? kRejected
                                       : mark_inside && inside(box, active) ? kInside
-                                                                           : 1;
+                                                                           : kPossible;
             }
             continue;
         }

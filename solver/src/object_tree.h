@@ -23,10 +23,13 @@ class ObjectTree {
     explicit ObjectTree(std::span<const PolytopeBounds> boxes);
 
     // possible[i] = 1 for every box that some clip by all of `planes` may leave non-empty, 0 for
-    // those it provably empties (and for empty boxes); `possible` is resized to the boxes.
+    // those it provably empties (and for empty boxes) by one of the first kKeepsNothingClips + 1
+    // planes (PolytopeBounds::KeepsNothingOf); `possible` is resized to the boxes.
     // With `mark_inside`, 2 for a non-empty box inside every plane (PolytopeBounds::InsideOf):
     // the box's own polytope then keeps all of itself for each of them (ConvexPolytope::Effect),
     // so a clip of it by all of `planes` is the box itself.
+    static constexpr char kRejected = 0;
+    static constexpr char kPossible = 1;
     static constexpr char kInside = 2;
     void MarkPossible(std::span<const PlaneTest> planes, std::vector<char>& possible,
                       bool mark_inside = false) const;

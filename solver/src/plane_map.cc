@@ -85,10 +85,11 @@ SolveDiagnostics Diagnose(const PlaneMapRequest& request, const PlaneOptimalMatr
                      std::isnan(float_error) ? std::numeric_limits<double>::infinity()
                                              : float_error);
 
-        const DepthStep step = DepthStepAt(map, gl, rays, s);
+        const DepthStep depth = DepthStepAt(map, gl, rays, s);
         // A point light's distance along the light is this reach (its light has w = 1).
-        worst_reach = std::max(worst_reach, reach_is_along ? step.along : (s - l.head<3>()).norm());
-        if (step.step > 0.0) steps.Add(d, step);
+        worst_reach =
+            std::max(worst_reach, reach_is_along ? depth.along : (s - l.head<3>()).norm());
+        if (depth.step > 0.0) steps.Add(d, depth);
         if (on_plane) {
             const Vec2 at(v.x() / v.w(), v.y() / v.w());
             if (auto scale = on_plane->At(at)) {

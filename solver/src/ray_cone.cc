@@ -60,10 +60,13 @@ RayConeTests::RayConeTests(const RayCone& cone) {
 
 namespace {
 
-// Subtract, appended to `pieces`; false (and nothing appended) where the result is `region`
+// What SubtractInto found: the region is its own only piece, whole, or its pieces were appended.
+enum class Subtracted { kWhole, kPieces };
+
+// Subtract, appended to `pieces`; kWhole (and nothing appended) where the result is `region`
 // itself, whole: wholly outside one of the cone's planes before any other plane cut it.
-bool SubtractInto(const ConvexPolytope& region, const RayConeTests& cone,
-                  std::vector<ConvexPolytope>& pieces) {
+Subtracted SubtractInto(const ConvexPolytope& region, const RayConeTests& cone,
+                        std::vector<ConvexPolytope>& pieces) {
     const std::size_t first_piece = pieces.size();
     // `inside` stays the region itself until a plane cuts it (most regions lie wholly inside or
     // wholly outside a cone's planes), then a copy. Most pieces come out empty: clip a per-thread
@@ -77,7 +80,7 @@ bool SubtractInto(const ConvexPolytope& region, const RayConeTests& cone,
         const ClipEffect within = inside->Effect(cone.inside[k]);
         if (inside == &region && pieces.size() == first_piece && beyond == ClipEffect::kKeepsAll &&
             within == ClipEffect::kKeepsNothing) {
-            return false;  // the region is the only piece, and nothing is left inside
+            return Subtracted::kWhole;  // the only piece, and nothing is left inside
         }
         switch (beyond) {
             case ClipEffect::kKeepsNothing:
@@ -98,14 +101,14 @@ bool SubtractInto(const ConvexPolytope& region, const RayConeTests& cone,
         }
         cut.Clip(cone.inside[k]);
     }
-    return true;
+    return Subtracted::kPieces;
 }
 
 }  // namespace
 
 std::vector<ConvexPolytope> Subtract(const ConvexPolytope& region, const RayConeTests& cone) {
     std::vector<ConvexPolytope> pieces;
-    if (!SubtractInto(region, cone, pieces)) pieces.push_back(region);
+    if (SubtractInto(region, cone, pieces) == Subtracted::kWhole) pieces.push_back(region);
     return pieces;
 }
 
@@ -152,7 +155,9 @@ std::vector<ConvexPolytope> SubtractEach(const ConvexPolytope& whole,
     std::vector<ConvexPolytope> next, pieces;
     for (const RayConeTests& cone : cones) {
         if (first) {
-            if (!SubtractInto(whole, cone, remaining)) remaining.push_back(whole);
+            if (SubtractInto(whole, cone, remaining) == Subtracted::kWhole) {
+                remaining.push_back(whole);
+            }
             first = false;
             continue;
         }
@@ -160,7 +165,7 @@ std::vector<ConvexPolytope> SubtractEach(const ConvexPolytope& whole,
         next.clear();
         for (ConvexPolytope& piece : remaining) {
             pieces.clear();
-            if (!SubtractInto(piece, cone, pieces)) {
+            if (SubtractInto(piece, cone, pieces) == Subtracted::kWhole) {
                 next.push_back(std::move(piece));
                 continue;
             }
@@ -189,18 +194,10 @@ std::vector<std::vector<Vec3>> SubtractAll(const std::vector<Vec3>& polygon,
     return SubtractEach(polygon, cones);
 }
 
-namespace {
-
-// Clips past a polytope's own bounds within which PolytopeBounds::KeepsNothingOf still holds for
-// its parts (the count its margin is sized for).
-constexpr std::size_t kClipsKeepsNothingCovers = 40;
-
-}  // namespace
-
 bool SubtractAllLeavesNothing(const PolytopeBounds& b, std::span<const RayConeTests> cones) {
     std::size_t clips = 0;  // the most planes the parts reaching the next cone are clipped by
     for (const RayConeTests& cone : cones) {
-        if (clips > kClipsKeepsNothingCovers) return false;
+        if (clips > kKeepsNothingClips) return false;
         if (std::all_of(cone.outside.begin(), cone.outside.end(),
                         [&](const PlaneTest& t) { return b.KeepsNothingOf(t); })) {
             return true;

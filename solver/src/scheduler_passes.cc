@@ -12,10 +12,10 @@ bool Closed(const SceneObject& o) { return o.mesh != nullptr ? o.mesh->closed : 
 
 // Visits, in index order, the objects that can cast into a map: their boxes meet the map's
 // accepted cone, and for a plane map they rise above the plane on its lit side. Only the objects
-// `asked(o)` names are tested (the test clips the box by the cone); the visit stops when
+// `wanted(o)` names are tested (the test clips the box by the cone); the visit stops when
 // `visit(o)` returns false.
-template <class Asked, class Visit>
-void VisitCasters(const Context& c, const PlannedMap& m, Asked asked, Visit visit) {
+template <class Wanted, class Visit>
+void VisitCasters(const Context& c, const PlannedMap& m, Wanted wanted, Visit visit) {
     const RayCone cone = AcceptedCone(m.map, m.lookup.half_planes);
     // Only the objects the cone may keep some of (ObjectTree), in index order.
     const std::vector<PlaneTest> cone_planes = PlaneTests(cone.planes);
@@ -25,7 +25,7 @@ void VisitCasters(const Context& c, const PlannedMap& m, Asked asked, Visit visi
         c.poll();
         if (!maybe_in_cone[i]) continue;
         const SceneObject& o = c.request.objects[i];
-        if (!asked(o)) continue;
+        if (!wanted(o)) continue;
         const Aabb box = Thickened(o.bounds, c.thickness);
         if (m.role == MapRole::kPlane) {
             const Vec4& p = c.request.planes[m.plane_index].plane;

@@ -33,7 +33,7 @@ std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
         if (held.empty()) continue;
         const int object = c.held_objects[i];
         const bool whole_box = object >= 0 && &held == &c.object_boxes[object];
-        if (whole_box && marks[object] == 0) continue;  // the clip leaves nothing
+        if (whole_box && marks[object] == ObjectTree::kRejected) continue;  // nothing left
         const ConvexPolytope& region = whole_box && marks[object] == ObjectTree::kInside
                                            ? held
                                            : ClipInto(scratch, held, cone_planes);

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -382,7 +383,7 @@ TEST(ConvexPolytope, VerticesOfABoxAreItsDistinctFacePointsInOrder) {
             const double tol =
                 1e-9 * 2.0 * half.norm() + 256.0 * std::numeric_limits<double>::epsilon() *
                                                (centre.cwiseAbs().maxCoeff() + half.maxCoeff());
-            half(trial % 3) = 0.5 * tol * Uniform(rng, 0.5, 2.0);
+            half((trial / 3) % 3) = 0.5 * tol * Uniform(rng, 0.5, 2.0);
         }
         ConvexPolytope box = ConvexPolytope::FromBox(Aabb{centre - half, centre + half});
         if (box.empty()) continue;

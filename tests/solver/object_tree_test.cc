@@ -19,13 +19,17 @@ namespace {
 
 using testing::Uniform;
 
-// The scan the tree must reproduce: a box is possible when no plane's group test rejects it.
+// The scan the tree must reproduce: a box is possible when no plane's group test rejects it,
+// among the first kKeepsNothingClips + 1 planes (the ones whose rejection the test's margin
+// covers).
 std::vector<char> EveryBoxAlone(const std::vector<PolytopeBounds>& boxes,
                                 const std::vector<PlaneTest>& planes) {
     std::vector<char> possible;
     for (const PolytopeBounds& b : boxes) {
         bool kept = !b.empty();
-        for (const PlaneTest& p : planes) kept = kept && !b.KeepsNothingOf(p);
+        for (std::size_t p = 0; p < planes.size() && p <= kKeepsNothingClips; ++p) {
+            kept = kept && !b.KeepsNothingOf(planes[p]);
+        }
         possible.push_back(kept);
     }
     return possible;
@@ -144,6 +148,27 @@ TEST(ObjectTree, MarksInsideExactlyTheBoxesEveryPlaneHoldsAndTheirClipsKeepThemW
     }
     EXPECT_GT(inside, 20000);
     EXPECT_GT(touching, 5);
+}
+
+// KeepsNothingOf's margin covers the clips before the rejecting plane up to kKeepsNothingClips: a
+// plane further down the list rejects nothing, however far the boxes lie past it.
+TEST(ObjectTree, TrustsNoRejectionPastTheClipsItsMarginCovers) {
+    std::vector<PolytopeBounds> boxes;
+    for (int k = 0; k < 40; ++k) {
+        boxes.push_back(PolytopeBounds::OfBox(Aabb{Vec3(k, 0, 0), Vec3(k + 0.5, 1, 1)}));
+    }
+    const ObjectTree tree(boxes);
+    // Planes that keep every box whole (x >= -1), then one that keeps none of them (x >= 100).
+    const auto planes = [](std::size_t before) {
+        std::vector<PlaneTest> out(before, PlaneTest(Vec4(1, 0, 0, 1)));
+        out.emplace_back(Vec4(1, 0, 0, -100));
+        return out;
+    };
+    std::vector<char> marks;
+    tree.MarkPossible(planes(kKeepsNothingClips), marks);
+    EXPECT_TRUE(std::all_of(marks.begin(), marks.end(), [](char m) { return m == 0; }));
+    tree.MarkPossible(planes(kKeepsNothingClips + 1), marks);
+    EXPECT_TRUE(std::all_of(marks.begin(), marks.end(), [](char m) { return m == 1; }));
 }
 
 // A tree refit to moved boxes (frames of a scene whose objects move: a few far, most a little,

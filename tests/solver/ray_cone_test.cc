@@ -84,20 +84,20 @@ TEST(RayCone, SubtractAllLeavesNothingWhereItSaysSo) {
 TEST(RayCone, SubtractAllLeavesNothingOnlyWithinTheClipsItsMarginCovers) {
     const ConvexPolytope region = ConvexPolytope::FromBox(Aabb{Vec3(-1, -1, -1), Vec3(1, 1, 1)});
     const Vec3 light(0, 0, 50);
-    // A cone holding the region, and one that holds nothing of it.
-    RayCone holding, elsewhere;
+    // A cone holding the region, and 41 planes of one that cuts it in half before it.
+    RayCone holding, halving;
     for (const Vec3& n : {Vec3(1, 0, 0.1), Vec3(-1, 0, 0.1), Vec3(0, 1, 0.1), Vec3(0, -1, 0.1)}) {
         holding.planes.push_back(PlaneThrough(light, n.normalized(), Vec3::Zero()));
     }
     for (int k = 0; k < 41; ++k) {
-        elsewhere.planes.push_back(PlaneThrough(light, Vec3(1, 0, 0), Vec3(10, 0, 0)));
+        halving.planes.push_back(PlaneThrough(light, Vec3(1, 0, 0), Vec3(10, 0, 0)));
     }
     std::vector<RayConeTests> cones = {RayConeTests(holding)};
     EXPECT_TRUE(SubtractAllLeavesNothing(region.Bounds(), cones));
-    cones.insert(cones.begin(), RayConeTests(elsewhere));
+    cones.insert(cones.begin(), RayConeTests(halving));
     EXPECT_FALSE(SubtractAllLeavesNothing(region.Bounds(), cones));
-    elsewhere.planes.pop_back();
-    cones.front() = RayConeTests(elsewhere);
+    halving.planes.pop_back();
+    cones.front() = RayConeTests(halving);
     EXPECT_TRUE(SubtractAllLeavesNothing(region.Bounds(), cones));
 }
 

@@ -6,6 +6,7 @@
 
 #include <lixel/solver/types.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -40,6 +41,11 @@ std::vector<PlaneTest> PlaneTests(const std::vector<Vec4>& planes);
 // Bounds of one polytope or of a group of them, as Effect's tests see them (their vertices'
 // axis-aligned bounds, largest |coordinate| and diagonal): what a hierarchy over polytopes needs
 // to reject a whole group for a plane (the scheduler's object tree, issue 29).
+// The clips before one by a plane KeepsNothingOf rejects that its margin covers (below): a
+// caller that clips by more planes may trust only the rejections of the first
+// kKeepsNothingClips + 1 of them.
+inline constexpr std::size_t kKeepsNothingClips = 40;
+
 struct PolytopeBounds {
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
     Vec3 hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
@@ -56,8 +62,8 @@ struct PolytopeBounds {
     // True only when every polytope these bounds hold, and every part of one left by earlier
     // clips, keeps nothing of `plane`: Effect's fast test over the bounds with eight times its
     // rounding margin. The extra margin (7 x 16 ulps of the terms) covers the cut points of
-    // earlier clips, each within about 2.5 ulps of the coordinates of its edge, for some forty
-    // clips; the scheduler clips an object by at most the extent hull's faces or a cone's planes.
+    // earlier clips, each within about 2.5 ulps of the coordinates of its edge, for
+    // kKeepsNothingClips clips (the object tree trusts no later plane's rejection).
     bool KeepsNothingOf(const Vec4& plane) const;
     bool KeepsNothingOf(const PlaneTest& plane) const;
     // True only when no bounds inside these (a group's member) can keep nothing of `plane` by

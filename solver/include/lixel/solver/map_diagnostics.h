@@ -51,12 +51,11 @@ struct DepthStep {
 DepthStep DepthStepAt(const LightMap& map, const GlLightTransform& gl, const DepthStepLight& light,
                       const Vec3& x);
 
-// Folds receiver `x`'s depth step (DepthStepAt, > 0) into d's worst step and the steps at the
+// Folds a receiver's depth step (DepthStepAt, step > 0) into d's worst step and the steps at the
 // receivers nearest to and farthest from the light seen so far.
 struct DepthStepTally {
     double nearest = std::numeric_limits<double>::infinity();
     double farthest = -std::numeric_limits<double>::infinity();
-    void Add(SolveDiagnostics& d, const Vec4& light, const Vec3& x, double step);
     void Add(SolveDiagnostics& d, const DepthStep& at);
 };
 
