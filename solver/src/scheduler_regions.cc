@@ -240,17 +240,15 @@ void FindViewRegions(Context& c) {
         hiding.push_back(front);
         hiding_index.push_back(static_cast<int>(j));
     }
-    const std::vector<PlaneTest> frustum = PlaneTests(c.frustum);
+    // What the viewer sees of a box: its part in view, then in front of every hiding plane.
+    std::vector<PlaneTest> seen_planes = PlaneTests(c.frustum);
+    for (const Vec4& front : hiding) seen_planes.emplace_back(front);
     if (r.objects.empty()) {
         c.held_regions.push_back(&c.cut_regions.emplace_back(c.hull.hull));
         c.held_objects.push_back(-1);
-        ConvexPolytope seen = ClippedByAll(ConvexPolytope::FromBox(c.bounds), frustum);
-        for (const Vec4& front : hiding) seen.Clip(front);
+        const ConvexPolytope seen = ClippedByAll(ConvexPolytope::FromBox(c.bounds), seen_planes);
         if (!seen.empty()) c.view_regions.push_back({&c.cut_regions.emplace_back(seen), -1, -1});
     }
-    // What the viewer sees of a box: its part in view, then in front of every hiding plane.
-    std::vector<PlaneTest> seen_planes = frustum;
-    for (const Vec4& front : hiding) seen_planes.emplace_back(front);
     // A region no plane cuts is the box itself; one some plane cuts is kept in cut_regions.
     ConvexPolytope scratch;
     const auto keep = [&](const ConvexPolytope& part) {
