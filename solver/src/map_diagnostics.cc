@@ -8,7 +8,9 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 
@@ -55,6 +57,16 @@ double DepthStepAt(const LightMap& map, const GlLightTransform& gl, const Vec4& 
 
 namespace {
 
+// The float after d, as std::nextafter(d, 2.0f) gives it for the clamped depths StepAlong takes
+// (0 <= d <= 1, -0 or NaN), without the library call the diagnostics made once a receiver: a
+// positive float's successor is the next integer in its bits, zero's (of either sign) the least
+// subnormal, and NaN's NaN.
+float NextFloatUp(float d) {
+    if (std::isnan(d)) return d;
+    if (d == 0.0f) return std::numeric_limits<float>::denorm_min();
+    return std::bit_cast<float>(std::bit_cast<std::uint32_t>(d) + 1u);
+}
+
 // The step along unit direction `dir3` at x (DepthStepAt).
 double StepAlong(const LightMap& map, const GlLightTransform& gl, const Vec3& dir3, const Vec3& x) {
     const Vec4 dir(dir3.x(), dir3.y(), dir3.z(), 0.0);
@@ -71,7 +83,7 @@ double StepAlong(const LightMap& map, const GlLightTransform& gl, const Vec3& di
     const Eigen::Vector4f row = gl.projection.row(2).transpose();
     const float w = gl.projection.row(3).dot(local4.transpose());
     const float d = std::clamp(row.dot(local4) / w, 0.0f, 1.0f);
-    const double storage = static_cast<double>(std::nextafter(d, 2.0f)) - static_cast<double>(d);
+    const double storage = static_cast<double>(NextFloatUp(d)) - static_cast<double>(d);
     // Half a float ulp per term of the dot product, over q.
     const double terms = row.cwiseProduct(local4).cwiseAbs().cast<double>().sum();
     const double computed = 0.5 * std::numeric_limits<float>::epsilon() * terms / std::abs(w);

@@ -423,6 +423,7 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
     for (const std::uint32_t b : proofs.cells.everywhere()) {
         if (!not_nearer(b)) return false;
     }
+    if (!proofs.cells.any_filed()) return true;
     const std::uint32_t tile = ++e.tile;
     for (int cy = first_y; cy < last_y; ++cy) {
         for (int cx = first_x; cx < last_x; ++cx) {
@@ -568,7 +569,8 @@ void EstimatePixels(const Context& c, Plan& plan) {
                                     corner(a1, b1)};
         if (!proofs.enabled || !TileUniform(e, proofs, tile)) return false;
         for (int sy = lattice[b0]; sy <= lattice[b1]; ++sy) {
-            for (int sx = lattice[a0]; sx <= lattice[a1]; ++sx) maps[sy * n + sx] = tile[0]->map;
+            std::fill_n(maps.begin() + sy * n + lattice[a0], lattice[a1] - lattice[a0] + 1,
+                        tile[0]->map);
         }
         return true;
     };

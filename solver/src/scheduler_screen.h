@@ -7,6 +7,7 @@
 #include <lixel/solver/types.h>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -78,11 +79,14 @@ inline double SampleNdc(int k) { return 2.0 * (k + 0.5) / kPixelSamplesPerSide -
 // ray's nearest box does not depend on the order boxes are tried; a tile's proof is a
 // conjunction). Boxes without a rectangle are never culled and are in `everywhere`, and so are
 // boxes over more than kMaxCellsPerBox cells (tried by every ray and tile, with Disjoint's test
-// as before), which bounds the cells' lists to that many entries per box.
+// as before), which bounds the cells' lists to that many entries per box; so are all boxes when
+// there are at most kFewBoxes.
 class ScreenCells {
   public:
     static constexpr int kCells = kPixelSamplesPerSide - 1;
     static constexpr int kMaxCellsPerBox = 64;
+    // Up to this many boxes are all `everywhere` and no cell holds any.
+    static constexpr std::size_t kFewBoxes = 16;
 
     ScreenCells() = default;
     explicit ScreenCells(const std::vector<ScreenRect>& boxes);
@@ -90,16 +94,21 @@ class ScreenCells {
     // The boxes of cell (cx, cy), in index order; the cell of sample (sx, sy) is
     // (min(sx, kCells - 1), min(sy, kCells - 1)).
     std::span<const std::uint32_t> Cell(int cx, int cy) const {
+        if (offsets_.empty()) return {};
         const int k = cy * kCells + cx;
-        return {boxes_.data() + offsets_[k], boxes_.data() + offsets_[k + 1]};
+        return {boxes_.data() + offsets_[k + 1], boxes_.data() + offsets_[k + 2]};
     }
     const std::vector<std::uint32_t>& everywhere() const { return everywhere_; }
+    // Whether any cell holds a box (false when every box is `everywhere`).
+    bool any_filed() const { return !boxes_.empty(); }
 
   private:
     // The cells whose closed squares the rectangle, widened by kScreenMargin, meets: the same
     // comparisons Disjoint makes, at the cells' edges. {cx0, cx1, cy0, cy1}, empty when cx1 < cx0.
     static std::array<int, 4> SpanOf(const ScreenRect& r);
 
+    // Cell k's boxes are boxes_[offsets_[k + 1]] up to boxes_[offsets_[k + 2]]; empty when
+    // every box is `everywhere`.
     std::vector<std::size_t> offsets_;
     std::vector<std::uint32_t> boxes_;
     std::vector<std::uint32_t> everywhere_;

@@ -216,7 +216,7 @@ double PlainDepthStep(const LightMap& map, const GlLightTransform& gl, const Vec
 
 // The light taken once (DepthStepLight) gives every receiver the step and the distance along the
 // light the plain computation gives, bit for bit: point lights with w other than 1, directional
-// lights, receivers at the light.
+// lights, receivers at the light and at depths the pass clamps to 0 or 1.
 TEST(DepthStepAt, TheLightTakenOnceGivesThePlainStepsAndDistancesBitForBit) {
     std::mt19937_64 rng(2941);
     int compared = 0;
@@ -239,6 +239,14 @@ TEST(DepthStepAt, TheLightTakenOnceGivesThePlainStepsAndDistancesBitForBit) {
             Vec3 x = c.target + reach * Vec3(Uniform(rng, -0.5, 0.5), Uniform(rng, -0.5, 0.5),
                                              Uniform(rng, -0.5, 0.5));
             if (k == 0 && light.w() != 0.0) x = light.head<3>() / light.w();  // at the light
+            // Depths the pass clamps: far past the corners (1), and between the light and its
+            // near plane or behind a directional light's (0).
+            const Vec3 toward = light.w() == 0.0
+                                    ? Vec3(-light.head<3>().normalized())
+                                    : Vec3((c.target - light.head<3>() / light.w()).normalized());
+            if (k == 1) x = c.target + 50.0 * reach * toward;
+            if (k == 2 && light.w() != 0.0) x = light.head<3>() / light.w() + 1e-3 * reach * toward;
+            if (k == 2 && light.w() == 0.0) x = c.target - 50.0 * reach * toward;
             const DepthStep got = DepthStepAt(*map, gl, once, x);
             const double step = PlainDepthStep(*map, gl, light, x);
             const double along = light.w() == 0.0 ? -light.head<3>().normalized().dot(x)
