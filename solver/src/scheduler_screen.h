@@ -86,7 +86,7 @@ class ScreenCells {
     static constexpr int kCells = kPixelSamplesPerSide - 1;
     static constexpr int kMaxCellsPerBox = 64;
     // Up to this many boxes are all `everywhere` and no cell holds any.
-    static constexpr std::size_t kFewBoxes = 16;
+    static constexpr std::size_t kFewBoxes = 8;
 
     ScreenCells() = default;
     explicit ScreenCells(const std::vector<ScreenRect>& boxes);
