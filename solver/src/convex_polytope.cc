@@ -46,15 +46,18 @@ bool WithinTolerance(const Vec3& a, const Vec3& b, double tol) {
 
 // Drops consecutive vertices closer than `tol` (cyclically); a polygon left with fewer than
 // three vertices is cleared. In place: every kept vertex is compared with the last one kept,
-// which lies at or before the read position.
+// which lies at or before the read position. The first vertex is always kept.
 void MergeCloseVertices(std::vector<Vec3>& polygon, double tol) {
-    size_t kept = 0;
-    for (size_t i = 0; i < polygon.size(); ++i) {
-        if (kept == 0 || FartherThan(polygon[i], polygon[kept - 1], tol)) {
-            polygon[kept++] = polygon[i];
+    const std::size_t count = polygon.size();
+    Vec3* const p = polygon.data();
+    std::size_t kept = count > 0 ? 1 : 0;
+    for (std::size_t i = 1; i < count; ++i) {
+        if (FartherThan(p[i], p[kept - 1], tol)) {
+            if (kept != i) p[kept] = p[i];
+            ++kept;
         }
     }
-    while (kept > 1 && WithinTolerance(polygon[0], polygon[kept - 1], tol)) --kept;
+    while (kept > 1 && WithinTolerance(p[0], p[kept - 1], tol)) --kept;
     if (kept < 3) kept = 0;
     polygon.resize(kept);
 }
@@ -333,6 +336,8 @@ void ConvexPolytope::Clip(const PlaneTest& t) {
     thread_local std::vector<double> d;   // signed distances of the current face's vertices
     thread_local std::vector<int> sides;  // their sides: 1 inside, -1 outside, 0 on the plane
     thread_local std::vector<Vec2> flat;
+    thread_local std::vector<Vec2> sorted;  // the cap's points sorted, and their hull
+    thread_local std::vector<Vec2> hull;
     thread_local std::vector<Vec3> points;     // the clipped polytope's polygons
     thread_local std::vector<FaceRange> faces;  // and faces, copied back at the end
     cap_points.clear();
@@ -388,7 +393,9 @@ void ConvexPolytope::Clip(const PlaneTest& t) {
     PlaneBasis(outward, u, v);
     flat.clear();
     for (const Vec3& x : cap_points) flat.emplace_back(u.dot(x), v.dot(x));
-    const std::vector<Vec2> hull = ConvexHull2d(flat);
+    // The hull sorts its copy of the points; `flat` keeps their order to find each one's point.
+    sorted.assign(flat.begin(), flat.end());
+    ConvexHull2dInto(sorted, hull);
     kept.clear();
     for (const Vec2& h : hull) {
         for (size_t i = 0; i < flat.size(); ++i) {

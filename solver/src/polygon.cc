@@ -78,15 +78,24 @@ Vec3 PolygonCentroid(std::span<const Vec3> polygon) {
 }
 
 std::vector<Vec2> ConvexHull2d(std::vector<Vec2> points) {
+    std::vector<Vec2> hull;
+    ConvexHull2dInto(points, hull);
+    return hull;
+}
+
+void ConvexHull2dInto(std::vector<Vec2>& points, std::vector<Vec2>& hull) {
     std::sort(points.begin(), points.end(), [](const Vec2& a, const Vec2& b) {
         return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
     });
     points.erase(std::unique(points.begin(), points.end()), points.end());
-    if (points.size() < 3) return points;
+    if (points.size() < 3) {
+        hull.assign(points.begin(), points.end());
+        return;
+    }
     auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
         return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
     };
-    std::vector<Vec2> hull(2 * points.size());
+    hull.resize(2 * points.size());
     size_t k = 0;
     for (const Vec2& p : points) {  // lower chain
         while (k >= 2 && cross(hull[k - 2], hull[k - 1], p) <= 0.0) --k;
@@ -97,7 +106,6 @@ std::vector<Vec2> ConvexHull2d(std::vector<Vec2> points) {
         hull[k++] = points[i];
     }
     hull.resize(k - 1);
-    return hull;
 }
 
 double PolygonArea2d(const std::vector<Vec2>& polygon) {

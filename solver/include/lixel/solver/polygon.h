@@ -28,6 +28,11 @@ Vec3 PolygonCentroid(std::span<const Vec3> polygon);
 // 2D convex hull (Andrew's monotone chain), counter-clockwise, collinear points dropped.
 std::vector<Vec2> ConvexHull2d(std::vector<Vec2> points);
 
+// ConvexHull2d(points) into `hull`, sorting `points` in place and dropping their duplicates:
+// the same hull, bit for bit, without allocating where both vectors have room (a polytope's
+// clip takes one per cut).
+void ConvexHull2dInto(std::vector<Vec2>& points, std::vector<Vec2>& hull);
+
 // Signed area of a simple 2D polygon (positive when counter-clockwise).
 double PolygonArea2d(const std::vector<Vec2>& polygon);
 
