@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "held_regions.h"
 #include "index_lease.h"
 #include "object_boxes.h"
 #include "object_tree.h"
@@ -90,13 +91,12 @@ struct Context {
     ObjectBoxes object_boxes;
     // The tree over object_boxes' bounds: the request's ObjectIndex's, or the plan's own.
     IndexLease object_tree;
-    // The parts of boxes some plane cut (held or visible): most boxes of a crowded view lie
-    // wholly inside the extent hull and the view, and their regions are the boxes themselves.
+    // The parts of boxes some plane cut (visible): most boxes of a crowded view lie wholly
+    // inside the view, and their regions are the boxes themselves.
     std::deque<ConvexPolytope> cut_regions;
-    // The non-empty ones, in object order: object_boxes' polytopes or cut_regions'.
-    std::vector<const ConvexPolytope*> held_regions;
-    std::vector<int> held_objects;  // each held region's object; -1 for the extent hull
-    std::vector<std::vector<Vec3>> held_vertices;  // held_regions[i]->vertices()
+    // Every object's part inside the extent hull (the hull itself when there are no objects),
+    // clipped when the depth points first ask for it.
+    HeldRegions held;
     std::vector<ViewRegion> view_regions;          // visible part of every object
     std::vector<LeftOut> plane_left_out;           // from the candidate stage
     CancelPoll poll;                               // request.cancelled
@@ -130,6 +130,25 @@ std::vector<Vec2> ImageHull(const Mat4& m, const std::vector<Vec4>& points);
 std::vector<Vec4> Points(const std::vector<Vec3>& vertices);
 // The context of a validated request: candidates, object boxes, held and visible regions.
 Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& hull);
+
+// --- scheduler_depth_points.cc
+
+// What a depth row fitted to DepthPoints reads of them: FitDepthRow(r_w, light, points,
+// receivers), and with `reach` a plane solve's farthest point from its light
+// (ValidatePlaneOptimalInput; `light` then as that solve normalises it).
+struct DepthFit {
+    RowVec4 r_w = RowVec4::Zero();
+    Vec4 light = Vec4::Zero();
+    std::span<const Vec4> receivers;
+    bool reach = false;
+};
+// The vertices of the geometry `map` can hold: every object's part inside the extent hull (the
+// hull alone when there are no objects) clipped by the map's accepted cone. With `fit`, for a
+// point light with receivers, only the regions whose points can change that fit (the others
+// change none of what it reads); every region without.
+std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
+                              const std::vector<Eigen::Vector3d>& half_planes,
+                              const DepthFit* fit = nullptr);
 
 // --- scheduler_plane_maps.cc
 

@@ -14,37 +14,6 @@ namespace lixel::scheduling {
 
 namespace {
 
-// The geometry a map can hold: every object's box inside the extent hull and the map's accepted
-// cone (the extent hull alone when there are no objects). Its vertices bound the depth range
-// of every point the lookup sends to this map, casters outside the view included.
-std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
-                              const std::vector<Eigen::Vector3d>& half_planes) {
-    const RayCone cone = AcceptedCone(map, half_planes);
-    const std::vector<PlaneTest> cone_planes = PlaneTests(cone.planes);
-    std::vector<Vec4> points;
-    thread_local ConvexPolytope scratch;
-    // The object tree finds the boxes the cone keeps nothing of and those it holds whole: a held
-    // region that is its box (no face of the hull cut it) then needs no clip.
-    thread_local std::vector<char> marks;
-    c.object_tree.tree().MarkPossible(cone_planes, marks, true);
-    for (size_t i = 0; i < c.held_regions.size(); ++i) {
-        c.poll();
-        const ConvexPolytope& held = *c.held_regions[i];
-        if (held.empty()) continue;
-        const int object = c.held_objects[i];
-        const bool whole_box = object >= 0 && &held == &c.object_boxes[object];
-        if (whole_box && marks[object] == ObjectTree::kRejected) continue;  // nothing left
-        const ConvexPolytope& region = whole_box && marks[object] == ObjectTree::kInside
-                                           ? held
-                                           : ClipInto(scratch, held, cone_planes);
-        const std::vector<Vec3> cut = &region == &held ? std::vector<Vec3>{} : region.vertices();
-        for (const Vec3& v : &region == &held ? c.held_vertices[i] : cut) {
-            points.push_back(Point(v));
-        }
-    }
-    return points;
-}
-
 }  // namespace
 
 // The guard band a map of `budget` lixels gets: kGuardLixels, but at most 1/16 of the budget's
@@ -75,7 +44,8 @@ RayCone LookupCone(const LightMap& map, const LookupRule& rule) {
 // Refits a map's depth row to DepthPoints, with `receivers` (what the map is kept for) inside
 // [0, 1] by construction; keeps the old row when nothing is held.
 void RefitDepth(const Context& c, PlannedMap& m, const std::vector<Vec4>& receivers) {
-    std::vector<Vec4> points = DepthPoints(c, m.map, m.lookup.half_planes);
+    const DepthFit fit{m.map.matrix.row(3), c.light, receivers, false};
+    std::vector<Vec4> points = DepthPoints(c, m.map, m.lookup.half_planes, &fit);
     auto r_z = FitDepthRow(m.map.matrix.row(3), c.light, points, receivers);
     if (r_z.ok()) m.map.matrix.row(2) = *r_z;
 }
@@ -213,7 +183,11 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, const std::vect
         }
         // Depth to exactly what this map will be asked about; the crop does not depend on it,
         // so the second solve keeps the rectangle and reports diagnostics for the final row.
-        std::vector<Vec4> held = DepthPoints(c, solved->crop.map, half_planes);
+        // Of the held geometry, what can change the second solve's depth row and reach: its
+        // rows but the depth row, and its light, are the first solve's.
+        const DepthFit fit{solved->uncropped.matrix.row(3), solved->uncropped.light,
+                           pr.input.depth_receivers, true};
+        std::vector<Vec4> held = DepthPoints(c, solved->crop.map, half_planes, &fit);
         for (const Vec3& v : cand.polygon) held.push_back(Point(v));
         pr.input.depth_points = held;
         solved = SolvePlaneMap(pr);

@@ -244,8 +244,7 @@ void FindViewRegions(Context& c) {
     std::vector<PlaneTest> seen_planes = PlaneTests(c.frustum);
     for (const Vec4& front : hiding) seen_planes.emplace_back(front);
     if (r.objects.empty()) {
-        c.held_regions.push_back(&c.cut_regions.emplace_back(c.hull.hull));
-        c.held_objects.push_back(-1);
+        c.held = HeldRegions(c.hull.hull);
         const ConvexPolytope seen = ClippedByAll(ConvexPolytope::FromBox(c.bounds), seen_planes);
         if (!seen.empty()) c.view_regions.push_back({&c.cut_regions.emplace_back(seen), -1, -1});
     }
@@ -256,7 +255,7 @@ void FindViewRegions(Context& c) {
     };
     // The objects some hull face or view plane provably leaves nothing of (ObjectTree) get the
     // empty part the clips would give them, and those every plane holds whole (kInside) the box
-    // itself, without the clips.
+    // itself, without the clips. The held parts are clipped when the depth points ask for them.
     std::vector<PlaneTest> inside_hull;
     for (std::size_t f = 0; f < c.hull.hull.face_count(); ++f) {
         inside_hull.emplace_back(-c.hull.hull.face_plane(f));
@@ -264,23 +263,15 @@ void FindViewRegions(Context& c) {
     std::vector<char> maybe_held, maybe_seen;
     c.object_tree.tree().MarkPossible(inside_hull, maybe_held, true);
     c.object_tree.tree().MarkPossible(seen_planes, maybe_seen, true);
-    const auto clipped = [&](std::size_t i, char mark,
-                             std::span<const PlaneTest> planes) -> const ConvexPolytope& {
-        return mark == ObjectTree::kInside ? c.object_boxes[i]
-                                           : ClipInto(scratch, c.object_boxes[i], planes);
-    };
+    if (!r.objects.empty()) {
+        c.held = HeldRegions(c.object_boxes, std::move(inside_hull), maybe_held);
+    }
     for (size_t i = 0; i < c.object_boxes.size(); ++i) {
         c.poll();
-        // Only the parts that exist: the depth points read nothing of an empty one.
-        if (maybe_held[i]) {
-            const ConvexPolytope& held = clipped(i, maybe_held[i], inside_hull);
-            if (!held.empty()) {
-                c.held_regions.push_back(keep(held));
-                c.held_objects.push_back(static_cast<int>(i));
-            }
-        }
         if (!maybe_seen[i]) continue;
-        const ConvexPolytope& seen = clipped(i, maybe_seen[i], seen_planes);
+        const ConvexPolytope& seen = maybe_seen[i] == ObjectTree::kInside
+                                         ? c.object_boxes[i]
+                                         : ClipInto(scratch, c.object_boxes[i], seen_planes);
         if (seen.empty()) continue;
         ViewRegion v{keep(seen), static_cast<int>(i), -1};
         // A slab standing for the plane itself (a floor mesh at y = 0): its box, unthickened,
@@ -299,28 +290,14 @@ void FindViewRegions(Context& c) {
         }
         c.view_regions.push_back(std::move(v));
     }
-    for (const ConvexPolytope* held : c.held_regions) c.held_vertices.push_back(held->vertices());
 }
 
 }  // namespace
 
 Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& hull) {
-    Context c{r,
-              bounds,
-              hull,
-              hull.light,
-              FrustumPlanes(r.viewer),
-              1e-6 * bounds.Diagonal(),
-              {},
-              {},
-              {},
-              {},
-              {},
-              {},
-              {},
-              {},
-              {},
-              CancelPoll(&r.cancelled)};
+    Context c{
+        r,  bounds, hull, hull.light, FrustumPlanes(r.viewer), 1e-6 * bounds.Diagonal(), {}, {}, {},
+        {}, {},     {},   {},         CancelPoll(&r.cancelled)};
     FindCandidates(c);
     std::vector<Aabb> boxes;
     boxes.reserve(r.objects.size());
