@@ -34,6 +34,8 @@ class HeldRegions {
     // Whether the region is known to be its object's box itself, with no clip (every hull face
     // holds the box whole); a clip may still leave other boxes whole.
     bool whole(std::size_t i) const noexcept { return regions_[i].whole; }
+    // The most clips a region's part has had: one a face of the hull.
+    std::size_t clips() const noexcept { return inside_hull_.size(); }
     // The region itself (clipped on the first call; empty where nothing of the box is inside)
     // and its vertices; `boxes` are the ones it was made with (the context's, which may have
     // moved since). Not thread-safe: a plan's context belongs to one thread.

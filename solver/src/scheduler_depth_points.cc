@@ -26,13 +26,18 @@ class RegionPoints {
     RegionPoints(const Context& c, std::span<const PlaneTest> cone, const std::vector<char>& marks)
         : c_(c), cone_(cone), marks_(marks) {}
 
-    // Whether the region is known to give no points without clipping it: its box, whole, where
-    // the cone keeps nothing of the box.
+    // Whether the region gives no points, known without clipping it: the cone keeps nothing of
+    // its box (the object tree's rejection, PolytopeBounds::KeepsNothingOf by one of the cone's
+    // planes), and the box is whole or the hull's clips and the cone's planes before that one
+    // are at most the kKeepsNothingClips the rejection's margin covers.
     bool KnownEmpty(std::size_t i) const {
-        return c_.held.whole(i) && marks_[c_.held.object(i)] == ObjectTree::kRejected;
+        const int object = c_.held.object(i);
+        return object >= 0 && marks_[object] == ObjectTree::kRejected &&
+               (c_.held.whole(i) || c_.held.clips() + cone_.size() <= kKeepsNothingClips);
     }
 
     void AppendTo(std::size_t i, std::vector<Vec4>& points) const {
+        if (KnownEmpty(i)) return;
         const ConvexPolytope& held = c_.held.region(i, c_.object_boxes);
         if (held.empty()) return;
         const int object = c_.held.object(i);

@@ -1,6 +1,7 @@
 // Tests for the scheduler's depth points (solver/src/scheduler_depth_points.cc, an internal
-// header's function): leaving out the held regions that cannot change a depth fit must leave
-// the fitted depth row and a plane solve's reach bit for bit what every region gives.
+// header's function): every region's points are those of plain clips of every box, and leaving
+// out the held regions that cannot change a depth fit must leave the fitted depth row and a plane
+// solve's reach bit for bit what every region gives.
 #include <gtest/gtest.h>
 #include <lixel/solver/camera.h>
 #include <lixel/solver/depth_row.h>
@@ -40,6 +41,25 @@ double Reach(const std::vector<Vec4>& points, const std::vector<Vec4>& receivers
     return reach;
 }
 
+// Every object's part inside the extent hull and the map's accepted cone, clipped plane by plane
+// with no shortcut (no object tree, no bounds), its vertices in object order: what DepthPoints
+// takes every region of.
+std::vector<Vec4> EveryRegionsPoints(const Context& c, const LightMap& map) {
+    std::vector<PlaneTest> inside_hull;
+    for (std::size_t f = 0; f < c.hull.hull.face_count(); ++f) {
+        inside_hull.emplace_back(-c.hull.hull.face_plane(f));
+    }
+    const std::vector<PlaneTest> cone = PlaneTests(AcceptedCone(map, {}).planes);
+    std::vector<Vec4> points;
+    for (const SceneObject& o : c.request.objects) {
+        const ConvexPolytope held =
+            ClippedByAll(ConvexPolytope::FromBox(Thickened(o.bounds, c.thickness)), inside_hull);
+        if (held.empty()) continue;
+        for (const Vec3& v : ClippedByAll(held, cone).vertices()) points.push_back(Point(v));
+    }
+    return points;
+}
+
 // A room of seeded boxes under a point light (w other than 1 in some rooms): most stand on the
 // floor, some float anywhere, and in some rooms a few crowd round the light (nearer than the
 // near clamp, or holding it).
@@ -74,10 +94,10 @@ PlanRequest RandomRoom(std::mt19937_64& rng, int trial) {
     return r;
 }
 
-// Over rooms of 40 to 300 boxes and maps over a patch of the floor or over all of it:
-// FitDepthRow over the points DepthPoints
-// keeps for a fit equals, bit for bit, the row over every region's points, and so does the
-// reach; every point kept is one of the full set's.
+// Over rooms of 40 to 300 boxes and maps over a patch of the floor or over all of it: DepthPoints
+// without a fit gives every box's plain clips' vertices, and FitDepthRow over the points
+// DepthPoints keeps for a fit equals, bit for bit, the row over every region's points, and so does
+// the reach; every point kept is one of the full set's.
 TEST(DepthPoints, LeavingOutRegionsKeepsTheFittedRowAndReachBitForBit) {
     std::mt19937_64 rng(29029);
     int compared = 0, reduced = 0, clamped = 0;
@@ -106,7 +126,8 @@ TEST(DepthPoints, LeavingOutRegionsKeepsTheFittedRowAndReachBitForBit) {
         const auto map = FitFrustum(light, held, MapSize{0, 0, 256 * 256});
         if (!map) continue;
         const DepthFit fit{map->matrix.row(3), light, receivers, true};
-        const std::vector<Vec4> full = DepthPoints(c, *map, {});
+        const std::vector<Vec4> full = EveryRegionsPoints(c, *map);
+        ASSERT_EQ(DepthPoints(c, *map, {}), full) << "trial " << trial;
         const std::vector<Vec4> kept = DepthPoints(c, *map, {}, &fit);
         ASSERT_LE(kept.size(), full.size());
         for (const Vec4& x : kept) {
