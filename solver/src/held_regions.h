@@ -17,6 +17,11 @@ namespace lixel::scheduling {
 class HeldRegions {
   public:
     HeldRegions() = default;
+    // Moved, never copied: the regions' parts point into `cut_`.
+    HeldRegions(const HeldRegions&) = delete;
+    HeldRegions& operator=(const HeldRegions&) = delete;
+    HeldRegions(HeldRegions&&) = default;
+    HeldRegions& operator=(HeldRegions&&) = default;
     // The objects' parts: `marks` is ObjectTree::MarkPossible over `inside_hull` (the hull's
     // faces, inward) with inside marks; a rejected object has no part, one marked inside is its
     // box, and any other its box clipped by `inside_hull` (possibly empty).

@@ -135,7 +135,9 @@ Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& 
 
 // What a depth row fitted to DepthPoints reads of them: FitDepthRow(r_w, light, points,
 // receivers), and with `reach` a plane solve's farthest point from its light
-// (ValidatePlaneOptimalInput; `light` then as that solve normalises it).
+// (ValidatePlaneOptimalInput), where the solve's depth points are DepthPoints' and the receivers
+// and `light` is the point light as the solve normalises it (w = 1; any other takes every
+// region).
 struct DepthFit {
     RowVec4 r_w = RowVec4::Zero();
     Vec4 light = Vec4::Zero();

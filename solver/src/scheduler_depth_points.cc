@@ -93,9 +93,11 @@ RegionRange RangeOf(const PolytopeBounds& b, const RowVec4& r_w, const Vec3& lig
     return range;
 }
 
-// Whether NeededRegions applies: a point light, receivers, and more than a few regions.
+// Whether NeededRegions applies: a point light, receivers, more than a few regions, and for the
+// reach the light as the solve normalises it (w = 1).
 bool Reducible(const Context& c, const DepthFit& fit) {
-    return c.held.size() > kFewRegions && fit.light.w() != 0.0 && !fit.receivers.empty();
+    return c.held.size() > kFewRegions && fit.light.w() != 0.0 && !fit.receivers.empty() &&
+           (!fit.reach || fit.light.w() == 1.0);
 }
 
 // Which regions can change FitDepthRow(fit.r_w, fit.light, points, fit.receivers) for a point
@@ -181,8 +183,9 @@ void NeededRegions(const Context& c, const DepthFit& fit, const RegionPoints& re
                          // has a bound below it too, since low >= q_floor
     take_while([&](std::size_t i) { return ranges[i].q_lo; }, Below{low},
                [&](const Vec4& x) {
+                   // As FitDepthRow takes a point's u: above the floor, and finite.
                    const double q = fit.r_w.dot(x);
-                   if (q >= q_floor) low = std::min(low, q);
+                   if (q >= q_floor && std::isfinite(1.0 / q)) low = std::min(low, q);
                });
     if (fit.reach) {
         take_while([&](std::size_t i) { return ranges[i].reach_hi; }, Above{reach},

@@ -94,7 +94,7 @@ PlanRequest RandomRoom(std::mt19937_64& rng, int trial) {
     return r;
 }
 
-// Over rooms of 40 to 300 boxes and maps over a patch of the floor or over all of it: DepthPoints
+// Over rooms of 40 to 302 boxes and maps over a patch of the floor or over all of it: DepthPoints
 // without a fit gives every box's plain clips' vertices, and FitDepthRow over the points
 // DepthPoints keeps for a fit equals, bit for bit, the row over every region's points, and so does
 // the reach; every point kept is one of the full set's.
