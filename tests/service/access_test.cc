@@ -4,6 +4,8 @@
 #include <lixel/service/access.h>
 #include <lixel/service/client_limits.h>
 
+#include <algorithm>
+
 #include "service_fixture.h"
 #include "test_ca.h"
 
@@ -65,6 +67,16 @@ TEST(ClientTokens, BadLinesAreRefusedNamingTheLine) {
 }
 
 // Holds one Render of `scene_id` open with `token` until destroyed (then cancels it).
+// Server options for calls made beside a HeldRender: a second worker serves them while the
+// Render holds the first. With one worker a call waited in the queue until the held stream's
+// idle limit (stream_idle_seconds, 10 s) ended the Render, and the checks after it raced that
+// end.
+service::ServerOptions BesideAHeldRender(const std::string& instance) {
+    service::ServerOptions options = SmallServerOptions(instance);
+    options.service.workers = std::max(2, options.service.workers);
+    return options;
+}
+
 class HeldRender {
   public:
     HeldRender(v1::Shadow::Stub& stub, const std::string& scene_id, const std::string& token) {
@@ -89,7 +101,7 @@ class HeldRender {
 };
 
 TEST(ClientIdentity, EachClientTokenIsABudgetOfItsOwn) {
-    service::ServerOptions options = SmallServerOptions("test-client-tokens");
+    service::ServerOptions options = BesideAHeldRender("test-client-tokens");
     options.service.client_tokens = {{kAlphaToken, "alpha"}, {kBetaToken, "beta"}};
     options.service.max_calls_per_client = 1;
     auto server = StartServer(options);
@@ -127,7 +139,7 @@ TEST(ClientIdentity, EachClientTokenIsABudgetOfItsOwn) {
 }
 
 TEST(ClientIdentity, ASharedTokenAuthorisesButTheAddressIdentifies) {
-    service::ServerOptions options = SmallServerOptions("test-shared-token");
+    service::ServerOptions options = BesideAHeldRender("test-shared-token");
     options.service.bearer_token = "s3cret";
     options.service.client_tokens = {{kAlphaToken, "alpha"}};
     options.service.max_calls_per_client = 1;
@@ -168,7 +180,7 @@ std::unique_ptr<v1::Shadow::Stub> MutualTlsStub(int port, const TestCa& ca,
 TEST(ClientIdentity, MutualTlsClientsAreCountedByCertificateSubject) {
     TestCa ca;
     ASSERT_TRUE(ca.ok()) << "openssl could not make the test CA";
-    service::ServerOptions options = SmallServerOptions("test-mtls-identity");
+    service::ServerOptions options = BesideAHeldRender("test-mtls-identity");
     ca.ServeTls(options, true);
     options.service.max_calls_per_client = 1;
     auto server = StartServer(options);
