@@ -187,7 +187,13 @@ bool AddFallbackMap(const Context& c, const std::vector<Vec4>& points, const std
                     const std::vector<Receiver>& receivers, std::int64_t budget, Plan& plan) {
     const int max_side = c.request.max_texture_size;
     int guard = GuardFor(budget, max_side);
-    const auto fit = [&](const MapSize& size) { return FitFrustum(c.light, points, size); };
+    // FitFrustum at each size the guard band and coherence try: its basis (the cone's axis and
+    // the image's turn) depends on the points alone, so it is found once.
+    const Result<Mat4> basis = LightFrustumBasis(c.light, points);
+    const auto fit = [&](const MapSize& size) -> Result<LightMap> {
+        if (!basis) return basis.error();
+        return FitImageRectangle(*basis, c.light, points, size);
+    };
     auto fallback = FitWithGuard(fit, budget, max_side, guard);
     // Frame coherence: the previous fallback's size, when it fits what is left of the budget,
     // holds at least 1 - waste_bound of the map that budget fits, and the map fitted to its
