@@ -16,12 +16,12 @@ ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes) {
         }
         return;
     }
-    // A counting sort in one array: offsets_[k + 1] counts cell k's boxes, then (summed) is
-    // where its list ends; the boxes go in from the last down, each at its cell's end less one,
-    // which leaves offsets_[k + 1] where the cell's list begins, in index order.
+    // A counting sort in one array: offsets_[k] counts cell k's boxes, then (summed) is where
+    // its list ends; the boxes go in from the last down, each at its cell's end less one, which
+    // leaves offsets_[k] where the cell's list begins, in index order.
     constexpr int kAll = kCells * kCells;
     std::vector<std::array<int, 4>> spans(boxes.size(), {0, -1, 0, -1});
-    offsets_.assign(kAll + 2, 0);
+    offsets_.assign(kAll + 1, 0);
     for (std::size_t b = 0; b < boxes.size(); ++b) {
         const std::array<int, 4> span = boxes[b].valid ? SpanOf(boxes[b])
                                                        : std::array<int, 4>{0, -1, 0, -1};
@@ -33,16 +33,16 @@ ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes) {
         }
         spans[b] = span;
         for (int cy = span[2]; cy <= span[3]; ++cy) {
-            for (int cx = span[0]; cx <= span[1]; ++cx) ++offsets_[cy * kCells + cx + 1];
+            for (int cx = span[0]; cx <= span[1]; ++cx) ++offsets_[cy * kCells + cx];
         }
     }
-    for (int k = 1; k < kAll; ++k) offsets_[k + 1] += offsets_[k];
-    offsets_[kAll + 1] = offsets_[kAll];
+    for (int k = 1; k < kAll; ++k) offsets_[k] += offsets_[k - 1];
+    offsets_[kAll] = offsets_[kAll - 1];
     boxes_.resize(offsets_[kAll]);
     for (std::size_t b = boxes.size(); b-- > 0;) {
         for (int cy = spans[b][2]; cy <= spans[b][3]; ++cy) {
             for (int cx = spans[b][0]; cx <= spans[b][1]; ++cx) {
-                boxes_[--offsets_[cy * kCells + cx + 1]] = static_cast<std::uint32_t>(b);
+                boxes_[--offsets_[cy * kCells + cx]] = static_cast<std::uint32_t>(b);
             }
         }
     }

@@ -96,7 +96,7 @@ class ScreenCells {
     std::span<const std::uint32_t> Cell(int cx, int cy) const {
         if (offsets_.empty()) return {};
         const int k = cy * kCells + cx;
-        return {boxes_.data() + offsets_[k + 1], boxes_.data() + offsets_[k + 2]};
+        return {boxes_.data() + offsets_[k], boxes_.data() + offsets_[k + 1]};
     }
     const std::vector<std::uint32_t>& everywhere() const { return everywhere_; }
     // Whether any cell holds a box (false when every box is `everywhere`).
@@ -107,8 +107,8 @@ class ScreenCells {
     // comparisons Disjoint makes, at the cells' edges. {cx0, cx1, cy0, cy1}, empty when cx1 < cx0.
     static std::array<int, 4> SpanOf(const ScreenRect& r);
 
-    // Cell k's boxes are boxes_[offsets_[k + 1]] up to boxes_[offsets_[k + 2]]; empty when
-    // every box is `everywhere`.
+    // Cell k's boxes are boxes_[offsets_[k]] up to boxes_[offsets_[k + 1]]; empty when every
+    // box is `everywhere`.
     std::vector<std::size_t> offsets_;
     std::vector<std::uint32_t> boxes_;
     std::vector<std::uint32_t> everywhere_;
