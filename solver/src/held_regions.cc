@@ -16,13 +16,11 @@ HeldRegions::HeldRegions(const ObjectBoxes& boxes, std::vector<PlaneTest> inside
         regions_.push_back(
             Region{static_cast<int>(i), marks[i] == ObjectTree::kInside, boxes.bounds()[i]});
     }
-    vertices_.resize(regions_.size());
 }
 
 HeldRegions::HeldRegions(const ConvexPolytope& hull) {
     regions_.push_back(Region{-1, false, hull.Bounds()});
     regions_.back().part = &cut_.emplace_back(hull);
-    vertices_.resize(1);
 }
 
 const ConvexPolytope& HeldRegions::region(std::size_t i, const ObjectBoxes& boxes) const {
@@ -42,10 +40,10 @@ const ConvexPolytope& HeldRegions::region(std::size_t i, const ObjectBoxes& boxe
 const std::vector<Vec3>& HeldRegions::vertices(std::size_t i, const ObjectBoxes& boxes) const {
     const Region& r = regions_[i];
     if (!r.has_vertices) {
-        vertices_[i] = region(i, boxes).vertices();
+        r.vertices = region(i, boxes).vertices();
         r.has_vertices = true;
     }
-    return vertices_[i];
+    return r.vertices;
 }
 
 }  // namespace lixel::scheduling

@@ -54,14 +54,14 @@ class HeldRegions {
         PolytopeBounds bounds;
         // Once asked for: the part, pointing into `cut_` (the hull's copy, or a clipped box) or
         // at the boxes' own polytopes, both of which stay where they are as their containers
-        // move; and whether `vertices_` holds its vertices.
+        // move; and its vertices.
         mutable const ConvexPolytope* part = nullptr;
         mutable bool has_vertices = false;
+        mutable std::vector<Vec3> vertices = {};
     };
     std::vector<PlaneTest> inside_hull_;
     std::vector<Region> regions_;
     mutable std::deque<ConvexPolytope> cut_;
-    mutable std::vector<std::vector<Vec3>> vertices_;
 };
 
 }  // namespace lixel::scheduling

@@ -110,29 +110,33 @@ bool Reducible(const Context& c, const DepthFit& fit) {
 // farthest found: each found in regions taken in order of their bound, until the next bound
 // cannot pass it. Ties change nothing: an equal value gives the same maximum or minimum.
 //
-// `points[i]` gets the points of each region taken (read to find the values, `read[i]` then
-// 1), and `needed[i]` is 1 for every region needed: all of them where a receiver is not in
-// front of the light.
-void NeededRegions(const Context& c, const DepthFit& fit, const RegionPoints& region_points,
+// `needed[i]` is 1 for every region needed, and `points[i]` gets the points of each region
+// taken (read to find the values, `read[i]` then 1). False, with nothing set, where a receiver
+// is not in front of the light: every region is needed then.
+bool NeededRegions(const Context& c, const DepthFit& fit, const RegionPoints& region_points,
                    std::vector<char>& needed, std::vector<char>& read,
                    std::vector<std::vector<Vec4>>& points) {
     const std::size_t n = c.held.size();
-    needed.assign(n, 1);
-    read.assign(n, 0);
-    points.resize(n);
+    // A point's distance from the light as ValidatePlaneOptimalInput takes it for the reach.
+    const auto distance = [&](const Vec4& x) {
+        return (x.head<3>() / x.w() - fit.light.head<3>()).norm();
+    };
     double q_max = -std::numeric_limits<double>::infinity();
     double q_min = std::numeric_limits<double>::infinity();
     double reach = 0.0;
     const Vec3 light = fit.light.head<3>() / fit.light.w();
     for (const Vec4& raw : fit.receivers) {
-        if (!(raw.w() > 0.0)) return;  // at infinity, or behind it: every region
+        if (!(raw.w() > 0.0)) return false;  // at infinity, or behind it
         const Vec4 x = raw / raw.w();
         const double q = fit.r_w.dot(x);
-        if (!(q > 0.0) || !std::isfinite(q)) return;
+        if (!(q > 0.0) || !std::isfinite(q)) return false;
         q_max = std::max(q_max, q);
         q_min = std::min(q_min, q);
-        reach = std::max(reach, (raw.head<3>() / raw.w() - fit.light.head<3>()).norm());
+        reach = std::max(reach, distance(raw));
     }
+    needed.assign(n, 0);
+    read.assign(n, 0);
+    points.resize(n);
     // A region known to give no points has ranges no bound passes.
     std::vector<RegionRange> ranges(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -143,7 +147,6 @@ void NeededRegions(const Context& c, const DepthFit& fit, const RegionPoints& re
             ranges[i] = RangeOf(c.held.bounds(i), fit.r_w, light);
         }
     }
-    std::fill(needed.begin(), needed.end(), 0);
     // Regions in order of a bound, taken while `passes` says the bound can pass what is found;
     // `take` reads each taken region's points.
     const auto take_while = [&](auto key, auto passes, auto take) {
@@ -189,10 +192,9 @@ void NeededRegions(const Context& c, const DepthFit& fit, const RegionPoints& re
                });
     if (fit.reach) {
         take_while([&](std::size_t i) { return ranges[i].reach_hi; }, Above{reach},
-                   [&](const Vec4& x) {
-                       reach = std::max(reach, (x.head<3>() / x.w() - fit.light.head<3>()).norm());
-                   });
+                   [&](const Vec4& x) { reach = std::max(reach, distance(x)); });
     }
+    return true;
 }
 
 }  // namespace
@@ -208,16 +210,16 @@ std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
     c.object_tree.tree().MarkPossible(cone_planes, marks, true);
     const RegionPoints region_points(c, cone_planes, marks);
     std::vector<Vec4> points;
-    if (fit == nullptr || !Reducible(c, *fit)) {
+    std::vector<char> needed, read;
+    std::vector<std::vector<Vec4>> taken;  // the points NeededRegions read, by region
+    if (fit == nullptr || !Reducible(c, *fit) ||
+        !NeededRegions(c, *fit, region_points, needed, read, taken)) {
         for (std::size_t i = 0; i < c.held.size(); ++i) {
             c.poll();
             region_points.AppendTo(i, points);
         }
         return points;
     }
-    std::vector<char> needed, read;
-    std::vector<std::vector<Vec4>> taken;  // the points NeededRegions read, by region
-    NeededRegions(c, *fit, region_points, needed, read, taken);
     for (std::size_t i = 0; i < c.held.size(); ++i) {
         c.poll();
         if (!needed[i]) continue;
