@@ -4,11 +4,17 @@
 // client holds, keyframes come when they must, and bad encodings are refused by name.
 #include <gtest/gtest.h>
 #include <lixel/codec/map_encoder.h>
+#include <lixel/kit/shadow_block.h>
 #include <lixel/service/coded_references.h>
+#include <lixel/service/map_coding.h>
+#include <lixel/solver/camera.h>
 
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <random>
+#include <set>
 #include <thread>
 
 #include "service_fixture.h"
@@ -345,6 +351,83 @@ std::shared_ptr<const service::CodedReference> HeldFrame(std::uint64_t id, int k
     image->values.assign(values, 0);
     r->values = image;
     return r;
+}
+
+// The kit's lixel_stored_depth_rounding taken literally at a texel: its point p unprojected
+// from (x, y, d), h = lixel p, then (|z_row|.|p| + |h_z / h_w| |w_row|.|p|) / |h_w|.
+double KitRoundingAt(const Mat4& lixel, const Mat4& inverse, double x, double y, double d) {
+    const Vec4 image = inverse * Vec4(x, y, d, 1.0);
+    if (!(std::abs(image.w()) > 0.0)) return std::numeric_limits<double>::infinity();
+    const Vec4 p(image.x() / image.w(), image.y() / image.w(), image.z() / image.w(), 1.0);
+    const Vec4 h = lixel * p;
+    const Vec4 a = p.cwiseAbs();
+    return 0.5 * 1.1920929e-7 *
+           (lixel.row(2).cwiseAbs().dot(a.transpose()) +
+            std::abs(h.z() / h.w()) * lixel.row(3).cwiseAbs().dot(a.transpose())) /
+           std::abs(h.w());
+}
+
+// DepthBitsFor takes the kit's rounding at every sampled texel in one product (no unprojected
+// point, no division): on seeded lights, origins and images, from a few lixels to 300 a side,
+// with cleared, out-of-range and NaN texels, its N is the rule's N over the literal formula.
+TEST(DepthBitsFor, IsTheRuleOverTheKitsRoundingAtEverySampledTexel) {
+    std::mt19937_64 rng(20261206);
+    const auto uniform = [&](double lo, double hi) {
+        return std::uniform_real_distribution<double>(lo, hi)(rng);
+    };
+    std::set<int> seen;
+    for (int trial = 0; trial < 400; ++trial) {
+        const double scale = std::pow(10.0, uniform(-2.0, 3.0));  // scenes from cm to km
+        const Vec3 eye = scale * Vec3(uniform(-5, 5), uniform(2, 8), uniform(-5, 5));
+        const Vec3 target = scale * Vec3(uniform(-1, 1), 0.0, uniform(-1, 1));
+        const double near = scale * uniform(0.01, 1.0);
+        const double far = near * std::pow(10.0, uniform(0.5, 4.0));
+        LightMap map;
+        map.width = static_cast<int>(uniform(1, 300));
+        map.height = static_cast<int>(uniform(1, 300));
+        const Mat4 view = LookAt(eye, target, Vec3::UnitY());
+        map.matrix = trial % 3 == 0 ? Orthographic(scale * 4, scale * 3, near, far) * view
+                                    : Perspective(uniform(0.2, 2.5), 1.2, near, far) * view;
+        const Vec3 origin = scale * Vec3(uniform(-50, 50), uniform(-5, 5), uniform(-50, 50)) *
+                            (trial % 4 == 0 ? 1e3 : 1.0);
+        render::FloatImage image;
+        image.width = map.width;
+        image.height = map.height;
+        image.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
+        for (float& d : image.pixels) {
+            const double u = uniform(0, 1);
+            d = u < 0.1    ? 0.0f
+                : u < 0.12 ? std::numeric_limits<float>::quiet_NaN()
+                : u < 0.14 ? 1.5f
+                           : static_cast<float>(uniform(1e-6, 1.0));
+        }
+        const bool corner = trial % 5 == 0;
+        const Mat4 lixel = kit::MakeRelativeMatrices(map, origin).lixel;
+        const Mat4 inverse = lixel.inverse();
+        const double offset = corner ? 0.0 : 0.5;
+        const int sx = std::max(1, image.width / 64), sy = std::max(1, image.height / 64);
+        double least = std::numeric_limits<double>::infinity();
+        for (int y = 0; y < image.height; y += sy) {
+            for (int x = 0; x < image.width; x += sx) {
+                const double d = image.at(x, y);
+                if (!(d > 0.0 && d <= 1.0)) continue;
+                const double r = KitRoundingAt(lixel, inverse, x + offset, y + offset, d);
+                if (std::isfinite(r)) least = std::min(least, r);
+            }
+        }
+        int expected = codec::kMinQuantisedBits;
+        if (std::isfinite(least)) {
+            expected = 0;
+            for (int bits = codec::kMaxQuantisedBits; bits >= codec::kMinQuantisedBits; --bits) {
+                if (codec::QuantisedErrorBound(bits) <= 4.0 * least) expected = bits;
+            }
+        }
+        EXPECT_EQ(service::DepthBitsFor(image, map, origin, corner), expected) << "trial " << trial;
+        seen.insert(expected);
+    }
+    // The draws reach both ends of the rule: the exact codec (0) and several N in [16, 24].
+    EXPECT_TRUE(seen.count(0)) << "no draw needed the exact codec";
+    EXPECT_GE(seen.size(), 5u);
 }
 
 TEST(CodedReferences, HoldsFramesWithinItsBytesLeastRecentlyUsedOut) {

@@ -99,16 +99,13 @@ int DepthBitsFor(const render::FloatImage& image, const LightMap& map, const Vec
         for (int x = 0; x < image.width; x += stride_x) {
             const double d = image.at(x, y);
             if (!(d > 0.0 && d <= 1.0)) continue;  // cleared (0) is coded exactly
-            const Vec4 h_image = inverse * Vec4(x + offset, y + offset, d, 1.0);
-            if (!(std::abs(h_image.w()) > 0.0)) continue;
-            const Vec4 p(h_image.x() / h_image.w(), h_image.y() / h_image.w(),
-                         h_image.z() / h_image.w(), 1.0);
-            const Vec4 h = lixel * p;
-            const Vec4 a = p.cwiseAbs();
-            // lixel_stored_depth_rounding (kit/glsl/lixel_shadows.glsl), in double.
-            const double rounding = 0.5 * 1.1920929e-7 *
-                                    (z_row.dot(a) + std::abs(h.z() / h.w()) * w_row.dot(a)) /
-                                    std::abs(h.w());
+            // lixel_stored_depth_rounding (kit/glsl/lixel_shadows.glsl) at the texel's point p,
+            // in double. With v = (x, y, d, 1) and h = inverse v, p = h_xyz / h_w and lixel p =
+            // v / h_w: the kit's (|z_row|.|p| + d |w_row|.|p|) / |(lixel p)_w| is
+            // (|z_row| + d |w_row|).|h|, one product and no division.
+            const Vec4 h = inverse * Vec4(x + offset, y + offset, d, 1.0);
+            if (!(std::abs(h.w()) > 0.0)) continue;  // a point at infinity has no rounding
+            const double rounding = 0.5 * 1.1920929e-7 * (z_row + d * w_row).dot(h.cwiseAbs());
             if (std::isfinite(rounding)) least = std::min(least, rounding);
         }
     }
