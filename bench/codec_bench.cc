@@ -4,7 +4,8 @@
 // plan (frame-coherent), the map passes with read-back (RenderPlanImages, the baseline time),
 // MapCoder (the server's coding, default N, temporal against the frames the client holds) and
 // CodedFrames (the client's decoding); gRPC's gzip (zlib deflate at its default level 6, per
-// 1 MiB message) on the raw maps for comparison.
+// 1 MiB message) on the raw maps for comparison. BM_DecodeRoom times the client's decoding of the
+// room's frames on its own, as a client process does it, against the same run's passes.
 //
 // Counters: keyframe_ratio (raw bytes ÷ coded bytes over the images coded without a
 // reference), frame_ratio (the same over frames 1.. of the sequence), codec_vs_passes ((encode +
@@ -70,10 +71,18 @@ struct Totals {
     double frames = 0;
 };
 
-// One frame through the server's steps and the client's decoder.
+// A frame's coded images as the client received them, for decoding it again.
+struct RecordedFrame {
+    v1::RenderHeader header;
+    std::vector<std::string> coded;
+};
+
+// One frame through the server's steps and the client's decoder; with `recorded`, its header and
+// coded images appended there.
 bool RunFrame(const std::string& id, const service::SceneRecord& record, v1::PlanRequest message,
               v1::PlanResponse* previous, service::CodedReferences& references,
-              client::CodedFrames& frames, bool first, Totals& t, std::string* error) {
+              client::CodedFrames& frames, bool first, Totals& t, std::string* error,
+              std::vector<RecordedFrame>* recorded) {
     client::SetPreviousMaps(*previous, message.mutable_coherence());
     std::vector<MeshInstance> instances;
     auto request = service::DecodePlanRequest(message, &record, "plan", &instances);
@@ -111,6 +120,7 @@ bool RunFrame(const std::string& id, const service::SceneRecord& record, v1::Pla
     frames.NameIn(&encoding);
     auto coding = service::DecodeMapEncoding(encoding, "encoding");
     service::MapCoder coder(**coding, references, (**gpu).origin());
+    if (recorded != nullptr) recorded->push_back({header, {}});
     std::vector<codec::IntegerImage> held;
     for (std::size_t i = 0; i < images.size(); ++i) {
         const render::FloatImage& image = images[i].image;
@@ -120,6 +130,7 @@ bool RunFrame(const std::string& id, const service::SceneRecord& record, v1::Pla
                                 service::PassKindOf(shapes[i].pass, shapes[i].corner_depth), image);
         t.encode += Since(start);
         if (!coded) return *error = coded.error().Message(), false;
+        if (recorded != nullptr) recorded->back().coded.push_back(*coded);
         start = Clock::now();
         auto decoded = frames.Decode(header, static_cast<int>(i), *coded);
         t.decode += Since(start);
@@ -164,49 +175,60 @@ void Report(benchmark::State& state, const Totals& t) {
 }
 
 // `count` frames of a sequence at `side`² pixels and lixels, each through RunFrame: `frame(f,
-// sequence, &message)` gives frame f's scene record and GPU id and fills its plan request.
+// sequence, &message)` gives frame f's scene record and GPU id and fills its plan request. False
+// with `error` when a frame fails.
+template <class Frame>
+bool ServeSequence(int side, int count, bool still_camera, Frame frame, Totals& t,
+                   std::string* error, std::vector<RecordedFrame>* recorded = nullptr) {
+    service::CodedReferences references(1ull << 30);
+    client::CodedFrames frames;
+    v1::PlanResponse previous;
+    scene::SequenceOptions sequence;
+    sequence.frames = count;
+    sequence.viewport = Viewport{side, side};
+    if (still_camera) sequence.orbit_degrees = sequence.dolly = 0.0;
+    for (int f = 0; f < count; ++f) {
+        v1::PlanRequest message;
+        message.set_lixel_budget(std::uint64_t(side) * side);
+        const auto [id, record] = frame(f, sequence, &message);
+        if (!RunFrame(id, *record, message, &previous, references, frames, f == 0, t, error,
+                      recorded)) {
+            return false;
+        }
+    }
+    return true;
+}
+
 template <class Frame>
 void RunSequence(benchmark::State& state, int side, int count, bool still_camera, Frame frame) {
     for (auto _ : state) {
         Totals t;
-        service::CodedReferences references(1ull << 30);
-        client::CodedFrames frames;
-        v1::PlanResponse previous;
-        scene::SequenceOptions sequence;
-        sequence.frames = count;
-        sequence.viewport = Viewport{side, side};
-        if (still_camera) sequence.orbit_degrees = sequence.dolly = 0.0;
-        for (int f = 0; f < count; ++f) {
-            v1::PlanRequest message;
-            message.set_lixel_budget(std::uint64_t(side) * side);
-            const auto [id, record] = frame(f, sequence, &message);
-            std::string error;
-            if (!RunFrame(id, *record, message, &previous, references, frames, f == 0, t,
-                          &error)) {
-                state.SkipWithError(error.c_str());
-                return;
-            }
+        std::string error;
+        if (!ServeSequence(side, count, still_camera, frame, t, &error)) {
+            state.SkipWithError(error.c_str());
+            return;
         }
         Report(state, t);
     }
 }
 
-// The animated room (scene::SequenceFrame "floor_wall": bouncing shapes, moving camera): the
-// same meshes every frame, posed by the frame's instances, as the engine client sends them.
-// range(2): 1 holds the camera still (only the shapes move).
+// The animated room's frame f (scene::SequenceFrame "floor_wall": bouncing shapes, moving
+// camera): the same meshes every frame, posed by the frame's instances, as the engine client
+// sends them.
+std::pair<std::string, std::shared_ptr<const service::SceneRecord>> RoomFrame(
+    int f, const scene::SequenceOptions& sequence, v1::PlanRequest* message) {
+    auto scene = scene::SequenceFrame("floor_wall", f, sequence);
+    service::EncodeInstances(*scene, message);
+    // The frame's camera as the record's default viewer; the meshes, and so the GPU's upload
+    // under one id, are the same every frame.
+    return {std::string("room"), std::make_shared<const service::SceneRecord>(
+                                     service::MakeSceneRecord(std::move(scene).value()))};
+}
+
+// The animated room. range(2): 1 holds the camera still (only the shapes move).
 void BM_CodedRoom(benchmark::State& state) {
-    const int side = static_cast<int>(state.range(0));
-    std::shared_ptr<const service::SceneRecord> record;
-    RunSequence(state, side, static_cast<int>(state.range(1)), state.range(2) != 0,
-                [&](int f, const scene::SequenceOptions& sequence, v1::PlanRequest* message) {
-                    auto scene = scene::SequenceFrame("floor_wall", f, sequence);
-                    service::EncodeInstances(*scene, message);
-                    // The frame's camera as the record's default viewer; the meshes, and so
-                    // the GPU's upload under one id, are the same every frame.
-                    record = std::make_shared<const service::SceneRecord>(
-                        service::MakeSceneRecord(std::move(scene).value()));
-                    return std::pair{std::string("room"), record};
-                });
+    RunSequence(state, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
+                state.range(2) != 0, RoomFrame);
 }
 BENCHMARK(BM_CodedRoom)
     ->Args({512, 60, 0})
@@ -215,6 +237,58 @@ BENCHMARK(BM_CodedRoom)
     ->Args({2048, 60, 1})
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
+
+// Seconds a client takes to decode `recorded` in order, holding each frame's values as the
+// next frame's references; -1 with `error` when an image is refused.
+double DecodeRecorded(const std::vector<RecordedFrame>& recorded, std::string* error) {
+    client::CodedFrames frames;
+    double seconds = 0.0;
+    for (const RecordedFrame& frame : recorded) {
+        std::vector<codec::IntegerImage> held;
+        for (std::size_t i = 0; i < frame.coded.size(); ++i) {
+            const auto start = Clock::now();
+            auto decoded = frames.Decode(frame.header, static_cast<int>(i), frame.coded[i]);
+            seconds += Since(start);
+            if (!decoded) return *error = decoded.error().Message(), -1.0;
+            held.push_back(std::move(decoded->values));
+        }
+        frames.Hold(std::move(held));
+    }
+    return seconds;
+}
+
+// The client's decoding of the animated room's 60 frames at range(0)² lixels, as a client
+// process does it: the frames are served and coded first (untimed; their map passes are the
+// baseline), then decoded in order with nothing else between them. BM_CodedRoom decodes each
+// frame in the server's process right after its passes and coding, where the decoder's fresh
+// arrays are zero-filled and faulted in anew (docs/performance.md, "Coded maps").
+void BM_DecodeRoom(benchmark::State& state) {
+    const int side = static_cast<int>(state.range(0));
+    std::vector<RecordedFrame> recorded;
+    Totals served;
+    std::string error;
+    if (!ServeSequence(side, 60, false, RoomFrame, served, &error, &recorded)) {
+        state.SkipWithError(error.c_str());
+        return;
+    }
+    double seconds = 0.0;
+    for (auto _ : state) {
+        const double s = DecodeRecorded(recorded, &error);
+        if (s < 0.0) {
+            state.SkipWithError(error.c_str());
+            return;
+        }
+        seconds += s;
+    }
+    const double per_frame = seconds / (double(recorded.size()) * double(state.iterations()));
+    state.counters["decode_ms"] = 1e3 * per_frame;
+    state.counters["passes_ms"] = 1e3 * served.passes / served.frames;
+    state.counters["encode_ms"] = 1e3 * served.encode / served.frames;
+    state.counters["decode_vs_passes"] = per_frame * served.frames / served.passes;
+    state.counters["codec_vs_passes"] =
+        (served.encode / served.frames + per_frame) * served.frames / served.passes;
+}
+BENCHMARK(BM_DecodeRoom)->Arg(512)->Arg(2048)->Iterations(3)->Unit(benchmark::kSecond);
 
 // A still sphere_grid of range(1) triangles under the sequence's moving camera and a still light:
 // coherent plans keep what they can, and only what changed is sent. A plane map's matrix
