@@ -9,7 +9,8 @@
 //
 // Counters: keyframe_ratio (raw bytes ÷ coded bytes over the images coded without a
 // reference), frame_ratio (the same over frames 1.. of the sequence), codec_vs_passes ((encode +
-// decode) ÷ map passes), gzip_ratio and gzip_vs_passes, mean_bits (N of the quantised images).
+// decode) ÷ map passes), gzip_ratio and gzip_vs_passes, mean_bits (N of the quantised images);
+// BM_DecodeRoom's decode_vs_passes and codec_vs_passes with its decoding timed on its own.
 #include <benchmark/benchmark.h>
 #include <lixel/client/coded_frames.h>
 #include <lixel/client/coherence.h>
