@@ -110,12 +110,11 @@ bool Reducible(const Context& c, const DepthFit& fit) {
 // farthest found: each found in regions taken in order of their bound, until the next bound
 // cannot pass it. Ties change nothing: an equal value gives the same maximum or minimum.
 //
-// `needed[i]` is 1 for every region needed, and `points[i]` gets the points of each region
-// taken (read to find the values, `read[i]` then 1). False, with nothing set, where a receiver
-// is not in front of the light: every region is needed then.
+// `needed[i]` is 1 for every region needed, whose points (read to find the values) `points[i]`
+// then holds. False, with nothing set, where a receiver is not in front of the light: every
+// region is needed then.
 bool NeededRegions(const Context& c, const DepthFit& fit, const RegionPoints& region_points,
-                   std::vector<char>& needed, std::vector<char>& read,
-                   std::vector<std::vector<Vec4>>& points) {
+                   std::vector<char>& needed, std::vector<std::vector<Vec4>>& points) {
     const std::size_t n = c.held.size();
     // A point's distance from the light as ValidatePlaneOptimalInput takes it for the reach.
     const auto distance = [&](const Vec4& x) {
@@ -135,7 +134,6 @@ bool NeededRegions(const Context& c, const DepthFit& fit, const RegionPoints& re
         reach = std::max(reach, distance(raw));
     }
     needed.assign(n, 0);
-    read.assign(n, 0);
     points.resize(n);
     // A region known to give no points has ranges no bound passes.
     std::vector<RegionRange> ranges(n);
@@ -159,8 +157,8 @@ bool NeededRegions(const Context& c, const DepthFit& fit, const RegionPoints& re
         for (const std::size_t i : order) {
             c.poll();
             if (!passes(key(i))) break;
-            if (!read[i]) region_points.AppendTo(i, points[i]);
-            needed[i] = read[i] = 1;
+            if (!needed[i]) region_points.AppendTo(i, points[i]);
+            needed[i] = 1;
             for (const Vec4& x : points[i]) take(x);
         }
     };
@@ -210,10 +208,10 @@ std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
     c.object_tree.tree().MarkPossible(cone_planes, marks, true);
     const RegionPoints region_points(c, cone_planes, marks);
     std::vector<Vec4> points;
-    std::vector<char> needed, read;
-    std::vector<std::vector<Vec4>> taken;  // the points NeededRegions read, by region
+    std::vector<char> needed;
+    std::vector<std::vector<Vec4>> taken;  // the needed regions' points, by region
     if (fit == nullptr || !Reducible(c, *fit) ||
-        !NeededRegions(c, *fit, region_points, needed, read, taken)) {
+        !NeededRegions(c, *fit, region_points, needed, taken)) {
         for (std::size_t i = 0; i < c.held.size(); ++i) {
             c.poll();
             region_points.AppendTo(i, points);
@@ -222,12 +220,7 @@ std::vector<Vec4> DepthPoints(const Context& c, const LightMap& map,
     }
     for (std::size_t i = 0; i < c.held.size(); ++i) {
         c.poll();
-        if (!needed[i]) continue;
-        if (read[i]) {
-            points.insert(points.end(), taken[i].begin(), taken[i].end());
-        } else {
-            region_points.AppendTo(i, points);
-        }
+        if (needed[i]) points.insert(points.end(), taken[i].begin(), taken[i].end());
     }
     return points;
 }
