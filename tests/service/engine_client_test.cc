@@ -382,6 +382,39 @@ TEST(FrameLoop, RefusesAnUnknownSceneByStep) {
     EXPECT_EQ(FrameLoop::Create(*client, options).error().field, "options.size");
 }
 
+// A server restarted under a running loop (a deploy): its session stream ends, and the new server
+// on the same address knows neither the session nor the scene. The next frame opens a session
+// anew, uploads the meshes again and is drawn, and so are the frames after it.
+TEST(FrameLoop, ASessionWhoseServerRestartedIsOpenedAnew) {
+    service::ServerOptions server_options = testing::SmallServerOptions("engine-client-first");
+    server_options.shutdown_grace_seconds = 0.1;
+    auto first = testing::StartServer(server_options);
+    ASSERT_NE(first, nullptr);
+    const std::string target = testing::Target(*first);
+    auto client = testing::Connect(target);
+    FramesOptions options;
+    options.frames = 4;
+    options.size = 32;
+    options.budget = 256 * 256;
+    auto loop = FrameLoop::Create(*client, options);
+    ASSERT_TRUE(loop.ok()) << loop.error().Message();
+    auto before = (*loop)->Run(0);
+    ASSERT_TRUE(before.ok()) << before.error().Message();
+    EXPECT_TRUE(before->uploaded_meshes);
+
+    first.reset();  // ends the session stream (cancelled past the grace period)
+    server_options.address = target;
+    server_options.service.instance = "engine-client-second";
+    auto second = testing::StartServer(server_options);
+    ASSERT_NE(second, nullptr);
+    for (int f = 1; f < 4; ++f) {
+        auto frame = (*loop)->Run(f);
+        ASSERT_TRUE(frame.ok()) << "frame " << f << ": " << frame.error().Message();
+        EXPECT_GT(frame->maps, 0) << "frame " << f;
+        EXPECT_EQ(frame->images.mask.size(), before->images.mask.size());
+    }
+}
+
 // A Render header of two 3 x 2 maps and no images yet.
 client::RenderedMaps TwoSmallMaps() {
     client::RenderedMaps rendered;

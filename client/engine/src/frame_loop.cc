@@ -152,7 +152,9 @@ FrameLoop::~FrameLoop() {
 }
 
 Result<client::SessionFrame> FrameLoop::SessionRender(const v1::PlanRequest& plan) {
-    for (int attempt = 0;; ++attempt) {
+    bool reopened = false;  // after the stream ended unavailable (a server restarted, a link lost)
+    bool reuploaded = false;  // after the server had lost the scene
+    for (;;) {
         if (session_ == nullptr) {
             v1::SessionOpen open;
             *open.mutable_plan() = plan;
@@ -170,9 +172,18 @@ Result<client::SessionFrame> FrameLoop::SessionRender(const v1::PlanRequest& pla
         *frame.mutable_instances()->mutable_instances() = plan.instances();
         auto sent = session_->Send(frame);
         auto served = sent.ok() ? session_->Next() : Result<client::SessionFrame>(sent.error());
-        if (served.ok() || served.error().field != "NOT_FOUND" || attempt > 0) return served;
-        // Evicted: upload the meshes again from what this client sent, and open anew.
+        if (served.ok()) return served;
+        // Next fails only once the stream has ended, whatever the reason: the next try, in this
+        // frame or the next one, opens a new session rather than reading the ended one again.
         session_.reset();
+        const std::string& code = served.error().field;
+        if (code == "UNAVAILABLE" && !reopened) {
+            reopened = true;
+            continue;
+        }
+        if (code != "NOT_FOUND" || reuploaded) return served;
+        // Evicted (or a new server): upload the meshes again from what this client sent.
+        reuploaded = true;
         if (auto again = client_->UploadAgain(plan.scene_id()); !again) return again.error();
     }
 }

@@ -128,8 +128,10 @@ class FrameLoop {
 
   private:
     // The frame's maps through the session (opened from `plan` when there is none): its
-    // camera, light and instances sent, its plan and decoded maps read back. A scene the server
-    // evicted is uploaded again and the session opened anew, once.
+    // camera, light and instances sent, its plan and decoded maps read back. A session whose
+    // stream ended is dropped, so the next frame opens a new one; within the frame it is opened
+    // anew once when it ended UNAVAILABLE (the server restarted, the link was lost), and once
+    // after uploading the scene again when the server had lost it (NOT_FOUND).
     Result<client::SessionFrame> SessionRender(const v1::PlanRequest& plan);
 
     FrameLoop(client::Client& client, FramesOptions options, std::unique_ptr<EglContext> context,
@@ -144,8 +146,8 @@ class FrameLoop {
     v1::PlanResponse previous_plan_;  // the last frame's, for FramesOptions::coherent
     std::string scene_id_;            // the sequence's meshes, uploaded on the first frame run
     // The loop's Session stream, opened on the first frame (its settings are the options',
-    // which do not change) and again after its scene was evicted; it decodes the coded maps and
-    // keeps the previous plan itself.
+    // which do not change) and again after one ended (SessionRender); it decodes the coded maps
+    // and keeps the previous plan itself.
     std::unique_ptr<client::Session> session_;
     std::uint64_t next_number_ = 1;  // session frame numbers grow even when Run repeats a frame
     std::unique_ptr<EglContext> context_;
