@@ -124,7 +124,9 @@ bool ObjectTree::Refit(std::span<const PolytopeBounds> boxes) {
 double ObjectTree::spread() const noexcept {
     double sum = 0.0;
     for (const Node& node : nodes_) sum += node.bounds.size;
-    return sum;
+    // Build numbers nodes in pre-order: the root is the first. A root of no size (every box
+    // the same point) has no spread either.
+    return sum > 0.0 ? sum / nodes_.front().bounds.size : 0.0;
 }
 
 void ObjectTree::MarkPossible(std::span<const PlaneTest> planes, std::vector<char>& possible,

@@ -44,8 +44,10 @@ class ObjectTree {
 
     // Levels from the root to the deepest leaf (0 without boxes).
     std::size_t depth() const noexcept { return depth_; }
-    // The sum of every node's diagonal: how loose the groups are (a refit tree's against its
-    // build's says when to build anew).
+    // The sum of every node's diagonal over the root's: how loose the groups are for the extent
+    // of the boxes (a refit tree's against its build's says when to build anew). Moving or
+    // scaling the whole scene keeps it; boxes that leave their groups raise it, whether the
+    // scene grows or gathers.
     double spread() const noexcept;
 
   private:

@@ -144,6 +144,35 @@ TEST(ObjectIndex, PlansSharingAnIndexAcrossThreadsEqualPlansWithout) {
     EXPECT_EQ(counts.builds + counts.refits + counts.busy, kThreads * 3 * frames.size());
 }
 
+// A scene first sent strewn over two kilometres, then gathered into the room with every box in a
+// new place: each refit group now spans most of the room, though the sum of their diagonals is a
+// fifth of the strewn build's. For the extent of the boxes the groups are far looser than the
+// build's, so the index builds anew, and the plans stay those without it.
+TEST(ObjectIndex, BuildsAnewWhenAStrewnSceneIsGathered) {
+    Random rng(2992);
+    PlanRequest r = BoxedRoom(rng, 400);
+    const std::size_t own = testing::FloorWallRoomObjects().size();
+    for (std::size_t i = own; i < r.objects.size(); ++i) {
+        Aabb& b = r.objects[i].bounds;
+        const Vec3 strewn(99.0 * b.min.x(), 0.0, 99.0 * b.min.z());
+        b.min += strewn;
+        b.max += strewn;
+    }
+    const auto index = std::make_shared<ObjectIndex>();
+    ASSERT_EQ(Planned(r, index), plan_text::PlanText(PlanShadowMaps(r)));
+    for (std::size_t i = own; i < r.objects.size(); ++i) {
+        r.objects[i] = SeededBox(rng, r.scene_bounds, static_cast<int>(i));
+    }
+    ASSERT_EQ(Planned(r, index), plan_text::PlanText(PlanShadowMaps(r)));
+    EXPECT_EQ(index->counts().builds, 2u);
+    EXPECT_EQ(index->counts().refits, 0u);
+    // Boxes that move a little after that refit the new tree.
+    NextFrame(rng, r, 0);
+    ASSERT_EQ(Planned(r, index), plan_text::PlanText(PlanShadowMaps(r)));
+    EXPECT_EQ(index->counts().builds, 2u);
+    EXPECT_EQ(index->counts().refits, 1u);
+}
+
 // A plan cancelled while it holds the index lets go of it: the next plan refits (or builds)
 // rather than finding it busy.
 TEST(ObjectIndex, ACancelledPlanLetsGoOfTheIndex) {

@@ -4,8 +4,8 @@
 // plan over a world of objects mostly out of view). Given in PlanRequest::object_index, a plan
 // refits the tree the index keeps to its own objects' boxes, one pass that merges each node's
 // bounds anew, and builds one only where there is none, the objects are not as many, a box is
-// empty where it was not (or the reverse), or the refit groups have spread to more than
-// kRebuildSpread times the build's.
+// empty where it was not (or the reverse), or the refit groups have spread, for the extent of
+// the boxes, to more than kRebuildSpread times the build's.
 //
 // The plan is the same with or without an index, and whatever tree it keeps: the tree only
 // decides how many boxes a query visits, and each box's own test decides whether it is kept
@@ -26,7 +26,8 @@ class IndexLease;
 
 class ObjectIndex {
   public:
-    // A refit tree whose nodes' diagonals sum to more than this times its build's is built anew.
+    // A refit tree whose nodes' diagonals, over its root's, sum to more than this times its
+    // build's is built anew.
     static constexpr double kRebuildSpread = 2.0;
 
     // What the plans that were given this index did with it.
