@@ -145,8 +145,8 @@ TEST(ObjectIndex, PlansSharingAnIndexAcrossThreadsEqualPlansWithout) {
 }
 
 // A scene first sent strewn over two kilometres, then gathered into the room with every box in a
-// new place: each refit group now spans most of the room, though the sum of their diagonals is a
-// fifth of the strewn build's. For the extent of the boxes the groups are far looser than the
+// new place: each refit group now spans most of the room, though the sum of their diagonals is far
+// below the strewn build's. For the extent of the boxes the groups are far looser than the
 // build's, so the index builds anew, and the plans stay those without it.
 TEST(ObjectIndex, BuildsAnewWhenAStrewnSceneIsGathered) {
     Random rng(2992);
