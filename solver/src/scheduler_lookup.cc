@@ -4,12 +4,6 @@
 
 namespace lixel {
 
-Eigen::Vector4d LookupRectangle(const LightMap& map, const LookupRule& rule) noexcept {
-    if (rule.guard <= 0) return {0.0, 0.0, double(map.width), double(map.height)};
-    const double inset = rule.guard - kLookupMargin;
-    return {inset, inset, map.width - inset, map.height - inset};
-}
-
 bool LookupAccepts(const PlannedMap& map, const Vec4& x) noexcept {
     const Vec4 p = map.map.matrix * x;
     if (!(p.w() > 0.0)) return false;

@@ -182,8 +182,13 @@ struct LookupRule {
 };
 
 // [x0, x1) x [y0, y1) in lixels, as (x0, y0, x1, y1): [0, width) x [0, height) without a guard
-// band, else the map less `guard` lixels on every side, widened by kLookupMargin.
-Eigen::Vector4d LookupRectangle(const LightMap& map, const LookupRule& rule) noexcept;
+// band, else the map less `guard` lixels on every side, widened by kLookupMargin. Inline: the
+// lookup asks for it at every point it tests.
+inline Eigen::Vector4d LookupRectangle(const LightMap& map, const LookupRule& rule) noexcept {
+    if (rule.guard <= 0) return {0.0, 0.0, double(map.width), double(map.height)};
+    const double inset = rule.guard - kLookupMargin;
+    return {inset, inset, map.width - inset, map.height - inset};
+}
 
 struct PlannedMap {
     MapRole role = MapRole::kPlane;
