@@ -3,6 +3,7 @@
 #include "object_tree.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -125,8 +126,10 @@ double ObjectTree::spread() const noexcept {
     double sum = 0.0;
     for (const Node& node : nodes_) sum += node.bounds.size;
     // Build numbers nodes in pre-order: the root is the first. A root of no size (every box
-    // the same point) has no spread either.
-    return sum > 0.0 ? sum / nodes_.front().bounds.size : 0.0;
+    // the same point) has no spread either; one whose diagonal overflows (coordinates past
+    // 1e154) gives the sum, infinite, which no refit's exceeds: such a tree is kept, as before.
+    const double root = nodes_.front().bounds.size;
+    return sum > 0.0 && std::isfinite(root) ? sum / root : sum;
 }
 
 void ObjectTree::MarkPossible(std::span<const PlaneTest> planes, std::vector<char>& possible,

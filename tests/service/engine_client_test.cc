@@ -12,6 +12,7 @@
 #include <lixel/kit/shadow_block.h>
 #include <lixel/render/view_pass.h>
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -382,32 +383,46 @@ TEST(FrameLoop, RefusesAnUnknownSceneByStep) {
     EXPECT_EQ(FrameLoop::Create(*client, options).error().field, "options.size");
 }
 
-// A server restarted under a running loop (a deploy): its session stream ends, and the new server
-// on the same address knows neither the session nor the scene. The next frame opens a session
-// anew, uploads the meshes again and is drawn, and so are the frames after it.
+// A server restarted under a running loop (a deploy): its session stream ends. While no server
+// answers, a frame fails UNAVAILABLE within the client's deadline (an open without that bound
+// waited for a server for ever); once the new server on the same address is up, knowing neither
+// the session nor the scene, the next frame opens a session anew, uploads the meshes again and is
+// drawn, and so are the frames after it.
 TEST(FrameLoop, ASessionWhoseServerRestartedIsOpenedAnew) {
     service::ServerOptions server_options = testing::SmallServerOptions("engine-client-first");
     server_options.shutdown_grace_seconds = 0.1;
     auto first = testing::StartServer(server_options);
     ASSERT_NE(first, nullptr);
-    const std::string target = testing::Target(*first);
-    auto client = testing::Connect(target);
+    client::ClientOptions client_options;
+    client_options.target = testing::Target(*first);
+    client_options.deadline_seconds = 2.0;
+    auto client = client::Client::Connect(client_options);
+    ASSERT_TRUE(client.ok());
     FramesOptions options;
-    options.frames = 4;
+    options.frames = 5;
     options.size = 32;
     options.budget = 256 * 256;
-    auto loop = FrameLoop::Create(*client, options);
+    auto loop = FrameLoop::Create(**client, options);
     ASSERT_TRUE(loop.ok()) << loop.error().Message();
     auto before = (*loop)->Run(0);
     ASSERT_TRUE(before.ok()) << before.error().Message();
     EXPECT_TRUE(before->uploaded_meshes);
 
     first.reset();  // ends the session stream (cancelled past the grace period)
-    server_options.address = target;
+    const auto down = std::chrono::steady_clock::now();
+    auto refused = (*loop)->Run(1);
+    const double waited =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - down).count();
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().Message().find("UNAVAILABLE"), std::string::npos)
+        << refused.error().Message();
+    EXPECT_LT(waited, 30.0);
+
+    server_options.address = client_options.target;
     server_options.service.instance = "engine-client-second";
     auto second = testing::StartServer(server_options);
     ASSERT_NE(second, nullptr);
-    for (int f = 1; f < 4; ++f) {
+    for (int f = 2; f < 5; ++f) {
         auto frame = (*loop)->Run(f);
         ASSERT_TRUE(frame.ok()) << "frame " << f << ": " << frame.error().Message();
         EXPECT_GT(frame->maps, 0) << "frame " << f;

@@ -166,7 +166,8 @@ TEST(ObjectIndex, BuildsAnewWhenAStrewnSceneIsGathered) {
     ASSERT_EQ(Planned(r, index), plan_text::PlanText(PlanShadowMaps(r)));
     EXPECT_EQ(index->counts().builds, 2u);
     EXPECT_EQ(index->counts().refits, 0u);
-    // Boxes that move a little after that refit the new tree.
+    // Boxes that move after that (one in ten across the room, the rest a little) refit the new
+    // tree.
     NextFrame(rng, r, 0);
     ASSERT_EQ(Planned(r, index), plan_text::PlanText(PlanShadowMaps(r)));
     EXPECT_EQ(index->counts().builds, 2u);

@@ -43,10 +43,11 @@ Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding&
 // The default N of a depth image: the fewest bits in [16, 24] whose error bound is at most a
 // quarter of the smallest bias the view pass and the kit give a receiver for the depths' own
 // rounding (16 x lixel_stored_depth_rounding, kit/glsl/lixel_shadows.glsl), over the image's
-// drawn texels, sampled every (side / 64)-th texel along each axis (64 to 127 samples a side,
-// every texel of a side under 128: the bound varies smoothly with the point); 0 when none is
-// that fine (the exact codec). `corner_depth`: the silhouette map's corner image, whose texel (i, j) is lixel corner
-// (i, j). `origin`: the GPU scene's origin, as the view pass and the kit place positions.
+// drawn texels, sampled every max(1, side / 64)-th texel along each axis from texel 0 (every
+// texel of a side under 128, 64 to 96 samples of a longer side: the bound varies smoothly with
+// the point); 0 when none is that fine (the exact codec). `corner_depth`: the silhouette map's
+// corner image, whose texel (i, j) is lixel corner (i, j). `origin`: the GPU scene's origin, as the
+// view pass and the kit place positions.
 int DepthBitsFor(const render::FloatImage& image, const LightMap& map, const Vec3& origin,
                  bool corner_depth);
 
