@@ -1,6 +1,7 @@
 // A Session stream on the client (session.h).
 #include <lixel/client/session.h>
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -13,8 +14,11 @@ Result<std::unique_ptr<Session>> Session::Open(Client& client, const v1::Session
     // The stream waits for the channel (wait_for_ready) and has no deadline of its own: without
     // a bound here, an open to a server that is gone would wait for it for ever. The channel
     // tries to connect at once, not after the backoff its failed attempts grew (a server that
-    // has just come back is found by this open, not by the next one).
-    const double wait = client.options_.deadline_seconds;
+    // has just come back is found by this open, not by the next one). The stream's own deadline,
+    // when it is sooner, bounds the wait too.
+    const double wait = deadline_seconds > 0.0
+                            ? std::min(deadline_seconds, client.options_.deadline_seconds)
+                            : client.options_.deadline_seconds;
     grpc::experimental::ChannelResetConnectionBackoff(client.channel_.get());
     if (!client.channel_->WaitForConnected(
             std::chrono::system_clock::now() +

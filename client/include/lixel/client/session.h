@@ -35,7 +35,8 @@ class Session {
   public:
     // Opens the stream and sends `open`. The stream has no deadline but `deadline_seconds`
     // (0: none) and carries the client's token. Fails only if the stream cannot start, and
-    // UNAVAILABLE when no server answers within the client's deadline_seconds.
+    // UNAVAILABLE when no server answers within the client's deadline_seconds (or the stream's
+    // own, when sooner).
     static Result<std::unique_ptr<Session>> Open(Client& client, const v1::SessionOpen& open,
                                                  double deadline_seconds = 0.0);
     ~Session();
