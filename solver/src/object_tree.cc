@@ -123,6 +123,7 @@ bool ObjectTree::Refit(std::span<const PolytopeBounds> boxes) {
 }
 
 double ObjectTree::spread() const noexcept {
+    if (nodes_.empty()) return 0.0;  // no boxes
     double sum = 0.0;
     for (const Node& node : nodes_) sum += node.bounds.size;
     // Build numbers nodes in pre-order: the root is the first. A root of no size (every box

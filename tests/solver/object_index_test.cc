@@ -174,6 +174,21 @@ TEST(ObjectIndex, BuildsAnewWhenAStrewnSceneIsGathered) {
     EXPECT_EQ(index->counts().refits, 1u);
 }
 
+// A scene with no objects (a room of planes alone) keeps an empty tree: the second plan refits it
+// (fuzz_scheduler: its spread had read the root of a tree with no nodes).
+TEST(ObjectIndex, PlansOfNoObjectsRefitAnEmptyTree) {
+    PlanRequest r = testing::FloorWallRoomRequest(512 * 512);
+    r.objects.clear();
+    r.scene_bounds = Aabb{Vec3(-10, -0.1, -5.1), Vec3(10, 8, 10)};
+    ASSERT_TRUE(PlanShadowMaps(r).ok());
+    const auto index = std::make_shared<ObjectIndex>();
+    for (int frame = 0; frame < 2; ++frame) {
+        ASSERT_EQ(Planned(r, index), plan_text::PlanText(PlanShadowMaps(r))) << "frame " << frame;
+    }
+    EXPECT_EQ(index->counts().builds, 1u);
+    EXPECT_EQ(index->counts().refits, 1u);
+}
+
 // A plan cancelled while it holds the index lets go of it: the next plan refits (or builds)
 // rather than finding it busy.
 TEST(ObjectIndex, ACancelledPlanLetsGoOfTheIndex) {
