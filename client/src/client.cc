@@ -69,6 +69,9 @@ Client::Client(ClientOptions options, std::shared_ptr<grpc::Channel> channel)
       stub_(v1::Shadow::NewStub(channel_)) {}
 
 Result<bool> Client::WaitForReady(double seconds) {
+    // Connect now, not after the backoff earlier failed attempts grew: a server that has just
+    // come back is found by this wait, not by a later one.
+    grpc::experimental::ChannelResetConnectionBackoff(channel_.get());
     const auto deadline = std::chrono::system_clock::now() +
                           std::chrono::milliseconds(static_cast<long>(seconds * 1000));
     if (!channel_->WaitForConnected(deadline)) {

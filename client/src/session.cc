@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <string>
 
 #include "map_stream.h"
 
@@ -12,19 +11,13 @@ namespace lixel::client {
 Result<std::unique_ptr<Session>> Session::Open(Client& client, const v1::SessionOpen& open,
                                                double deadline_seconds) {
     // The stream waits for the channel (wait_for_ready) and has no deadline of its own: without
-    // a bound here, an open to a server that is gone would wait for it for ever. The channel
-    // tries to connect at once, not after the backoff its failed attempts grew (a server that
-    // has just come back is found by this open, not by the next one). The stream's own deadline,
-    // when it is sooner, bounds the wait too.
+    // a bound here, an open to a server that is gone would wait for it for ever. The stream's
+    // own deadline, when it is sooner, bounds the wait too.
     const double wait = deadline_seconds > 0.0
                             ? std::min(deadline_seconds, client.options_.deadline_seconds)
                             : client.options_.deadline_seconds;
-    grpc::experimental::ChannelResetConnectionBackoff(client.channel_.get());
-    if (!client.channel_->WaitForConnected(
-            std::chrono::system_clock::now() +
-            std::chrono::milliseconds(static_cast<long>(wait * 1000)))) {
-        return Error{"UNAVAILABLE", "session: no server answered at " + client.options_.target +
-                                        " within " + std::to_string(wait) + " s"};
+    if (auto ready = client.WaitForReady(wait); !ready) {
+        return Error{"UNAVAILABLE", "session: " + ready.error().Message()};
     }
     std::unique_ptr<Session> session(new Session(open.encoding().codec() != v1::MAP_CODEC_RAW,
                                                  client.options_.max_receive_bytes));

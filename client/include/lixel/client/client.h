@@ -49,7 +49,8 @@ class Client {
 public:
     static Result<std::unique_ptr<Client>> Connect(const ClientOptions& options);
 
-    // Waits until the channel is ready (or the deadline passes).
+    // Waits until the channel is ready (or the deadline passes), trying to connect at once.
+    // Errors: "target", naming it, when no server answered in time.
     Result<bool> WaitForReady(double seconds);
 
     Result<v1::SolveResponse> Solve(const v1::SolveRequest& request);
