@@ -34,9 +34,9 @@ Error Bad(const std::string& field, const std::string& reason) {
 
 }  // namespace
 
-double QuantisedErrorBound(int bits) {
+double QuantisedErrorBound(int bits, int shift) {
     const double steps = std::ldexp(1.0, bits) - 1.0;
-    return 0.5 / steps + std::ldexp(1.0, -25);
+    return std::ldexp(0.5, shift) / steps + std::ldexp(1.0, -25);
 }
 
 int BytePlanes(int bits) { return (bits + 7) / 8; }
@@ -59,7 +59,8 @@ void WriteHeader(const CodedHeader& h, unsigned char out[kHeaderBytes]) {
     Put(out + 8, h.width, 4);
     Put(out + 12, h.height, 4);
     Put(out + 16, static_cast<std::uint64_t>(h.tile), 2);
-    // 18..19 reserved, zero
+    out[18] = static_cast<unsigned char>(h.max_shift);
+    // 19 reserved, zero
     Put(out + 20, h.exceptions, 4);
     Put(out + 24, std::bit_cast<std::uint64_t>(h.error_bound), 8);
     Put(out + 32, h.frame_id, 8);
@@ -109,8 +110,14 @@ Result<CodedHeader> ReadHeader(std::string_view bytes) {
     if (h.tile < kMinTile || h.tile > kMaxTile) {
         return Bad("tile", std::to_string(h.tile) + " is outside [8, 1024]");
     }
-    if (Get(in + 18, 2) != 0 || Get(in + 72, 4) != 0) {
-        return Bad("reserved", "bytes 18-19 and 72-75 must be zero");
+    h.max_shift = in[18];
+    if (h.max_shift > (h.codec == Codec::kQuantised ? kMaxTileShift : 0)) {
+        return Bad("max_shift", std::to_string(h.max_shift) + " is outside [0, " +
+                                    (h.codec == Codec::kQuantised ? "8" : "0: the exact codec") +
+                                    "]");
+    }
+    if (in[19] != 0 || Get(in + 72, 4) != 0) {
+        return Bad("reserved", "bytes 19 and 72-75 must be zero");
     }
     h.exceptions = static_cast<std::uint32_t>(Get(in + 20, 4));
     if (h.exceptions > h.texels()) {
@@ -121,10 +128,11 @@ Result<CodedHeader> ReadHeader(std::string_view bytes) {
         return Bad("exceptions", "the exact codec has none");
     }
     h.error_bound = std::bit_cast<double>(Get(in + 24, 8));
-    const double bound = h.codec == Codec::kQuantised ? QuantisedErrorBound(h.bits) : 0.0;
+    const double bound =
+        h.codec == Codec::kQuantised ? QuantisedErrorBound(h.bits, h.max_shift) : 0.0;
     // Bit for bit: -0 is not the exact codec's 0, nor a NaN any bound.
     if (std::bit_cast<std::uint64_t>(h.error_bound) != std::bit_cast<std::uint64_t>(bound)) {
-        return Bad("error_bound", "not the bound its N states");
+        return Bad("error_bound", "not the bound its N and max_shift state");
     }
     h.frame_id = Get(in + 32, 8);
     h.reference_id = Get(in + 40, 8);

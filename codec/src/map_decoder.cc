@@ -148,6 +148,47 @@ void DecodeRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
     }
 }
 
+// Row y of a tile of shift s > 0 (depth: one channel): each c from its residual and the
+// prediction from its neighbours' Coarse values, stored as Fine(c). Returns whether some c
+// passed CoarseLimit (the caller refuses the map).
+template <TileMode kMode>
+bool DecodeShiftedRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
+                      const std::uint32_t* zeros, const TileSpan& s, std::uint32_t y, int shift,
+                      ResidualReader& residual) {
+    using detail::Coarse;
+    const std::uint64_t row = g.width;
+    std::uint32_t* cur = v + y * row;
+    const std::uint32_t* below = y > 0 ? cur - row : zeros;
+    const auto mask = static_cast<std::uint32_t>(g.mask);
+    const std::uint32_t limit = detail::CoarseLimit(g.bits, shift);
+    bool over = false;
+    if constexpr (kMode == TileMode::kTemporal) {
+        const std::uint32_t* prior = ref + y * row;
+        for (std::uint64_t i = s.x0; i < s.x1; ++i) {
+            const std::uint32_t c = UnZigZag(residual.Next(), Coarse(prior[i], shift), g);
+            over |= c > limit;
+            cur[i] = detail::Fine(c, shift, mask);
+        }
+        return over;
+    }
+    // The left neighbour's c is carried (inside the tile Coarse gives it back, or the map is
+    // refused); the tile's first column reads its left neighbours coarsened.
+    std::uint32_t a = s.x0 > 0 ? Coarse(cur[s.x0 - 1], shift) : 0;
+    std::uint32_t d = s.x0 > 0 ? Coarse(below[s.x0 - 1], shift) : 0;
+    for (std::uint64_t i = s.x0; i < s.x1; ++i) {
+        const std::uint32_t b = Coarse(below[i], shift);
+        const std::uint32_t prediction = kMode == TileMode::kMed
+                                             ? detail::Med(a, b, d, g.mask)
+                                             : detail::Gradient(a, b, d, g.mask);
+        const std::uint32_t c = UnZigZag(residual.Next(), prediction, g);
+        over |= c > limit;
+        cur[i] = detail::Fine(c, shift, mask);
+        a = c;
+        d = b;
+    }
+    return over;
+}
+
 template <TileMode kMode>
 void DecodeRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
                const std::uint32_t* zeros, const TileSpan& s, std::uint32_t y,
@@ -192,10 +233,17 @@ Result<DecodedMap> MapDecoder::Decode(
     std::uint64_t residuals = 0;
     bool temporal = false;
     for (std::uint64_t t = 0; t < tiles; ++t) {
-        if (p[t] > 3)
-            return Bad("tile_modes",
-                       "tile " + std::to_string(t) + " has mode " + std::to_string(p[t]));
-        const auto m = static_cast<TileMode>(p[t]);
+        if (TileModeBits(p[t]) > 3) {
+            return Bad("tile_modes", "tile " + std::to_string(t) + " has mode " +
+                                         std::to_string(TileModeBits(p[t])));
+        }
+        if (TileShift(p[t]) > h.max_shift) {
+            return Bad("tile_modes", "tile " + std::to_string(t) + " has shift " +
+                                         std::to_string(TileShift(p[t])) +
+                                         ", past the header's max_shift " +
+                                         std::to_string(h.max_shift));
+        }
+        const auto m = static_cast<TileMode>(TileModeBits(p[t]));
         if (m == TileMode::kTemporal || m == TileMode::kCopy) {
             if (ref == nullptr) {
                 return Bad("tile_modes", "tile " + std::to_string(t) +
@@ -238,10 +286,25 @@ Result<DecodedMap> MapDecoder::Decode(
     const std::vector<std::uint32_t> zeros(std::uint64_t{h.width} * g.channels, 0);
     ResidualReader residual(z, residuals, planes, context_->residuals);
     if (residual.bits > g.mask) return Bad("payload", "a residual beyond N bits");
+    bool over = false;
     for (std::uint32_t ty = 0; ty < up; ++ty) {
         for (std::uint32_t tx = 0; tx < across; ++tx) {
-            const auto m = static_cast<TileMode>(p[std::uint64_t{ty} * across + tx]);
+            const std::uint8_t byte = p[std::uint64_t{ty} * across + tx];
+            const auto m = static_cast<TileMode>(TileModeBits(byte));
+            const int shift = TileShift(byte);
             const TileSpan s = detail::SpanOf(h, tx, ty);
+            if (shift > 0 && m != TileMode::kCopy) {
+                for (std::uint32_t y = s.y0; y < s.y1; ++y) {
+                    const std::uint32_t* z = zeros.data();
+                    over |= m == TileMode::kTemporal ? DecodeShiftedRow<TileMode::kTemporal>(
+                                                           g, v, ref, z, s, y, shift, residual)
+                            : m == TileMode::kMed ? DecodeShiftedRow<TileMode::kMed>(
+                                                        g, v, ref, z, s, y, shift, residual)
+                                                  : DecodeShiftedRow<TileMode::kGradient>(
+                                                        g, v, ref, z, s, y, shift, residual);
+                }
+                continue;
+            }
             for (std::uint32_t y = s.y0; y < s.y1; ++y) {
                 switch (m) {
                     case TileMode::kGradient:
@@ -262,6 +325,10 @@ Result<DecodedMap> MapDecoder::Decode(
                 }
             }
         }
+    }
+
+    if (over) {
+        return Bad("payload", "a shifted tile's value past 2^(N - shift): not a coded map");
     }
 
     out.texels.resize(count);

@@ -2,6 +2,7 @@
 #include <lixel/codec/map_encoder.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -63,6 +64,24 @@ std::vector<std::uint32_t> Values(Codec codec, int bits, const float* texels, st
     return values;
 }
 
+// The texels of a tile of shift s > 0, quantised again from their floats: c = round(d (2^N - 1)
+// / 2^s) (from d, not from q, whose own rounding would add to the tile's error), q = Fine(c).
+// Exceptions keep q = 0.
+void Coarsen(const float* texels, const Grid& g, const TileSpan& s, int shift,
+             std::uint32_t* values) {
+    const double scale = std::ldexp(std::ldexp(1.0, g.bits) - 1.0, -shift);
+    const auto mask = static_cast<std::uint32_t>(g.mask);
+    for (std::uint32_t y = s.y0; y < s.y1; ++y) {
+        for (std::uint64_t i = std::uint64_t{y} * g.width + s.x0;
+             i < std::uint64_t{y} * g.width + s.x1; ++i) {
+            const float d = texels[i];
+            if (!(d >= 0.0f && d <= 1.0f)) continue;
+            const auto c = static_cast<std::uint32_t>(static_cast<double>(d) * scale + 0.5);
+            values[i] = detail::Fine(c, shift, mask);
+        }
+    }
+}
+
 // Residuals of texels [x0, x1) of row y under `kMode`, zig-zagged, into `out` when given; returns
 // their summed bit lengths (zstd's input is the byte planes, whose high planes are zero where
 // the residuals are short). Texels outside the image read as 0, which is the format's edge rule
@@ -94,24 +113,55 @@ std::uint64_t RowResiduals(const Grid& g, const std::uint32_t* v, const std::uin
     return bits;
 }
 
+// The same for a tile of shift s > 0 (depth: one channel): each value and neighbour read as its
+// Coarse c.
+template <TileMode kMode>
+std::uint64_t ShiftedRowResiduals(const Grid& g, const std::uint32_t* v, const std::uint32_t* ref,
+                                  const std::uint32_t* zeros, std::uint32_t x0, std::uint32_t x1,
+                                  std::uint32_t y, int shift, std::uint32_t* out) {
+    using detail::Coarse;
+    const std::uint64_t row = g.width;
+    const std::uint32_t* cur = v + y * row;
+    const std::uint32_t* below = y > 0 ? cur - row : zeros;
+    const std::uint32_t* prior = ref != nullptr ? ref + y * row : nullptr;
+    std::uint64_t bits = 0;
+    for (std::uint64_t i = x0; i < x1; ++i) {
+        std::uint32_t prediction;
+        if constexpr (kMode == TileMode::kTemporal) {
+            prediction = Coarse(prior[i], shift);
+        } else {
+            const std::uint32_t a = i > 0 ? Coarse(cur[i - 1], shift) : 0;
+            const std::uint32_t b = Coarse(below[i], shift);
+            const std::uint32_t d = i > 0 ? Coarse(below[i - 1], shift) : 0;
+            prediction = kMode == TileMode::kMed ? detail::Med(a, b, d, g.mask)
+                                                 : detail::Gradient(a, b, d, g.mask);
+        }
+        const std::uint32_t z = ZigZag(Coarse(cur[i], shift), prediction, g);
+        if (out != nullptr) *out++ = z;
+        bits += static_cast<std::uint64_t>(std::bit_width(z));
+    }
+    return bits;
+}
+
 template <TileMode kMode>
 std::uint64_t RowResiduals(const Grid& g, const std::uint32_t* v, const std::uint32_t* ref,
                            const std::uint32_t* zeros, std::uint32_t x0, std::uint32_t x1,
-                           std::uint32_t y, std::uint32_t* out) {
+                           std::uint32_t y, int shift, std::uint32_t* out) {
+    if (shift > 0) return ShiftedRowResiduals<kMode>(g, v, ref, zeros, x0, x1, y, shift, out);
     return g.channels == 1 ? RowResiduals<kMode, 1>(g, v, ref, zeros, x0, x1, y, out)
                            : RowResiduals<kMode, 2>(g, v, ref, zeros, x0, x1, y, out);
 }
 
 std::uint64_t RowResiduals(TileMode mode, const Grid& g, const std::uint32_t* v,
                            const std::uint32_t* ref, const std::uint32_t* zeros, std::uint32_t x0,
-                           std::uint32_t x1, std::uint32_t y, std::uint32_t* out) {
+                           std::uint32_t x1, std::uint32_t y, int shift, std::uint32_t* out) {
     switch (mode) {
         case TileMode::kMed:
-            return RowResiduals<TileMode::kMed>(g, v, ref, zeros, x0, x1, y, out);
+            return RowResiduals<TileMode::kMed>(g, v, ref, zeros, x0, x1, y, shift, out);
         case TileMode::kTemporal:
-            return RowResiduals<TileMode::kTemporal>(g, v, ref, zeros, x0, x1, y, out);
+            return RowResiduals<TileMode::kTemporal>(g, v, ref, zeros, x0, x1, y, shift, out);
         default:
-            return RowResiduals<TileMode::kGradient>(g, v, ref, zeros, x0, x1, y, out);
+            return RowResiduals<TileMode::kGradient>(g, v, ref, zeros, x0, x1, y, shift, out);
     }
 }
 
@@ -132,7 +182,7 @@ constexpr std::uint32_t kCostRowStep = 4;
 // A tile's mode: a copy where every value equals the reference's, else the predictor whose
 // residuals have the fewest summed bits on the sampled rows (the gradient on ties).
 TileMode ChooseMode(const Grid& g, const std::uint32_t* v, const std::uint32_t* ref,
-                    const std::uint32_t* zeros, const TileSpan& s) {
+                    const std::uint32_t* zeros, const TileSpan& s, int shift) {
     if (ref != nullptr && SameAsReference(g, v, ref, s)) return TileMode::kCopy;
     TileMode best = TileMode::kGradient;
     std::uint64_t least = ~std::uint64_t{0};
@@ -140,7 +190,7 @@ TileMode ChooseMode(const Grid& g, const std::uint32_t* v, const std::uint32_t* 
         if (m == TileMode::kTemporal && ref == nullptr) continue;
         std::uint64_t cost = 0;
         for (std::uint32_t y = s.y0; y < s.y1 && cost < least; y += kCostRowStep) {
-            cost += RowResiduals(m, g, v, ref, zeros, s.x0, s.x1, y, nullptr);
+            cost += RowResiduals(m, g, v, ref, zeros, s.x0, s.x1, y, shift, nullptr);
         }
         if (cost < least) {
             least = cost;
@@ -176,6 +226,22 @@ Result<bool> CheckOptions(Content content, std::uint32_t width, std::uint32_t he
         return Bad("zstd_level", std::to_string(o.zstd_level) + " is outside [1, 19]");
     }
     if (o.frame_id == 0) return Bad("frame_id", "0 names no frame");
+    if (!o.tile_shifts.empty()) {
+        const std::uint64_t tiles = ((std::uint64_t{width} + o.tile - 1) / o.tile) *
+                                    ((std::uint64_t{height} + o.tile - 1) / o.tile);
+        if (o.codec != Codec::kQuantised) {
+            return Bad("tile_shifts", "only a quantised image's tiles take a shift");
+        }
+        if (o.tile_shifts.size() != tiles) {
+            return Bad("tile_shifts", std::to_string(o.tile_shifts.size()) + " shifts for " +
+                                          std::to_string(tiles) + " tiles");
+        }
+        for (const std::uint8_t shift : o.tile_shifts) {
+            if (shift > kMaxTileShift) {
+                return Bad("tile_shifts", std::to_string(shift) + " is outside [0, 8]");
+            }
+        }
+    }
     if (width < 1 || width > kMaxSide || height < 1 || height > kMaxSide) {
         return Bad("size", std::to_string(width) + " x " + std::to_string(height) +
                                " is outside [1, 16385]²");
@@ -204,14 +270,25 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
     std::vector<Exception> exceptions;
     std::vector<std::uint32_t> v = Values(o.codec, h.bits, texels, count, &exceptions);
     h.exceptions = static_cast<std::uint32_t>(exceptions.size());
+    const std::uint32_t across = TilesAcross(h);
+    const std::uint32_t up = TilesUp(h);
+    const auto shift_of = [&](std::uint32_t tx, std::uint32_t ty) {
+        return o.tile_shifts.empty() ? 0 : int{o.tile_shifts[std::uint64_t{ty} * across + tx]};
+    };
+    for (std::uint32_t ty = 0; ty < up; ++ty) {
+        for (std::uint32_t tx = 0; tx < across; ++tx) {
+            const int shift = shift_of(tx, ty);
+            if (shift > 0) Coarsen(texels, g, detail::SpanOf(h, tx, ty), shift, v.data());
+            h.max_shift = std::max(h.max_shift, shift);
+        }
+    }
+    if (h.codec == Codec::kQuantised) h.error_bound = QuantisedErrorBound(h.bits, h.max_shift);
     const IntegerImage* reference =
         o.reference != nullptr && o.reference->Matches(h) && o.reference->values.size() == count
             ? o.reference
             : nullptr;
     const std::uint32_t* ref = reference != nullptr ? reference->values.data() : nullptr;
 
-    const std::uint32_t across = TilesAcross(h);
-    const std::uint32_t up = TilesUp(h);
     out.tiles = std::uint64_t{across} * up;
     const std::vector<std::uint32_t> zeros(std::uint64_t{width} * g.channels, 0);
     std::vector<TileMode> modes(out.tiles);
@@ -219,7 +296,7 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
     for (std::uint32_t ty = 0; ty < up; ++ty) {
         for (std::uint32_t tx = 0; tx < across; ++tx) {
             const TileSpan s = detail::SpanOf(h, tx, ty);
-            const TileMode m = ChooseMode(g, v.data(), ref, zeros.data(), s);
+            const TileMode m = ChooseMode(g, v.data(), ref, zeros.data(), s, shift_of(tx, ty));
             modes[std::uint64_t{ty} * across + tx] = m;
             if (m == TileMode::kTemporal || m == TileMode::kCopy) ++out.temporal_tiles;
             if (m != TileMode::kCopy) {
@@ -238,7 +315,12 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
     std::string& raw = context_->raw;
     raw.resize(out.tiles + 8 * exceptions.size() + planes * residuals);  // every byte is written
     auto* p = reinterpret_cast<unsigned char*>(raw.data());
-    for (std::uint64_t t = 0; t < out.tiles; ++t) p[t] = static_cast<unsigned char>(modes[t]);
+    for (std::uint32_t ty = 0; ty < up; ++ty) {
+        for (std::uint32_t tx = 0; tx < across; ++tx) {
+            const std::uint64_t t = std::uint64_t{ty} * across + tx;
+            p[t] = TileByte(modes[t], shift_of(tx, ty));
+        }
+    }
     p += out.tiles;
     for (const Exception& e : exceptions) {
         for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(e.index >> (8 * i));
@@ -255,7 +337,8 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
             if (m == TileMode::kCopy) continue;
             const TileSpan s = detail::SpanOf(h, tx, ty);
             for (std::uint32_t y = s.y0; y < s.y1; ++y) {
-                RowResiduals(m, g, v.data(), ref, zeros.data(), s.x0, s.x1, y, walk.data() + k);
+                RowResiduals(m, g, v.data(), ref, zeros.data(), s.x0, s.x1, y, shift_of(tx, ty),
+                             walk.data() + k);
                 k += std::uint64_t(s.x1 - s.x0) * g.channels;
             }
         }

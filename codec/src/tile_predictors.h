@@ -38,6 +38,21 @@ inline std::uint32_t Med(std::uint64_t a, std::uint64_t b, std::uint64_t d, std:
     return static_cast<std::uint32_t>((a + b - d) & mask);
 }
 
+// A tile of shift s > 0 holds multiples of 2^s (its values q = min(c 2^s, 2^N - 1)) and codes
+// each c: its predictors read every neighbour, in the tile or not, as Coarse(q, s), which gives
+// back c inside the tile, and the predictions and residuals are those of the c's, modulo 2^N as
+// everywhere. Shift 0 is the identity both ways.
+inline std::uint32_t Coarse(std::uint32_t q, int shift) {
+    return (q + ((1u << shift) >> 1)) >> shift;
+}
+inline std::uint32_t Fine(std::uint32_t c, int shift, std::uint32_t mask) {
+    const std::uint32_t q = c << shift;
+    return q < mask ? q : mask;
+}
+// The largest c a tile of shift s holds: 2^(N - s) (d = 1 rounds up to it, and Fine clamps it
+// to 2^N - 1). A decoder refuses larger ones, which would give one map two codings.
+inline std::uint32_t CoarseLimit(int bits, int shift) { return 1u << (bits - shift); }
+
 // (value - prediction) mod 2^N as a signed number in [-2^(N-1), 2^(N-1)), zig-zagged: 0, -1, 1,
 // -2, ... become 0, 1, 2, 3, ... Branch-free: residuals are noise around 0, so a branch on their
 // sign would be mispredicted about half the time. 2^N divides 2^32, so uint32 arithmetic

@@ -183,13 +183,22 @@ int main(int argc, char** argv) {
     MapEncoder encoder;
     std::vector<Case> cases;
     std::uint64_t next_frame = 1000;
+    // `shifted`: each tile a seeded shift in [0, 8], a third of them 0.
     const auto encode = [&](Content content, const Image& image, Codec codec, int bits, int tile,
-                            std::optional<int> reference, bool damaged) -> bool {
+                            std::optional<int> reference, bool damaged,
+                            bool shifted = false) -> bool {
         EncodeOptions o;
         o.codec = codec;
         o.bits = bits;
         o.tile = tile;
         o.frame_id = next_frame++;
+        if (shifted) {
+            const std::uint64_t tiles =
+                std::uint64_t{(image.width + tile - 1) / tile} * ((image.height + tile - 1) / tile);
+            for (std::uint64_t t = 0; t < tiles; ++t) {
+                o.tile_shifts.push_back(rng() % 3 == 0 ? 0 : std::uint8_t(1 + rng() % 8));
+            }
+        }
         if (reference) o.reference = &cases[std::size_t(*reference)].coded.decoded;
         auto coded = encoder.Encode(content, image.texels.data(), image.width, image.height, o);
         if (!coded) {
@@ -219,6 +228,11 @@ int main(int argc, char** argv) {
         ok = ok && encode(Content::kDepth, DepthScene(rng, q.w, q.h, q.w * q.h > 20),
                           Codec::kQuantised, q.bits, q.tile, std::nullopt, q.damaged);
     }
+    // Quantised depth with tiles of coarser steps (every shift, rough and planar tiles alike).
+    for (const auto& q : {quantised[1], quantised[2], quantised[4], quantised[6]}) {
+        ok = ok && encode(Content::kDepth, DepthScene(rng, q.w, q.h, true), Codec::kQuantised,
+                          q.bits, q.tile, std::nullopt, q.damaged, true);
+    }
     // Exact depth and silhouette points: every bit kept.
     ok = ok && encode(Content::kDepth, DepthScene(rng, 300, 200, true), Codec::kExact, 32, 64,
                       std::nullopt, false);
@@ -229,16 +243,18 @@ int main(int argc, char** argv) {
     ok = ok && encode(Content::kPoints, PointScene(rng, 33, 20), Codec::kExact, 32, 8, std::nullopt,
                       true);
     // Temporal chains: a keyframe, a frame against it, a frame against that.
-    for (const auto& [codec, bits, tile, w, h] : {std::tuple{Codec::kQuantised, 19, 8, 130u, 67u},
-                                                  std::tuple{Codec::kExact, 32, 64, 300u, 200u},
-                                                  std::tuple{Codec::kQuantised, 24, 8, 40u, 24u}}) {
+    for (const auto& [codec, bits, tile, w, h, shifted] :
+         {std::tuple{Codec::kQuantised, 19, 8, 130u, 67u, false},
+          std::tuple{Codec::kExact, 32, 64, 300u, 200u, false},
+          std::tuple{Codec::kQuantised, 24, 8, 40u, 24u, false},
+          std::tuple{Codec::kQuantised, 22, 8, 130u, 67u, true}}) {
         Image frame = DepthScene(rng, w, h, true);
         const bool small = w * h < 2000;
-        ok = ok && encode(Content::kDepth, frame, codec, bits, tile, std::nullopt, false);
+        ok = ok && encode(Content::kDepth, frame, codec, bits, tile, std::nullopt, false, shifted);
         for (int step = 0; step < 2 && ok; ++step) {
             frame = NextFrame(rng, frame, codec, bits);
             ok = encode(Content::kDepth, frame, codec, bits, tile, int(cases.size()) - 1,
-                        small && step == 0);
+                        small && step == 0, shifted);
         }
     }
     {

@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 #include <lixel/codec/map_decoder.h>
 #include <lixel/codec/map_encoder.h>
+#include <zstd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
+#include <optional>
 #include <random>
 
 namespace lixel::codec {
@@ -358,6 +362,157 @@ TEST(MapCodec, TheEncoderRefusesBadOptionsNamingThem) {
     EXPECT_EQ(field(Content::kDepth, level), "codec.zstd_level");
     EXPECT_EQ(field(Content::kDepth, Quantised(16, 1), 0), "codec.size");
     EXPECT_EQ(field(Content::kDepth, Quantised(16, 1)), "ok");
+    EncodeOptions shifts = Quantised(16, 1, 8);  // a 4 x 4 image: one tile
+    shifts.tile_shifts = {9};
+    EXPECT_EQ(field(Content::kDepth, shifts), "codec.tile_shifts");
+    shifts.tile_shifts = {1, 1};
+    EXPECT_EQ(field(Content::kDepth, shifts), "codec.tile_shifts");
+    shifts.tile_shifts = {1};
+    EXPECT_EQ(field(Content::kDepth, shifts), "ok");
+    shifts.codec = Codec::kExact;
+    EXPECT_EQ(field(Content::kDepth, shifts), "codec.tile_shifts");
+}
+
+// Seeded shifts, a third of the tiles 0 (N's own step), the rest 1 to 8.
+std::vector<std::uint8_t> SeededShifts(std::mt19937_64& rng, std::uint32_t w, std::uint32_t h,
+                                       int tile) {
+    std::vector<std::uint8_t> shifts(std::uint64_t{(w + tile - 1) / tile} *
+                                     ((h + tile - 1) / tile));
+    for (auto& s : shifts) s = rng() % 3 == 0 ? 0 : static_cast<std::uint8_t>(1 + rng() % 8);
+    return shifts;
+}
+
+TEST(MapCodec, ShiftedTilesDecodeBitExactWithinTheirOwnBound) {
+    // Every texel of a tile of shift s within QuantisedErrorBound(N, s) of its float, a multiple
+    // of 2^s (or 2^N - 1: d = 1 stays exact), 0 and 1 exact, exceptions bit for bit; keyframes
+    // and frames against them, the reference's tiles at other shifts.
+    std::mt19937_64 rng(90125);
+    MapEncoder encoder;
+    MapDecoder decoder;
+    for (int round = 0; round < 18; ++round) {
+        const int bits = kMinQuantisedBits + round % 9;
+        const int tile = round % 3 == 0 ? 64 : 8;
+        const auto w = static_cast<std::uint32_t>(1 + rng() % 140);
+        const auto h = static_cast<std::uint32_t>(1 + rng() % 90);
+        std::vector<float> depth = DepthImage(rng, w, h, w * h > 20);
+        std::optional<IntegerImage> held;
+        for (int frame = 0; frame < 2; ++frame) {
+            EncodeOptions o = Quantised(bits, 40 + frame, tile);
+            o.tile_shifts = SeededShifts(rng, w, h, tile);
+            if (held) o.reference = &*held;
+            auto coded = encoder.Encode(Content::kDepth, depth.data(), w, h, o);
+            ASSERT_TRUE(coded) << coded.error().Message();
+            std::map<std::uint64_t, const IntegerImage*> refs;
+            if (held) refs[held->frame_id] = &*held;
+            auto back = decoder.Decode(coded->bytes, refs);
+            ASSERT_TRUE(back) << back.error().Message();
+            EXPECT_EQ(back->values.values, coded->decoded.values) << "N = " << bits;
+            const int most = *std::max_element(o.tile_shifts.begin(), o.tile_shifts.end());
+            EXPECT_EQ(back->header.max_shift, most);
+            EXPECT_EQ(back->header.error_bound, QuantisedErrorBound(bits, most));
+            const std::uint32_t mask = (1u << bits) - 1;
+            for (std::uint32_t y = 0; y < h; ++y) {
+                for (std::uint32_t x = 0; x < w; ++x) {
+                    const std::size_t i = std::size_t{y} * w + x;
+                    const int shift =
+                        o.tile_shifts[(y / tile) * ((w + tile - 1) / tile) + x / tile];
+                    const float d = depth[i];
+                    const float e = back->texels[i];
+                    if (!(d >= 0.0f && d <= 1.0f)) {
+                        EXPECT_EQ(Bits(e), Bits(d)) << "exception at texel " << i;
+                        continue;
+                    }
+                    EXPECT_LE(std::abs(double(e) - double(d)), QuantisedErrorBound(bits, shift))
+                        << "N = " << bits << ", shift " << shift << ", texel " << i;
+                    if (d == 0.0f || d == 1.0f) {
+                        EXPECT_EQ(e, d) << "texel " << i;
+                    }
+                    const std::uint32_t q = back->values.values[i];
+                    EXPECT_TRUE(q % (1u << shift) == 0 || q == mask) << "texel " << i;
+                }
+            }
+            held = std::move(back->values);
+            // The next frame: a few texels nudged by a step or two of N.
+            for (std::size_t i = 0; i < depth.size(); i += 7) {
+                if (depth[i] > 0.0f && depth[i] < 1.0f) {
+                    depth[i] = static_cast<float>(std::clamp(
+                        depth[i] + (int(rng() % 5) - 2) * std::ldexp(1.0, -bits), 0.0, 1.0));
+                }
+            }
+        }
+    }
+}
+
+TEST(MapCodec, AShiftedTileCostsFewerBytesOnRoughDepth) {
+    // Depth the predictors leave ~12 bits a texel of at N = 24 (a plane plus noise of a few
+    // thousand steps): each step of shift takes about a bit off every residual.
+    std::mt19937_64 rng(4411);
+    std::uniform_real_distribution<double> u(-0.5, 0.5);
+    std::vector<float> rough(256 * 256);
+    for (std::size_t i = 0; i < rough.size(); ++i) {
+        rough[i] = static_cast<float>(0.3 + 1e-4 * double(i % 256) + 4e-4 * u(rng));
+    }
+    MapEncoder encoder;
+    std::size_t previous = 0;
+    for (int shift = 0; shift <= kMaxTileShift; shift += 4) {
+        EncodeOptions o = Quantised(24, 1, 64);
+        o.tile_shifts.assign(16, static_cast<std::uint8_t>(shift));
+        auto coded = encoder.Encode(Content::kDepth, rough.data(), 256, 256, o);
+        ASSERT_TRUE(coded);
+        if (shift > 0) {
+            EXPECT_LT(double(coded->bytes.size()), 0.8 * double(previous)) << "shift " << shift;
+        }
+        previous = coded->bytes.size();
+    }
+}
+
+// A one-tile 8 x 8 map of N = 16: `tile_byte`, the first residual zig-zagged from `c`, the rest 0.
+std::string OneTile(std::uint8_t tile_byte, std::uint32_t c, int max_shift,
+                    Codec codec = Codec::kQuantised) {
+    CodedHeader h;
+    h.codec = codec;
+    h.bits = codec == Codec::kExact ? 32 : 16;
+    h.width = h.height = 8;
+    h.tile = 8;
+    h.max_shift = max_shift;
+    h.error_bound = codec == Codec::kExact ? 0.0 : QuantisedErrorBound(16, max_shift);
+    h.frame_id = h.keyframe_id = 5;
+    const int planes = BytePlanes(h.bits);
+    std::string raw(1 + 64 * planes, '\0');
+    raw[0] = static_cast<char>(tile_byte);
+    const std::uint32_t z = 2 * c;
+    for (int b = 0; b < planes; ++b) raw[1 + b * 64] = static_cast<char>(z >> (8 * b));
+    h.raw_bytes = raw.size();
+    std::string packed(ZSTD_compressBound(raw.size()), '\0');
+    ZSTD_CCtx* zc = ZSTD_createCCtx();
+    ZSTD_CCtx_setParameter(zc, ZSTD_c_checksumFlag, 1);
+    packed.resize(ZSTD_compress2(zc, packed.data(), packed.size(), raw.data(), raw.size()));
+    ZSTD_freeCCtx(zc);
+    h.payload_bytes = packed.size();
+    std::string bytes(kHeaderBytes, '\0');
+    WriteHeader(h, reinterpret_cast<unsigned char*>(bytes.data()));
+    return bytes + packed;
+}
+
+TEST(MapCodec, AShiftedTilePastItsLimitOrHeaderIsRefusedNamingIt) {
+    MapDecoder decoder;
+    const std::uint8_t gradient8 = TileByte(TileMode::kGradient, 8);
+    // c = 2^(16 - 8) is d = 1, the top step clamped to 2^16 - 1.
+    auto top = decoder.Decode(OneTile(gradient8, 256, 8));
+    ASSERT_TRUE(top) << top.error().Message();
+    EXPECT_EQ(top->values.values[0], 0xFFFFu);
+    EXPECT_EQ(top->texels[0], 1.0f);
+    const auto field = [&](const std::string& bytes) {
+        auto r = decoder.Decode(bytes);
+        return r ? std::string("ok") : r.error().field;
+    };
+    // One past it would decode to the same value: a second coding of one map.
+    EXPECT_EQ(field(OneTile(gradient8, 257, 8)), "coded_map.payload");
+    EXPECT_EQ(field(OneTile(TileByte(TileMode::kMed, 8), 257, 8)), "coded_map.payload");
+    EXPECT_EQ(field(OneTile(TileByte(TileMode::kGradient, 3), 1, 2)), "coded_map.tile_modes");
+    EXPECT_EQ(field(OneTile(gradient8, 1, 9)), "coded_map.max_shift");
+    EXPECT_EQ(field(OneTile(0, 1, 1, Codec::kExact)), "coded_map.max_shift");
+    EXPECT_EQ(field(OneTile(0x34, 1, 3)), "coded_map.tile_modes");  // mode 4
 }
 
 }  // namespace

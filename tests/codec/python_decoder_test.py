@@ -31,7 +31,7 @@ sys.path.insert(0, sys.argv[2] if len(sys.argv) > 2 else str(_HERE.parents[1] / 
 import lixel_maps  # noqa: E402
 from lixel_maps import CodedMapError, TileMode  # noqa: E402
 
-_HEADER = struct.Struct("<4sBBBBIIHHIdQQQQQII")
+_HEADER = struct.Struct("<4sBBBBIIHBBIdQQQQQII")
 
 
 class Failure(Exception):
@@ -78,7 +78,7 @@ def recoded(data: bytes, raw: bytes, checksum: bool = True, content_size: bool =
     """`data` with its zstd content replaced by `raw` and header fields changed, every size and
     the CRC-32 kept consistent: what a buggy or hostile encoder could send."""
     names = ["magic", "version", "content", "codec", "bits", "width", "height", "tile",
-             "reserved_a", "exceptions", "error_bound", "frame_id", "reference_id",
+             "max_shift", "reserved_a", "exceptions", "error_bound", "frame_id", "reference_id",
              "keyframe_id", "payload_bytes", "raw_bytes", "reserved_b", "crc"]
     fields = dict(zip(names, header_fields(data)))
     fields.update(changes)
@@ -181,8 +181,8 @@ class Suite:
         refused(lambda: lixel_maps.decode(s.data, {h.reference_id: short}),
                 "coded_map.reference_id")
         # Another frame of the same shape under the reference's id: refused where an
-        # exception's texel no longer holds 0, else decoded (the ids are the client's promise),
-        # but not to these texels.
+        # exception's texel no longer holds 0 or a shifted tile's value passes 2^(N - shift),
+        # else decoded (the ids are the client's promise), but not to these texels.
         others = [t for t in self.samples if t.case["case"] != s.case["reference"] and
                   t.case["reference"] is None and
                   all(t.case[k] == s.case[k] for k in ("content", "codec", "bits", "width",
@@ -193,7 +193,8 @@ class Suite:
             try:
                 d = lixel_maps.decode(s.data, {h.reference_id: wrong})
             except lixel_maps.CodedMapError as e:
-                expect(e.field == "coded_map.exceptions", f"refused as {e}")
+                expect(e.field in ("coded_map.exceptions", "coded_map.payload"),
+                       f"refused as {e}")
                 continue
             expect(not np.array_equal(d.values.values.ravel(), s.values),
                    "decoded the same values against another reference")
@@ -231,6 +232,44 @@ class Suite:
             seen.update(int(m) for m in d.tile_modes)
         expect(all(seen[m] > 0 for m in TileMode), f"tile modes seen: {dict(seen)}")
 
+    def every_tile_shift_occurs(self) -> None:
+        seen = collections.Counter()
+        for d in self.decoded.values():
+            seen.update(zip((int(m) for m in d.tile_modes), (int(t) for t in d.tile_shifts)))
+        shifts = {t for _, t in seen}
+        expect(shifts == set(range(lixel_maps.MAX_TILE_SHIFT + 1)), f"shifts seen: {shifts}")
+        shifted_modes = {m for m, t in seen if t > 0}
+        expect(shifted_modes == {int(m) for m in TileMode}, f"modes of shifted tiles seen: "
+               f"{shifted_modes}")
+
+    def shifted_tile_refusals(self) -> None:
+        """One 8 x 8 tile of N = 16 and shift 8, its first residual c and the rest 0: c up to
+        2^(16 - 8) decodes (256 is d = 1), past it the map is refused, as is a tile shift past the
+        header's max_shift and a max_shift no codec allows."""
+        def coded(c: int, tile_shift: int = 8, max_shift: int = 8, codec: int = 1,
+                  bits: int = 16) -> bytes:
+            z = np.zeros(64, dtype=np.uint32)
+            z[0] = 2 * c
+            raw = bytes([tile_shift << 4]) + b"".join(
+                ((z >> np.uint32(8 * b)) & np.uint32(255)).astype(np.uint8).tobytes()
+                for b in range((bits + 7) // 8))
+            payload = zstandard.ZstdCompressor(write_checksum=True,
+                                               write_content_size=True).compress(raw)
+            bound = lixel_maps.quantised_error_bound(16, max_shift) if codec == 1 else 0.0
+            return with_header([b"LXMC", lixel_maps.FORMAT_VERSION, 1, codec, bits, 8, 8, 8,
+                                max_shift, 0, 0, bound, 5, 0, 5, len(payload), len(raw), 0, 0],
+                               payload)
+        top = lixel_maps.decode(coded(256))
+        expect(top.texels[0, 0] == 1.0 and top.values.values[0, 0, 0] == 0xFFFF,
+               f"c = 2^(N - s) decodes to {top.texels[0, 0]}")
+        expect(top.tile_shifts.tolist() == [8], f"tile shifts {top.tile_shifts}")
+        refused(lambda: lixel_maps.decode(coded(257)), "coded_map.payload")
+        refused(lambda: lixel_maps.decode(coded(1, tile_shift=3, max_shift=2)),
+                "coded_map.tile_modes")
+        refused(lambda: lixel_maps.decode(coded(1, max_shift=9)), "coded_map.max_shift")
+        refused(lambda: lixel_maps.decode(coded(1, tile_shift=0, max_shift=1, codec=2, bits=32)),
+                "coded_map.max_shift")
+
     def refusals(self) -> None:
         by_kind = {}
         for s in self.samples:
@@ -258,20 +297,21 @@ class Suite:
             expect(why in e.reason, e.reason)
         # A header claiming a huge image: refused by the texel budget before anything is read.
         fields = header_fields(data)
-        fields[5:10] = [16385, 16385, 64, 0, 0]  # width, height, tile, reserved, exceptions
-        fields[14:16] = [10, 1000000]  # payload_bytes, raw_bytes
+        # width, height, tile, max_shift, reserved, exceptions
+        fields[5:11] = [16385, 16385, 64, 0, 0, 0]
+        fields[15:17] = [10, 1000000]  # payload_bytes, raw_bytes
         huge = with_header(fields, b"\0" * 10)
         refused(lambda: lixel_maps.decode(huge, max_texels=1 << 20), "coded_map.width")
         fields[5:7] = [4, 4]
-        fields[15] = 1 << 40
+        fields[16] = 1 << 40
         refused(lambda: lixel_maps.decode(with_header(fields, b"\0" * 10)), "coded_map.raw_bytes")
-        fields[15] = 1 + 2 * 16
-        fields[10] = 1e-3
+        fields[16] = 1 + 2 * 16
+        fields[11] = 1e-3
         refused(lambda: lixel_maps.decode(with_header(fields, b"\0" * 10)),
                 "coded_map.error_bound")
         exact = header_fields(by_kind[("exact", False, True)].data)
-        exact[10] = 0.0
-        exact[9] = 1
+        exact[11] = 0.0
+        exact[10] = 1
         refused(lambda: lixel_maps.decode(with_header(exact, b"")), "coded_map.exceptions")
         # What a buggy or hostile encoder could send, each size and the CRC kept consistent.
         raw = raw_of(data)
@@ -350,6 +390,8 @@ class Suite:
                 self.check(f"case {s.case['case']} damaged like C++",
                            lambda s=s: self.damage_like_cpp(s))
         self.check("every tile mode occurs", self.every_tile_mode_occurs)
+        self.check("every tile shift occurs", self.every_tile_shift_occurs)
+        self.check("shifted tiles' refusals", self.shifted_tile_refusals)
         self.check("refusals", self.refusals)
         self.check("a 300 x 200 map decodes in under a second", self.fast_enough)
         print(f"{self.passed} passed, {self.failed} failed")

@@ -2,6 +2,8 @@
 checked bit for bit against the C++ one (tests/codec/python_decoder_test.py)."""
 
 from lixel_maps.coded_map import (
+    FORMAT_VERSION,
+    MAX_TILE_SHIFT,
     Codec,
     CodedHeader,
     CodedMapError,
@@ -10,10 +12,13 @@ from lixel_maps.coded_map import (
     IntegerImage,
     TileMode,
     decode,
+    quantised_error_bound,
     read_header,
 )
 
 __all__ = [
+    "FORMAT_VERSION",
+    "MAX_TILE_SHIFT",
     "Codec",
     "CodedHeader",
     "CodedMapError",
@@ -22,5 +27,6 @@ __all__ = [
     "IntegerImage",
     "TileMode",
     "decode",
+    "quantised_error_bound",
     "read_header",
 ]

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import enum
+import math
 import struct
 import zlib
 
@@ -24,18 +25,19 @@ import numpy as np
 import zstandard
 
 HEADER_BYTES = 80
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # version 2 added the tiles' shifts
 MIN_QUANTISED_BITS = 16
 MAX_QUANTISED_BITS = 24
 MIN_TILE = 8
 MAX_TILE = 1024
+MAX_TILE_SHIFT = 8  # the coarsest step a quantised tile may take, 2^8 of N's
 MAX_SIDE = 16385  # a 16384² map's corner depth
 DEFAULT_MAX_TEXELS = 16385 * 16385 * 2
 
 _MAGIC = b"LXMC"
-# magic, version, content, codec, bits, width, height, tile, reserved, exceptions, error_bound,
-# frame_id, reference_id, keyframe_id, payload_bytes, raw_bytes, reserved, crc32.
-_HEADER = struct.Struct("<4sBBBBIIHHIdQQQQQII")
+# magic, version, content, codec, bits, width, height, tile, max_shift, reserved, exceptions,
+# error_bound, frame_id, reference_id, keyframe_id, payload_bytes, raw_bytes, reserved, crc32.
+_HEADER = struct.Struct("<4sBBBBIIHBBIdQQQQQII")
 _CRC_OFFSET = 76
 _ZSTD_MAGIC = 0xFD2FB528
 # zstd's largest window on 64-bit targets. The frame states its content size, which the header
@@ -55,6 +57,8 @@ class Codec(enum.IntEnum):
 
 
 class TileMode(enum.IntEnum):
+    """A tile byte's low four bits; its high four are the tile's shift."""
+
     GRADIENT = 0  # a + b - c
     MED = 1  # LOCO-I's median edge detector
     TEMPORAL = 2  # the reference frame's value at the same texel
@@ -88,8 +92,9 @@ class CodedHeader:
     width: int  # texels, [1, MAX_SIDE]
     height: int  # texels, [1, MAX_SIDE]
     tile: int  # tile side, texels, [MIN_TILE, MAX_TILE]
+    max_shift: int  # the largest tile shift, [0, MAX_TILE_SHIFT]; 0 exact
     exceptions: int  # texels stored with exact float32 bits (quantised only)
-    error_bound: float  # max |decoded - float| over texels in [0, 1]; 0 exact
+    error_bound: float  # max |decoded - float| over texels in [0, 1] (N's at max_shift); 0 exact
     frame_id: int  # this image's id, non-zero
     reference_id: int  # the image its temporal tiles read; 0: none (a keyframe)
     keyframe_id: int  # the keyframe its chain of references starts at
@@ -145,12 +150,15 @@ class DecodedMap:
     texels: np.ndarray
     values: IntegerImage  # what a later frame's temporal tiles read
     tile_modes: np.ndarray  # uint8 TileMode per tile, rows of tiles from the bottom
+    # uint8 shift per tile: a tile of shift s lies within quantised_error_bound(N, s)
+    tile_shifts: np.ndarray
 
 
-def quantised_error_bound(bits: int) -> float:
-    """Half a quantisation step plus the float32 rounding of the decoded value (2^-25); the same
-    double operations as the C++ QuantisedErrorBound, so the header's value compares equal."""
-    return 0.5 / (2.0 ** bits - 1.0) + 2.0 ** -25
+def quantised_error_bound(bits: int, shift: int = 0) -> float:
+    """Half a tile's quantisation step (2^shift of N's) plus the float32 rounding of the decoded
+    value (2^-25); the same double operations as the C++ QuantisedErrorBound, so the header's
+    value (at its max_shift) compares equal."""
+    return math.ldexp(0.5, shift) / (2.0 ** bits - 1.0) + 2.0 ** -25
 
 
 def read_header(data: bytes) -> CodedHeader:
@@ -158,7 +166,7 @@ def read_header(data: bytes) -> CodedHeader:
     range and their consistency, and that exactly payload_bytes follow it."""
     if len(data) < HEADER_BYTES:
         raise _bad("header", f"{len(data)} bytes, shorter than the {HEADER_BYTES}-byte header")
-    (magic, version, content, codec, bits, width, height, tile, reserved_a, exceptions,
+    (magic, version, content, codec, bits, width, height, tile, max_shift, reserved_a, exceptions,
      error_bound, frame_id, reference_id, keyframe_id, payload_bytes, raw_bytes, reserved_b,
      crc) = _HEADER.unpack_from(data, 0)
     if magic != _MAGIC:
@@ -184,17 +192,21 @@ def read_header(data: bytes) -> CodedHeader:
         raise _bad("height", f"{height} is outside [1, 16385]")
     if not MIN_TILE <= tile <= MAX_TILE:
         raise _bad("tile", f"{tile} is outside [8, 1024]")
+    most_shift = MAX_TILE_SHIFT if codec == Codec.QUANTISED else 0
+    if max_shift > most_shift:
+        raise _bad("max_shift", f"{max_shift} is outside [0, "
+                   f"{'8' if most_shift else '0: the exact codec'}]")
     if reserved_a != 0 or reserved_b != 0:
-        raise _bad("reserved", "bytes 18-19 and 72-75 must be zero")
+        raise _bad("reserved", "bytes 19 and 72-75 must be zero")
     texels = width * height
     if exceptions > texels:
         raise _bad("exceptions", f"{exceptions}, more than the {texels} texels")
     if codec == Codec.EXACT and exceptions != 0:
         raise _bad("exceptions", "the exact codec has none")
-    bound = quantised_error_bound(bits) if codec == Codec.QUANTISED else 0.0
+    bound = quantised_error_bound(bits, max_shift) if codec == Codec.QUANTISED else 0.0
     # Bit for bit: -0 is not the exact codec's 0, nor a NaN any bound.
     if struct.pack("<d", error_bound) != struct.pack("<d", bound):
-        raise _bad("error_bound", "not the bound its N states")
+        raise _bad("error_bound", "not the bound its N and max_shift state")
     if frame_id == 0:
         raise _bad("frame_id", "0 names no frame")
     if reference_id == 0 and keyframe_id != frame_id:
@@ -207,7 +219,7 @@ def read_header(data: bytes) -> CodedHeader:
     if payload_bytes != follow:
         raise _bad("payload_bytes", f"{payload_bytes} stated, {follow} follow the header "
                    "(truncated or padded)")
-    h = CodedHeader(Content(content), Codec(codec), bits, width, height, tile, exceptions,
+    h = CodedHeader(Content(content), Codec(codec), bits, width, height, tile, max_shift, exceptions,
                     error_bound, frame_id, reference_id, keyframe_id, payload_bytes, raw_bytes)
     # The largest payload the header allows: tile modes, exceptions, every residual.
     tiles = h.tiles_across * h.tiles_up
@@ -244,12 +256,18 @@ def decode(data: bytes, references: dict[int, IntegerImage] | None = None,
 
     across, up = h.tiles_across, h.tiles_up
     tiles = across * up
-    modes = np.frombuffer(raw, dtype=np.uint8, count=tiles)
-    wrong = (modes > TileMode.COPY) | ((modes >= TileMode.TEMPORAL) & (reference is None))
+    tile_bytes = np.frombuffer(raw, dtype=np.uint8, count=tiles)
+    modes = tile_bytes & np.uint8(15)
+    shifts = tile_bytes >> np.uint8(4)
+    wrong = ((modes > TileMode.COPY) | (shifts > h.max_shift)
+             | ((modes >= TileMode.TEMPORAL) & (reference is None)))
     if wrong.any():
         t = int(np.argmax(wrong))
         if modes[t] > TileMode.COPY:
             raise _bad("tile_modes", f"tile {t} has mode {modes[t]}")
+        if shifts[t] > h.max_shift:
+            raise _bad("tile_modes", f"tile {t} has shift {shifts[t]}, past the header's "
+                       f"max_shift {h.max_shift}")
         raise _bad("tile_modes", f"tile {t} reads a reference frame, and none is named")
     if h.reference_id != 0 and not (modes >= TileMode.TEMPORAL).any():
         raise _bad("reference_id", "named, but no tile reads it")
@@ -277,6 +295,7 @@ def decode(data: bytes, references: dict[int, IntegerImage] | None = None,
     for y0, y1 in spans_y:
         for x0, x1 in spans_x:
             m = modes[t]
+            shift = int(shifts[t])
             t += 1
             inside = (slice(y0 + 1, y1 + 1), slice(x0 + 1, x1 + 1))
             if m == TileMode.COPY:
@@ -285,7 +304,9 @@ def decode(data: bytes, references: dict[int, IntegerImage] | None = None,
             n = (y1 - y0) * (x1 - x0) * channels
             tile_s = s[k:k + n].reshape(y1 - y0, x1 - x0, channels)
             k += n
-            if m == TileMode.TEMPORAL:
+            if shift > 0:
+                _shifted_tile(padded, tile_s, m, reference, x0, x1, y0, y1, shift, h.bits, mask)
+            elif m == TileMode.TEMPORAL:
                 padded[inside] = (reference[y0:y1, x0:x1] + tile_s) & mask
             elif m == TileMode.GRADIENT:
                 _gradient_tile(padded, tile_s, x0, x1, y0, y1, mask)
@@ -303,7 +324,7 @@ def decode(data: bytes, references: dict[int, IntegerImage] | None = None,
     shape = (h.height, h.width) if channels == 1 else (h.height, h.width, channels)
     image = IntegerImage(h.content, h.codec, h.bits, h.width, h.height, h.frame_id,
                          h.keyframe_id, values)
-    return DecodedMap(h, texels.reshape(shape), image, modes.copy())
+    return DecodedMap(h, texels.reshape(shape), image, modes, shifts)
 
 
 def _byte_planes(bits: int) -> int:
@@ -435,6 +456,34 @@ def _med_tile(padded: np.ndarray, tile_s: np.ndarray, x0: int, x1: int, y0: int,
         hi = np.maximum(a, b)
         p = np.where(c >= hi, lo, np.where(c <= lo, hi, (a + b - c) & mask))
         flat[f:end:width] = (p + s) & mask
+
+
+def _coarse(q: np.ndarray, shift: int) -> np.ndarray:
+    """What a tile of shift s reads a value q as: (q + 2^(s-1)) >> s, which inside the tile
+    gives back its c."""
+    return (q + np.uint32((1 << shift) >> 1)) >> np.uint32(shift)
+
+
+def _shifted_tile(padded: np.ndarray, tile_s: np.ndarray, mode: TileMode,
+                  reference: np.ndarray | None, x0: int, x1: int, y0: int, y1: int, shift: int,
+                  bits: int, mask: np.uint32) -> None:
+    """A tile of shift s > 0 (depth, one channel): its c's rebuilt by the same predictors over
+    its neighbours read coarsened (a local copy of the tile with its left column and lower row,
+    those coarsened), refused past 2^(N - s), then stored as min(c 2^s, 2^N - 1)."""
+    if mode == TileMode.TEMPORAL:
+        c = (_coarse(reference[y0:y1, x0:x1], shift) + tile_s) & mask
+    else:
+        local = np.zeros((y1 - y0 + 1, x1 - x0 + 1, padded.shape[2]), dtype=np.uint32)
+        local[0, :] = _coarse(padded[y0, x0:x1 + 1], shift)
+        local[1:, 0] = _coarse(padded[y0 + 1:y1 + 1, x0], shift)
+        if mode == TileMode.GRADIENT:
+            _gradient_tile(local, tile_s, 0, x1 - x0, 0, y1 - y0, mask)
+        else:
+            _med_tile(local, tile_s, 0, x1 - x0, 0, y1 - y0, mask)
+        c = local[1:, 1:]
+    if c.size and int(c.max()) > 1 << (bits - shift):
+        raise _bad("payload", "a shifted tile's value past 2^(N - shift): not a coded map")
+    padded[y0 + 1:y1 + 1, x0 + 1:x1 + 1] = np.minimum(c << np.uint32(shift), mask)
 
 
 def _apply_exceptions(texels: np.ndarray, values: np.ndarray, raw: bytes, offset: int,

@@ -22,13 +22,15 @@ enum class Content : std::uint8_t {
 enum class Codec : std::uint8_t {
     // Depth only: q = round(d (2^N - 1)) for d in [0, 1], decoded as float(q / (2^N - 1)).
     // d = 0 (the clear value) and d = 1 decode exactly; any other value (outside [0, 1], NaN,
-    // infinities) is an exception stored with its exact float32 bits.
+    // infinities) is an exception stored with its exact float32 bits. A tile of shift s > 0
+    // holds multiples of 2^s: q = min(2^s round(d (2^N - 1) / 2^s), 2^N - 1).
     kQuantised = 1,
     // The float32 bit pattern of every channel, kept exactly (N = 32).
     kExact = 2,
 };
 
-// Per tile: how its texels are predicted.
+// Per tile: how its texels are predicted (the low four bits of its tile byte; the high four are
+// its shift, TileShift).
 enum class TileMode : std::uint8_t {
     kGradient = 0,  // a + b - c (exact on planes, and rendered depth is planar per triangle)
     kMed = 1,       // LOCO-I's median edge detector
@@ -37,11 +39,14 @@ enum class TileMode : std::uint8_t {
 };
 
 inline constexpr std::size_t kHeaderBytes = 80;
-inline constexpr std::uint8_t kFormatVersion = 1;
+// Version 2 added the tiles' shifts (a coarser step where a tile's own error budget allows it).
+inline constexpr std::uint8_t kFormatVersion = 2;
 inline constexpr int kMinQuantisedBits = 16;
 inline constexpr int kMaxQuantisedBits = 24;
 inline constexpr int kMinTile = 8;
 inline constexpr int kMaxTile = 1024;
+// The coarsest step a quantised tile may take, 2^8 of N's: N - 8 >= 8 bits remain.
+inline constexpr int kMaxTileShift = 8;
 inline constexpr std::uint32_t kMaxSide = 16385;  // a 16384² map's corner depth
 // RenderRequest.encoding.reference_frames: the most frame ids a request names.
 inline constexpr int kMaxReferenceFrames = 64;
@@ -61,8 +66,9 @@ struct CodedHeader {
     std::uint32_t width = 0;  // texels, [1, kMaxSide]
     std::uint32_t height = 0;
     int tile = 64;                    // tile side, texels, [kMinTile, kMaxTile]
+    int max_shift = 0;                // the largest tile shift, [0, kMaxTileShift]; 0 exact
     std::uint32_t exceptions = 0;     // texels stored with exact float32 bits (quantised only)
-    double error_bound = 0.0;         // max |decoded - float| over texels in [0, 1]; 0 exact
+    double error_bound = 0.0;  // max |decoded - float| over texels in [0, 1]: N's at max_shift
     std::uint64_t frame_id = 0;       // this image's id, non-zero
     std::uint64_t reference_id = 0;   // the image its temporal tiles read; 0: none (keyframe)
     std::uint64_t keyframe_id = 0;    // the keyframe its chain of references starts at
@@ -73,9 +79,17 @@ struct CodedHeader {
     std::uint64_t texels() const { return std::uint64_t{width} * height; }
 };
 
-// The error bound a quantised map states for N bits: half a quantisation step, plus the float32
-// rounding of the decoded value (half an ulp of values below 1, 2^-25).
-double QuantisedErrorBound(int bits);
+// The error bound of a quantised tile of N bits and shift s: half its step (2^s of N's), plus
+// the float32 rounding of the decoded value (half an ulp of values below 1, 2^-25). A header
+// states it at its max_shift.
+double QuantisedErrorBound(int bits, int shift = 0);
+
+// A tile's byte in the payload: its mode in the low four bits, its shift in the high four.
+inline std::uint8_t TileByte(TileMode mode, int shift) {
+    return static_cast<std::uint8_t>(static_cast<int>(mode) | shift << 4);
+}
+inline int TileModeBits(std::uint8_t byte) { return byte & 15; }
+inline int TileShift(std::uint8_t byte) { return byte >> 4; }
 
 // Bytes per residual: ceil(N / 8).
 int BytePlanes(int bits);

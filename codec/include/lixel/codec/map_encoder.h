@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace lixel::codec {
 
@@ -21,6 +22,10 @@ struct EncodeOptions {
     // better are sent as differences from it. Ignored unless it matches the image's content,
     // codec, N and size. Null: a keyframe.
     const IntegerImage* reference = nullptr;
+    // Quantised only: each tile's shift in [0, kMaxTileShift], tiles in walk order (rows of
+    // tiles from the bottom, each from the left). A tile of shift s steps by 2^s of N's, within
+    // QuantisedErrorBound(N, s) of its texels. Empty: every tile at N's own step.
+    std::vector<std::uint8_t> tile_shifts;
 };
 
 struct EncodedMap {
