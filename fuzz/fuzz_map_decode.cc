@@ -2,11 +2,13 @@
 // The first byte picks how the rest is used, so the fuzzer reaches past each check:
 //   0: the bytes as a coded map, as they came;
 //   1: the same with the header's CRC-32 made right (every header field's check);
-//   2: a header built from the next bytes (small sizes) around the rest as the payload's
-//      content, compressed here with zstd's checksum on (tile modes, exceptions, residuals),
+//   2: a header built from the next bytes (small sizes, max_shift) around the rest as the
+//      payload's content, compressed here with zstd's checksum on (tile modes and shifts,
+//      exceptions, residuals),
 //      decoded with a reference of that shape held;
-//   3: the rest as float32 texels, encoded and decoded: integer values bit for bit, depth within
-//      the stated bound, the exact codec bit for bit.
+//   3: the rest as float32 texels, encoded (quantised tiles at shifts drawn from the texels'
+//      bits) and decoded: integer values bit for bit, depth within the stated bound, the exact
+//      codec bit for bit.
 // Nothing may crash, leak or allocate past the decoder's budget; a decoded map has the texels
 // its header states, and every value fits its N bits.
 #include <fuzzer/FuzzedDataProvider.h>
@@ -56,7 +58,8 @@ void Built(FuzzedDataProvider& in) {
     h.content = in.ConsumeBool() ? Content::kPoints : Content::kDepth;
     h.codec = h.content == Content::kPoints || in.ConsumeBool() ? Codec::kExact : Codec::kQuantised;
     h.bits = h.codec == Codec::kExact ? 32 : in.ConsumeIntegralInRange(16, 24);
-    h.error_bound = h.codec == Codec::kExact ? 0.0 : QuantisedErrorBound(h.bits);
+    h.max_shift = h.codec == Codec::kExact ? 0 : in.ConsumeIntegralInRange(0, kMaxTileShift);
+    h.error_bound = h.codec == Codec::kExact ? 0.0 : QuantisedErrorBound(h.bits, h.max_shift);
     h.width = in.ConsumeIntegralInRange<std::uint32_t>(1, 40);
     h.height = in.ConsumeIntegralInRange<std::uint32_t>(1, 40);
     h.tile = in.ConsumeIntegralInRange(8, 24);
@@ -109,6 +112,13 @@ void RoundTrip(FuzzedDataProvider& in) {
     o.codec = exact ? Codec::kExact : Codec::kQuantised;
     o.bits = bits;
     o.tile = 8;
+    if (!exact) {  // each tile a shift from the input
+        const std::uint64_t tiles = std::uint64_t{(width + 7) / 8} * ((height + 7) / 8);
+        for (std::uint64_t t = 0; t < tiles; ++t) {
+            o.tile_shifts.push_back(static_cast<std::uint8_t>(
+                texels.size() > t ? std::bit_cast<std::uint32_t>(texels[t]) % 9 : 0));
+        }
+    }
     MapEncoder encoder;
     auto coded = encoder.Encode(points ? Content::kPoints : Content::kDepth, texels.data(), width,
                                 height, o);

@@ -247,10 +247,12 @@ int RenderCommand(client::Client& client, const Flags& flags) {
                     : 0.0,
                 static_cast<unsigned long long>(raw));
     for (const codec::CodedHeader& h : maps->coded) {
-        std::printf("  coded %u x %u: %s, N = %d, error bound %.3g, frame %016llx%s\n", h.width,
-                    h.height, h.codec == codec::Codec::kExact ? "exact" : "quantised", h.bits,
-                    h.error_bound, static_cast<unsigned long long>(h.frame_id),
-                    h.reference_id != 0 ? " (temporal)" : " (keyframe)");
+        std::printf(
+            "  coded %u x %u: %s, N = %d, tiles' largest shift %d, error bound %.3g, frame "
+            "%016llx%s\n",
+            h.width, h.height, h.codec == codec::Codec::kExact ? "exact" : "quantised", h.bits,
+            h.max_shift, h.error_bound, static_cast<unsigned long long>(h.frame_id),
+            h.reference_id != 0 ? " (temporal)" : " (keyframe)");
     }
     return 0;
 }

@@ -41,45 +41,45 @@ struct Exception {
     std::uint32_t bits;
 };
 
-// Quantised: q = round(d (2^N - 1)) for d in [0, 1]; anything else is an exception with its
-// exact bits (its q is 0, which only its neighbours' predictions read).
-std::vector<std::uint32_t> Values(Codec codec, int bits, const float* texels, std::uint64_t count,
+// Quantised: q = round(d (2^N - 1)) for d in [0, 1], in a tile of shift s > 0 q = Fine(c) with
+// c = round(d (2^N - 1) / 2^s) (from d, not from the finer q, whose own rounding would add to
+// the tile's error); anything else is an exception with its exact bits (its q is 0, which only
+// its neighbours' predictions read). `shifts`: per tile of `tile`, or empty for all 0.
+std::vector<std::uint32_t> Values(Codec codec, int bits, const float* texels, std::uint32_t width,
+                                  std::uint32_t height, int channels, int tile,
+                                  const std::vector<std::uint8_t>& shifts,
                                   std::vector<Exception>* exceptions) {
+    const std::uint64_t count = std::uint64_t{width} * height * channels;
     std::vector<std::uint32_t> values(count);
     if (codec == Codec::kExact) {
         std::memcpy(values.data(), texels, count * sizeof(float));
         return values;
     }
     const double steps = std::ldexp(1.0, bits) - 1.0;
-    for (std::uint64_t i = 0; i < count; ++i) {
-        const float d = texels[i];
-        if (d >= 0.0f && d <= 1.0f) {
-            // d >= 0: adding a half and truncating rounds half away from zero, as llround.
-            values[i] = static_cast<std::uint32_t>(static_cast<double>(d) * steps + 0.5);
-        } else {
-            values[i] = 0;
-            exceptions->push_back({static_cast<std::uint32_t>(i), std::bit_cast<std::uint32_t>(d)});
+    const auto mask = static_cast<std::uint32_t>(steps);
+    const auto t = static_cast<std::uint32_t>(tile);
+    const std::uint32_t across = (width + t - 1) / t;
+    for (std::uint32_t y = 0; y < height; ++y) {
+        for (std::uint32_t x0 = 0; x0 < width; x0 += t) {
+            const int shift = shifts.empty() ? 0 : int{shifts[(y / t) * across + x0 / t]};
+            const double scale = std::ldexp(steps, -shift);
+            const std::uint64_t end = std::uint64_t{y} * width + std::min(width, x0 + t);
+            for (std::uint64_t i = std::uint64_t{y} * width + x0; i < end; ++i) {
+                const float d = texels[i];
+                if (d >= 0.0f && d <= 1.0f) {
+                    // d >= 0: adding a half and truncating rounds half away from zero, as
+                    // llround.
+                    const auto c = static_cast<std::uint32_t>(static_cast<double>(d) * scale + 0.5);
+                    values[i] = shift == 0 ? c : detail::Fine(c, shift, mask);
+                } else {
+                    values[i] = 0;
+                    exceptions->push_back(
+                        {static_cast<std::uint32_t>(i), std::bit_cast<std::uint32_t>(d)});
+                }
+            }
         }
     }
     return values;
-}
-
-// The texels of a tile of shift s > 0, quantised again from their floats: c = round(d (2^N - 1)
-// / 2^s) (from d, not from q, whose own rounding would add to the tile's error), q = Fine(c).
-// Exceptions keep q = 0.
-void Coarsen(const float* texels, const Grid& g, const TileSpan& s, int shift,
-             std::uint32_t* values) {
-    const double scale = std::ldexp(std::ldexp(1.0, g.bits) - 1.0, -shift);
-    const auto mask = static_cast<std::uint32_t>(g.mask);
-    for (std::uint32_t y = s.y0; y < s.y1; ++y) {
-        for (std::uint64_t i = std::uint64_t{y} * g.width + s.x0;
-             i < std::uint64_t{y} * g.width + s.x1; ++i) {
-            const float d = texels[i];
-            if (!(d >= 0.0f && d <= 1.0f)) continue;
-            const auto c = static_cast<std::uint32_t>(static_cast<double>(d) * scale + 0.5);
-            values[i] = detail::Fine(c, shift, mask);
-        }
-    }
 }
 
 // Residuals of texels [x0, x1) of row y under `kMode`, zig-zagged, into `out` when given; returns
@@ -113,30 +113,42 @@ std::uint64_t RowResiduals(const Grid& g, const std::uint32_t* v, const std::uin
     return bits;
 }
 
-// The same for a tile of shift s > 0 (depth: one channel): each value and neighbour read as its
-// Coarse c.
+// The same for a tile of shift s > 0 (depth: one channel): the row, the row below and the
+// reference's row read as their Coarse values into per-thread rows whose entry 0 is the texel
+// left of x0 (0 at the image's edge, the format's edge rule), so that the residuals' loop has no
+// branch and vectorises as RowResiduals' does.
 template <TileMode kMode>
 std::uint64_t ShiftedRowResiduals(const Grid& g, const std::uint32_t* v, const std::uint32_t* ref,
                                   const std::uint32_t* zeros, std::uint32_t x0, std::uint32_t x1,
                                   std::uint32_t y, int shift, std::uint32_t* out) {
-    using detail::Coarse;
-    const std::uint64_t row = g.width;
-    const std::uint32_t* cur = v + y * row;
-    const std::uint32_t* below = y > 0 ? cur - row : zeros;
-    const std::uint32_t* prior = ref != nullptr ? ref + y * row : nullptr;
+    thread_local std::vector<std::uint32_t> rows;
+    const std::uint64_t n = x1 - x0;
+    if (rows.size() < 3 * (n + 1)) rows.resize(3 * (n + 1));
+    std::uint32_t* cur = rows.data();
+    std::uint32_t* below = cur + n + 1;
+    std::uint32_t* prior = below + n + 1;
+    const std::uint64_t at = std::uint64_t{y} * g.width;
+    const auto coarsen = [&](const std::uint32_t* row, std::uint32_t* into) {
+        into[0] = x0 > 0 ? detail::Coarse(row[x0 - 1], shift) : 0;
+        for (std::uint64_t i = 0; i < n; ++i) into[i + 1] = detail::Coarse(row[x0 + i], shift);
+    };
+    coarsen(v + at, cur);
+    if constexpr (kMode == TileMode::kTemporal) {
+        coarsen(ref + at, prior);
+    } else {
+        coarsen(y > 0 ? v + at - g.width : zeros, below);
+    }
     std::uint64_t bits = 0;
-    for (std::uint64_t i = x0; i < x1; ++i) {
+    for (std::uint64_t i = 1; i <= n; ++i) {
         std::uint32_t prediction;
         if constexpr (kMode == TileMode::kTemporal) {
-            prediction = Coarse(prior[i], shift);
+            prediction = prior[i];
         } else {
-            const std::uint32_t a = i > 0 ? Coarse(cur[i - 1], shift) : 0;
-            const std::uint32_t b = Coarse(below[i], shift);
-            const std::uint32_t d = i > 0 ? Coarse(below[i - 1], shift) : 0;
-            prediction = kMode == TileMode::kMed ? detail::Med(a, b, d, g.mask)
-                                                 : detail::Gradient(a, b, d, g.mask);
+            prediction = kMode == TileMode::kMed
+                             ? detail::Med(cur[i - 1], below[i], below[i - 1], g.mask)
+                             : detail::Gradient(cur[i - 1], below[i], below[i - 1], g.mask);
         }
-        const std::uint32_t z = ZigZag(Coarse(cur[i], shift), prediction, g);
+        const std::uint32_t z = ZigZag(cur[i], prediction, g);
         if (out != nullptr) *out++ = z;
         bits += static_cast<std::uint64_t>(std::bit_width(z));
     }
@@ -268,20 +280,15 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
     const std::uint64_t count = h.texels() * g.channels;
 
     std::vector<Exception> exceptions;
-    std::vector<std::uint32_t> v = Values(o.codec, h.bits, texels, count, &exceptions);
+    std::vector<std::uint32_t> v = Values(o.codec, h.bits, texels, width, height, g.channels,
+                                          h.tile, o.tile_shifts, &exceptions);
     h.exceptions = static_cast<std::uint32_t>(exceptions.size());
     const std::uint32_t across = TilesAcross(h);
     const std::uint32_t up = TilesUp(h);
     const auto shift_of = [&](std::uint32_t tx, std::uint32_t ty) {
         return o.tile_shifts.empty() ? 0 : int{o.tile_shifts[std::uint64_t{ty} * across + tx]};
     };
-    for (std::uint32_t ty = 0; ty < up; ++ty) {
-        for (std::uint32_t tx = 0; tx < across; ++tx) {
-            const int shift = shift_of(tx, ty);
-            if (shift > 0) Coarsen(texels, g, detail::SpanOf(h, tx, ty), shift, v.data());
-            h.max_shift = std::max(h.max_shift, shift);
-        }
-    }
+    for (const std::uint8_t shift : o.tile_shifts) h.max_shift = std::max(h.max_shift, int{shift});
     if (h.codec == Codec::kQuantised) h.error_bound = QuantisedErrorBound(h.bits, h.max_shift);
     const IntegerImage* reference =
         o.reference != nullptr && o.reference->Matches(h) && o.reference->values.size() == count

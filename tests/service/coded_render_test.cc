@@ -98,7 +98,7 @@ TEST_F(CodedRender, EveryImageDecodesWithinItsStatedBoundAndPointsExactly) {
 }
 
 TEST_F(CodedRender, TheDefaultNIsNoCoarserThanTheRoundingBiasAllows) {
-    // DepthBitsFor's rule on this room: N in [19, 24] (a coarser N would move answers).
+    // DefaultDepthQuantisation's rule on this room: N in [19, 24] (a coarser N would move answers).
     auto coded = Client().Render(Request(v1::MAP_CODEC_QUANTISED));
     ASSERT_TRUE(coded.ok()) << coded.error().Message();
     for (const codec::CodedHeader& h : coded->coded) {
@@ -367,15 +367,17 @@ double KitRoundingAt(const Mat4& lixel, const Mat4& inverse, double x, double y,
            std::abs(h.w());
 }
 
-// DepthBitsFor takes the kit's rounding at every sampled texel in one product (no unprojected
-// point, no division): on seeded lights, origins and images, from a few lixels to 300 a side,
-// with cleared, out-of-range and NaN texels, its N is the rule's N over the literal formula.
-TEST(DepthBitsFor, IsTheRuleOverTheKitsRoundingAtEverySampledTexel) {
+// DefaultDepthQuantisation takes the kit's rounding at every sampled texel in one product (no
+// unprojected point, no division): on seeded lights, origins, images (from a few lixels to 300 a
+// side, with cleared, out-of-range and NaN texels) and tile sides, its N and each tile's shift
+// are the rule's over the literal formula.
+TEST(DefaultDepthQuantisation, IsTheRuleOverTheKitsRoundingAtEverySampledTexel) {
     std::mt19937_64 rng(20261206);
     const auto uniform = [&](double lo, double hi) {
         return std::uniform_real_distribution<double>(lo, hi)(rng);
     };
     std::set<int> seen;
+    int shifted = 0;
     for (int trial = 0; trial < 400; ++trial) {
         const double scale = std::pow(10.0, uniform(-2.0, 3.0));  // scenes from cm to km
         const Vec3 eye = scale * Vec3(uniform(-5, 5), uniform(2, 8), uniform(-5, 5));
@@ -402,32 +404,55 @@ TEST(DepthBitsFor, IsTheRuleOverTheKitsRoundingAtEverySampledTexel) {
                            : static_cast<float>(uniform(1e-6, 1.0));
         }
         const bool corner = trial % 5 == 0;
+        const int tile = trial % 3 == 0 ? 64 : trial % 3 == 1 ? 16 : 8;
         const Mat4 lixel = kit::MakeRelativeMatrices(map, origin).lixel;
         const Mat4 inverse = lixel.inverse();
         const double offset = corner ? 0.0 : 0.5;
-        const int sx = std::max(1, image.width / 64), sy = std::max(1, image.height / 64);
-        double least = std::numeric_limits<double>::infinity();
+        const int sx = std::max(1, std::min(image.width / 64, tile / 8));
+        const int sy = std::max(1, std::min(image.height / 64, tile / 8));
+        const int across = (image.width + tile - 1) / tile;
+        const int up = (image.height + tile - 1) / tile;
+        const double inf = std::numeric_limits<double>::infinity();
+        double least = inf;
+        std::vector<double> tile_least(static_cast<std::size_t>(across) * up, inf);
         for (int y = 0; y < image.height; y += sy) {
             for (int x = 0; x < image.width; x += sx) {
                 const double d = image.at(x, y);
                 if (!(d > 0.0 && d <= 1.0)) continue;
                 const double r = KitRoundingAt(lixel, inverse, x + offset, y + offset, d);
-                if (std::isfinite(r)) least = std::min(least, r);
+                if (!std::isfinite(r)) continue;
+                least = std::min(least, r);
+                double& t = tile_least[static_cast<std::size_t>(y / tile) * across + x / tile];
+                t = std::min(t, r);
             }
         }
         int expected = codec::kMinQuantisedBits;
+        std::vector<std::uint8_t> shifts;
         if (std::isfinite(least)) {
             expected = 0;
             for (int bits = codec::kMaxQuantisedBits; bits >= codec::kMinQuantisedBits; --bits) {
                 if (codec::QuantisedErrorBound(bits) <= 4.0 * least) expected = bits;
             }
+            for (std::size_t t = 0; expected != 0 && t < tile_least.size(); ++t) {
+                int s = codec::kMaxTileShift;
+                while (s > 0 && !(codec::QuantisedErrorBound(expected, s) <= 4.0 * tile_least[t])) {
+                    --s;
+                }
+                shifts.push_back(static_cast<std::uint8_t>(s));
+                shifted += s > 0;
+            }
         }
-        EXPECT_EQ(service::DepthBitsFor(image, map, origin, corner), expected) << "trial " << trial;
+        const service::DepthQuantisation q =
+            service::DefaultDepthQuantisation(image, map, origin, corner, tile);
+        EXPECT_EQ(q.bits, expected) << "trial " << trial;
+        EXPECT_EQ(q.tile_shifts, shifts) << "trial " << trial;
         seen.insert(expected);
     }
-    // The draws reach both ends of the rule: the exact codec (0) and several N in [16, 24].
+    // The draws reach both ends of the rule: the exact codec (0) and several N in [16, 24], and
+    // tiles coarser than N.
     EXPECT_TRUE(seen.count(0)) << "no draw needed the exact codec";
     EXPECT_GE(seen.size(), 5u);
+    EXPECT_GT(shifted, 100) << "tiles with a shift";
 }
 
 TEST(CodedReferences, HoldsFramesWithinItsBytesLeastRecentlyUsedOut) {

@@ -85,15 +85,20 @@ Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding&
     return std::optional<MapCodingRequest>{std::move(r)};
 }
 
-int DepthBitsFor(const render::FloatImage& image, const LightMap& map, const Vec3& origin,
-                 bool corner_depth) {
+DepthQuantisation DefaultDepthQuantisation(const render::FloatImage& image, const LightMap& map,
+                                           const Vec3& origin, bool corner_depth, int tile) {
     const Mat4 lixel = kit::MakeRelativeMatrices(map, origin).lixel;
     const Mat4 inverse = lixel.inverse();
     const Vec4 z_row = lixel.row(2).cwiseAbs().transpose();
     const Vec4 w_row = lixel.row(3).cwiseAbs().transpose();
     const double offset = corner_depth ? 0.0 : 0.5;
-    const int stride_x = std::max(1, image.width / 64);
-    const int stride_y = std::max(1, image.height / 64);
+    const int stride_x = std::max(1, std::min(image.width / 64, tile / 8));
+    const int stride_y = std::max(1, std::min(image.height / 64, tile / 8));
+    const int across = (image.width + tile - 1) / tile;
+    const int up = (image.height + tile - 1) / tile;
+    // The least rounding sampled in each tile, and over the image.
+    std::vector<double> tile_least(static_cast<std::size_t>(across) * up,
+                                   std::numeric_limits<double>::infinity());
     double least = std::numeric_limits<double>::infinity();
     for (int y = 0; y < image.height; y += stride_y) {
         for (int x = 0; x < image.width; x += stride_x) {
@@ -106,15 +111,33 @@ int DepthBitsFor(const render::FloatImage& image, const LightMap& map, const Vec
             const Vec4 h = inverse * Vec4(x + offset, y + offset, d, 1.0);
             if (!(std::abs(h.w()) > 0.0)) continue;  // a point at infinity has no rounding
             const double rounding = 0.5 * 1.1920929e-7 * (z_row + d * w_row).dot(h.cwiseAbs());
-            if (std::isfinite(rounding)) least = std::min(least, rounding);
+            if (!std::isfinite(rounding)) continue;
+            least = std::min(least, rounding);
+            double& in_tile = tile_least[static_cast<std::size_t>(y / tile) * across + x / tile];
+            in_tile = std::min(in_tile, rounding);
         }
     }
-    if (!std::isfinite(least)) return codec::kMinQuantisedBits;  // nothing drawn: all exact
-    const double room = 16.0 * least / 4.0;
-    for (int bits = codec::kMinQuantisedBits; bits <= codec::kMaxQuantisedBits; ++bits) {
-        if (codec::QuantisedErrorBound(bits) <= room) return bits;
+    DepthQuantisation q;
+    if (!std::isfinite(least)) {  // nothing drawn: all exact
+        q.bits = codec::kMinQuantisedBits;
+        return q;
     }
-    return 0;
+    // The room: a quarter of the bias, 16 x rounding.
+    for (int bits = codec::kMinQuantisedBits; bits <= codec::kMaxQuantisedBits && q.bits == 0;
+         ++bits) {
+        if (codec::QuantisedErrorBound(bits) <= 4.0 * least) q.bits = bits;
+    }
+    if (q.bits == 0) return q;
+    q.tile_shifts.resize(tile_least.size());
+    for (std::size_t t = 0; t < tile_least.size(); ++t) {
+        int shift = 0;
+        while (shift < codec::kMaxTileShift &&
+               codec::QuantisedErrorBound(q.bits, shift + 1) <= 4.0 * tile_least[t]) {
+            ++shift;
+        }
+        q.tile_shifts[t] = static_cast<std::uint8_t>(shift);
+    }
+    return q;
 }
 
 Result<std::string> MapCoder::Code(const LightMap& map, v1::PassKind kind,
@@ -125,9 +148,14 @@ Result<std::string> MapCoder::Code(const LightMap& map, v1::PassKind kind,
     // goes lossless, as the silhouette points do.
     o.codec = points || kind == v1::PASS_MASK ? codec::Codec::kExact : request_.depth_codec;
     if (o.codec == codec::Codec::kQuantised) {
-        o.bits = request_.bits != 0
-                     ? request_.bits
-                     : DepthBitsFor(image, map, origin_, kind == v1::PASS_CORNER_DEPTH);
+        if (request_.bits != 0) {
+            o.bits = request_.bits;
+        } else {
+            DepthQuantisation q = DefaultDepthQuantisation(
+                image, map, origin_, kind == v1::PASS_CORNER_DEPTH, request_.tile);
+            o.bits = q.bits;
+            o.tile_shifts = std::move(q.tile_shifts);
+        }
         if (o.bits == 0) o.codec = codec::Codec::kExact;
     }
     o.zstd_level = request_.zstd_level;
@@ -147,6 +175,7 @@ Result<std::string> MapCoder::Code(const LightMap& map, v1::PassKind kind,
     if (coded->bytes.size() > codec::MaxCodedBytes(image.pixels.size() * sizeof(float)) &&
         o.codec == codec::Codec::kQuantised) {
         o.codec = codec::Codec::kExact;
+        o.tile_shifts.clear();
         coded = encoder_.Encode(content, image.pixels.data(), width, height, o);
         if (!coded) return coded.error();
     }

@@ -20,7 +20,7 @@ namespace lixel::service {
 
 struct MapCodingRequest {
     codec::Codec depth_codec = codec::Codec::kQuantised;
-    int bits = 0;  // quantised depth: N, or 0 for each image's DepthBitsFor
+    int bits = 0;  // quantised depth: N, or 0 for each image's DefaultDepthQuantisation
     int zstd_level = 1;
     int tile = 64;
     std::vector<std::uint64_t> references;  // frame ids the client holds
@@ -40,16 +40,23 @@ v1::PassKind PassKindOf(Pass pass, bool corner_depth);
 Result<std::optional<MapCodingRequest>> DecodeMapEncoding(const v1::MapEncoding& message,
                                                           const std::string& field);
 
-// The default N of a depth image: the fewest bits in [16, 24] whose error bound is at most a
-// quarter of the smallest bias the view pass and the kit give a receiver for the depths' own
-// rounding (16 x lixel_stored_depth_rounding, kit/glsl/lixel_shadows.glsl), over the image's
-// drawn texels, sampled every max(1, side / 64)-th texel along each axis from texel 0 (every
-// texel of a side under 128, 64 to 96 samples of a longer side: the bound varies smoothly with
-// the point); 0 when none is that fine (the exact codec). `corner_depth`: the silhouette map's
-// corner image, whose texel (i, j) is lixel corner (i, j). `origin`: the GPU scene's origin, as the
-// view pass and the kit place positions.
-int DepthBitsFor(const render::FloatImage& image, const LightMap& map, const Vec3& origin,
-                 bool corner_depth);
+// The default quantisation of a depth image (MapCodingRequest.bits = 0): quantising never moves
+// a shadow test's answer. The bias the view pass and the kit give a receiver for the depths' own
+// rounding is 16 x lixel_stored_depth_rounding (kit/glsl/lixel_shadows.glsl); it is taken at the
+// image's drawn texels, sampled every max(1, min(side / 64, tile / 8))-th texel along each axis
+// from texel 0 (the bound varies smoothly with the point). N is the fewest bits in [16, 24]
+// whose error bound is at most a quarter of the least sampled bias over the image, or 0 (the
+// exact codec) when none is that fine; each tile's shift is the largest s in [0, 8] whose
+// QuantisedErrorBound(N, s) is at most a quarter of the least sampled in that tile (0 for a tile
+// with no drawn sample, none for the exact codec). `corner_depth`: the silhouette map's corner
+// image, whose texel (i, j) is lixel corner (i, j). `origin`: the GPU scene's origin, as the view
+// pass and the kit place positions.
+struct DepthQuantisation {
+    int bits = 0;                           // N, or 0 for the exact codec
+    std::vector<std::uint8_t> tile_shifts;  // per tile of `tile`, rows of tiles from the bottom
+};
+DepthQuantisation DefaultDepthQuantisation(const render::FloatImage& image, const LightMap& map,
+                                           const Vec3& origin, bool corner_depth, int tile);
 
 // One Render call's coder: one zstd context for the whole stream.
 class MapCoder {
