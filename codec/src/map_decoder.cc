@@ -294,14 +294,21 @@ Result<DecodedMap> MapDecoder::Decode(
             const int shift = TileShift(byte);
             const TileSpan s = detail::SpanOf(h, tx, ty);
             if (shift > 0 && m != TileMode::kCopy) {
+                const std::uint32_t* below_image = zeros.data();
                 for (std::uint32_t y = s.y0; y < s.y1; ++y) {
-                    const std::uint32_t* z = zeros.data();
-                    over |= m == TileMode::kTemporal ? DecodeShiftedRow<TileMode::kTemporal>(
-                                                           g, v, ref, z, s, y, shift, residual)
-                            : m == TileMode::kMed ? DecodeShiftedRow<TileMode::kMed>(
-                                                        g, v, ref, z, s, y, shift, residual)
-                                                  : DecodeShiftedRow<TileMode::kGradient>(
-                                                        g, v, ref, z, s, y, shift, residual);
+                    switch (m) {
+                        case TileMode::kTemporal:
+                            over |= DecodeShiftedRow<TileMode::kTemporal>(g, v, ref, below_image, s,
+                                                                          y, shift, residual);
+                            break;
+                        case TileMode::kMed:
+                            over |= DecodeShiftedRow<TileMode::kMed>(g, v, ref, below_image, s, y,
+                                                                     shift, residual);
+                            break;
+                        default:
+                            over |= DecodeShiftedRow<TileMode::kGradient>(g, v, ref, below_image, s,
+                                                                          y, shift, residual);
+                    }
                 }
                 continue;
             }
