@@ -89,15 +89,14 @@ Result<bool> CheckFrame(const CodedHeader& h, std::string_view payload) {
 // The residuals in walk order, joined from their byte planes (one plane at a time: a loop the
 // compiler vectorises).
 struct ResidualReader {
-    const std::uint32_t* values;
-    std::uint64_t next = 0;
+    const std::uint32_t* next;  // the next residual to read
     std::uint32_t bits = 0;  // each residual is N bits: larger ones would give a map two codings
 
     ResidualReader(const unsigned char* planes_base, std::uint64_t count, int planes,
                    std::vector<std::uint32_t>& scratch) {
         if (scratch.size() < count) scratch.resize(count);
         std::uint32_t* out = scratch.data();
-        values = out;
+        next = out;
         for (std::uint64_t i = 0; i < count; ++i) out[i] = planes_base[i];
         for (int b = 1; b < planes; ++b) {
             const unsigned char* plane = planes_base + b * count;
@@ -107,7 +106,7 @@ struct ResidualReader {
         // OR of every residual: vectorises where a max (pmaxud, SSE4.1) would not.
         for (std::uint64_t i = 0; i < count; ++i) bits |= out[i];
     }
-    std::uint32_t Next() { return values[next++]; }
+    std::uint32_t Next() { return *next++; }
 };
 
 // Row y of a tile: each value from its residual and prediction, with texels outside the image
@@ -150,41 +149,73 @@ void DecodeRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
 
 // Row y of a tile of shift s > 0 (depth: one channel): each c from its residual and the
 // prediction from its neighbours' Coarse values, stored as Fine(c). Returns whether some c
-// passed CoarseLimit (the caller refuses the map).
+// passed CoarseLimit (the caller refuses the map). The row below (or the reference's row) is
+// coarsened first and the c's are made fine after, each in a loop of its own that vectorises,
+// so that the chain each value waits for is the unshifted row's.
+// `residuals`: the row's n, in walk order. (Not the ResidualReader: a reference to it passed to
+// a call not inlined would keep its position in memory in every row's loop.)
 template <TileMode kMode>
 bool DecodeShiftedRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
                       const std::uint32_t* zeros, const TileSpan& s, std::uint32_t y, int shift,
-                      ResidualReader& residual) {
+                      const std::uint32_t* residuals) {
     using detail::Coarse;
-    const std::uint64_t row = g.width;
-    std::uint32_t* cur = v + y * row;
-    const std::uint32_t* below = y > 0 ? cur - row : zeros;
+    thread_local std::vector<std::uint32_t> rows;
+    const std::uint64_t n = s.x1 - s.x0;
+    if (rows.size() < 2 * (n + 1)) rows.resize(2 * (n + 1));
+    std::uint32_t* known = rows.data();  // entry 0: the texel left of x0, below or in the row
+    std::uint32_t* c = known + n + 1;
+    const std::uint64_t at = std::uint64_t{y} * g.width;
+    std::uint32_t* cur = v + at;
+    const std::uint32_t* below = kMode == TileMode::kTemporal ? ref + at
+                                 : y > 0                      ? cur - g.width
+                                                              : zeros;
+    known[0] = s.x0 > 0 ? Coarse(below[s.x0 - 1], shift) : 0;
+    for (std::uint64_t i = 0; i < n; ++i) known[i + 1] = Coarse(below[s.x0 + i], shift);
+    if constexpr (kMode == TileMode::kTemporal) {
+        for (std::uint64_t i = 0; i < n; ++i) c[i] = UnZigZag(residuals[i], known[i + 1], g);
+    } else {
+        // The left neighbour's c is carried (inside the tile Coarse gives it back, or the map
+        // is refused); the tile's first column reads its left neighbour coarsened.
+        std::uint32_t a = s.x0 > 0 ? Coarse(cur[s.x0 - 1], shift) : 0;
+        for (std::uint64_t i = 0; i < n; ++i) {
+            const std::uint32_t prediction =
+                kMode == TileMode::kMed ? detail::Med(a, known[i + 1], known[i], g.mask)
+                                        : detail::Gradient(a, known[i + 1], known[i], g.mask);
+            a = UnZigZag(residuals[i], prediction, g);
+            c[i] = a;
+        }
+    }
     const auto mask = static_cast<std::uint32_t>(g.mask);
     const std::uint32_t limit = detail::CoarseLimit(g.bits, shift);
-    bool over = false;
-    if constexpr (kMode == TileMode::kTemporal) {
-        const std::uint32_t* prior = ref + y * row;
-        for (std::uint64_t i = s.x0; i < s.x1; ++i) {
-            const std::uint32_t c = UnZigZag(residual.Next(), Coarse(prior[i], shift), g);
-            over |= c > limit;
-            cur[i] = detail::Fine(c, shift, mask);
-        }
-        return over;
+    std::uint32_t over = 0;
+    for (std::uint64_t i = 0; i < n; ++i) {
+        over |= static_cast<std::uint32_t>(c[i] > limit);
+        cur[s.x0 + i] = detail::Fine(c[i], shift, mask);
     }
-    // The left neighbour's c is carried (inside the tile Coarse gives it back, or the map is
-    // refused); the tile's first column reads its left neighbours coarsened.
-    std::uint32_t a = s.x0 > 0 ? Coarse(cur[s.x0 - 1], shift) : 0;
-    std::uint32_t d = s.x0 > 0 ? Coarse(below[s.x0 - 1], shift) : 0;
-    for (std::uint64_t i = s.x0; i < s.x1; ++i) {
-        const std::uint32_t b = Coarse(below[i], shift);
-        const std::uint32_t prediction = kMode == TileMode::kMed
-                                             ? detail::Med(a, b, d, g.mask)
-                                             : detail::Gradient(a, b, d, g.mask);
-        const std::uint32_t c = UnZigZag(residual.Next(), prediction, g);
-        over |= c > limit;
-        cur[i] = detail::Fine(c, shift, mask);
-        a = c;
-        d = b;
+    return over != 0;
+}
+
+// A tile of shift s > 0, row by row; whether some c passed CoarseLimit. Not inlined: inlined
+// into Decode, its rows' loops cost the unshifted rows' loops registers (a tenth of the
+// decoding time of unshifted images, measured).
+[[gnu::noinline]] bool DecodeShiftedTile(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
+                                         const std::uint32_t* zeros, const TileSpan& s,
+                                         TileMode mode, int shift, const std::uint32_t* residuals) {
+    bool over = false;
+    const std::uint64_t n = s.x1 - s.x0;
+    for (std::uint32_t y = s.y0; y < s.y1; ++y, residuals += n) {
+        switch (mode) {
+            case TileMode::kTemporal:
+                over |=
+                    DecodeShiftedRow<TileMode::kTemporal>(g, v, ref, zeros, s, y, shift, residuals);
+                break;
+            case TileMode::kMed:
+                over |= DecodeShiftedRow<TileMode::kMed>(g, v, ref, zeros, s, y, shift, residuals);
+                break;
+            default:
+                over |=
+                    DecodeShiftedRow<TileMode::kGradient>(g, v, ref, zeros, s, y, shift, residuals);
+        }
     }
     return over;
 }
@@ -294,22 +325,8 @@ Result<DecodedMap> MapDecoder::Decode(
             const int shift = TileShift(byte);
             const TileSpan s = detail::SpanOf(h, tx, ty);
             if (shift > 0 && m != TileMode::kCopy) {
-                const std::uint32_t* below_image = zeros.data();
-                for (std::uint32_t y = s.y0; y < s.y1; ++y) {
-                    switch (m) {
-                        case TileMode::kTemporal:
-                            over |= DecodeShiftedRow<TileMode::kTemporal>(g, v, ref, below_image, s,
-                                                                          y, shift, residual);
-                            break;
-                        case TileMode::kMed:
-                            over |= DecodeShiftedRow<TileMode::kMed>(g, v, ref, below_image, s, y,
-                                                                     shift, residual);
-                            break;
-                        default:
-                            over |= DecodeShiftedRow<TileMode::kGradient>(g, v, ref, below_image, s,
-                                                                          y, shift, residual);
-                    }
-                }
+                over |= DecodeShiftedTile(g, v, ref, zeros.data(), s, m, shift, residual.next);
+                residual.next += std::uint64_t(s.x1 - s.x0) * (s.y1 - s.y0);
                 continue;
             }
             for (std::uint32_t y = s.y0; y < s.y1; ++y) {

@@ -56,7 +56,21 @@ std::vector<std::uint32_t> Values(Codec codec, int bits, const float* texels, st
         return values;
     }
     const double steps = std::ldexp(1.0, bits) - 1.0;
-    const auto mask = static_cast<std::uint32_t>(steps);
+    const auto quantise = [&](std::uint64_t i, double scale, int shift) {
+        const float d = texels[i];
+        if (d >= 0.0f && d <= 1.0f) {
+            // d >= 0: adding a half and truncating rounds half away from zero, as llround.
+            const auto c = static_cast<std::uint32_t>(static_cast<double>(d) * scale + 0.5);
+            values[i] = detail::Fine(c, shift, static_cast<std::uint32_t>(steps));
+        } else {
+            values[i] = 0;
+            exceptions->push_back({static_cast<std::uint32_t>(i), std::bit_cast<std::uint32_t>(d)});
+        }
+    };
+    if (shifts.empty()) {  // one loop, N's step everywhere
+        for (std::uint64_t i = 0; i < count; ++i) quantise(i, steps, 0);
+        return values;
+    }
     const auto t = static_cast<std::uint32_t>(tile);
     const std::uint32_t across = (width + t - 1) / t;
     for (std::uint32_t y = 0; y < height; ++y) {
@@ -65,17 +79,7 @@ std::vector<std::uint32_t> Values(Codec codec, int bits, const float* texels, st
             const double scale = std::ldexp(steps, -shift);
             const std::uint64_t end = std::uint64_t{y} * width + std::min(width, x0 + t);
             for (std::uint64_t i = std::uint64_t{y} * width + x0; i < end; ++i) {
-                const float d = texels[i];
-                if (d >= 0.0f && d <= 1.0f) {
-                    // d >= 0: adding a half and truncating rounds half away from zero, as
-                    // llround.
-                    const auto c = static_cast<std::uint32_t>(static_cast<double>(d) * scale + 0.5);
-                    values[i] = shift == 0 ? c : detail::Fine(c, shift, mask);
-                } else {
-                    values[i] = 0;
-                    exceptions->push_back(
-                        {static_cast<std::uint32_t>(i), std::bit_cast<std::uint32_t>(d)});
-                }
+                quantise(i, scale, shift);
             }
         }
     }
