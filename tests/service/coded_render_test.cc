@@ -378,6 +378,7 @@ TEST(DefaultDepthQuantisation, IsTheRuleOverTheKitsRoundingAtEverySampledTexel) 
     };
     std::set<int> seen;
     int shifted = 0;
+    int unsampled = 0;  // tiles with no drawn sample
     for (int trial = 0; trial < 400; ++trial) {
         const double scale = std::pow(10.0, uniform(-2.0, 3.0));  // scenes from cm to km
         const Vec3 eye = scale * Vec3(uniform(-5, 5), uniform(2, 8), uniform(-5, 5));
@@ -402,6 +403,16 @@ TEST(DefaultDepthQuantisation, IsTheRuleOverTheKitsRoundingAtEverySampledTexel) 
                 : u < 0.12 ? std::numeric_limits<float>::quiet_NaN()
                 : u < 0.14 ? 1.5f
                            : static_cast<float>(uniform(1e-6, 1.0));
+        }
+        // Every other draw: the left half cleared, with drawn texels only off the sampling grid
+        // (odd x and y: the grid's stride is 1 only in sides under 128 or tiles under 16).
+        if (trial % 2 == 1) {
+            for (int y = 0; y < image.height; ++y) {
+                for (int x = 0; x < image.width / 2; ++x) {
+                    image.pixels[static_cast<std::size_t>(y) * image.width + x] =
+                        x % 2 == 1 && y % 2 == 1 ? 0.5f : 0.0f;
+                }
+            }
         }
         const bool corner = trial % 5 == 0;
         const int tile = trial % 3 == 0 ? 64 : trial % 3 == 1 ? 16 : 8;
@@ -434,12 +445,14 @@ TEST(DefaultDepthQuantisation, IsTheRuleOverTheKitsRoundingAtEverySampledTexel) 
                 if (codec::QuantisedErrorBound(bits) <= 4.0 * least) expected = bits;
             }
             for (std::size_t t = 0; expected != 0 && t < tile_least.size(); ++t) {
-                int s = codec::kMaxTileShift;
+                // No drawn sample: N's own step (drawn texels may lie between the samples).
+                int s = std::isfinite(tile_least[t]) ? codec::kMaxTileShift : 0;
                 while (s > 0 && !(codec::QuantisedErrorBound(expected, s) <= 4.0 * tile_least[t])) {
                     --s;
                 }
                 shifts.push_back(static_cast<std::uint8_t>(s));
                 shifted += s > 0;
+                unsampled += !std::isfinite(tile_least[t]);
             }
         }
         const service::DepthQuantisation q =
@@ -453,6 +466,7 @@ TEST(DefaultDepthQuantisation, IsTheRuleOverTheKitsRoundingAtEverySampledTexel) 
     EXPECT_TRUE(seen.count(0)) << "no draw needed the exact codec";
     EXPECT_GE(seen.size(), 5u);
     EXPECT_GT(shifted, 100) << "tiles with a shift";
+    EXPECT_GT(unsampled, 100) << "tiles with no drawn sample";
 }
 
 TEST(CodedReferences, HoldsFramesWithinItsBytesLeastRecentlyUsedOut) {

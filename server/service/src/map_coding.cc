@@ -130,8 +130,10 @@ DepthQuantisation DefaultDepthQuantisation(const render::FloatImage& image, cons
     if (q.bits == 0) return q;
     q.tile_shifts.resize(tile_least.size());
     for (std::size_t t = 0; t < tile_least.size(); ++t) {
+        // A tile with no drawn sample may still hold drawn texels between the samples: it keeps
+        // N's own step.
         int shift = 0;
-        while (shift < codec::kMaxTileShift &&
+        while (std::isfinite(tile_least[t]) && shift < codec::kMaxTileShift &&
                codec::QuantisedErrorBound(q.bits, shift + 1) <= 4.0 * tile_least[t]) {
             ++shift;
         }
