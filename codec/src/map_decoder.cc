@@ -263,7 +263,9 @@ Result<DecodedMap> MapDecoder::Decode(
     const std::uint32_t* ref = *reference != nullptr ? (*reference)->values.data() : nullptr;
     std::uint64_t residuals = 0;
     bool temporal = false;
+    int largest_shift = 0;
     for (std::uint64_t t = 0; t < tiles; ++t) {
+        largest_shift = std::max(largest_shift, TileShift(p[t]));
         if (TileModeBits(p[t]) > 3) {
             return Bad("tile_modes", "tile " + std::to_string(t) + " has mode " +
                                          std::to_string(TileModeBits(p[t])));
@@ -287,6 +289,11 @@ Result<DecodedMap> MapDecoder::Decode(
                                               static_cast<std::uint32_t>(t / across));
             residuals += std::uint64_t(s.x1 - s.x0) * (s.y1 - s.y0) * h.channels();
         }
+    }
+    // One map, one coding: the header states the largest shift its tiles take, not more.
+    if (largest_shift != h.max_shift) {
+        return Bad("max_shift", std::to_string(h.max_shift) + ", but the largest tile shift is " +
+                                    std::to_string(largest_shift));
     }
     if (!temporal && h.reference_id != 0) {
         return Bad("reference_id", "named, but no tile reads it");

@@ -511,6 +511,8 @@ TEST(MapCodec, AShiftedTilePastItsLimitOrHeaderIsRefusedNamingIt) {
     EXPECT_EQ(field(OneTile(TileByte(TileMode::kMed, 8), 257, 8)), "coded_map.payload");
     EXPECT_EQ(field(OneTile(TileByte(TileMode::kGradient, 3), 1, 2)), "coded_map.tile_modes");
     EXPECT_EQ(field(OneTile(gradient8, 1, 9)), "coded_map.max_shift");
+    // A header stating more than its tiles' largest shift: a second coding of the same map.
+    EXPECT_EQ(field(OneTile(TileByte(TileMode::kGradient, 2), 1, 3)), "coded_map.max_shift");
     EXPECT_EQ(field(OneTile(0, 1, 1, Codec::kExact)), "coded_map.max_shift");
     EXPECT_EQ(field(OneTile(0x34, 1, 3)), "coded_map.tile_modes");  // mode 4
 }

@@ -245,7 +245,7 @@ class Suite:
     def shifted_tile_refusals(self) -> None:
         """One 8 x 8 tile of N = 16 and shift 8, its first residual c and the rest 0: c up to
         2^(16 - 8) decodes (256 is d = 1), past it the map is refused, as is a tile shift past the
-        header's max_shift and a max_shift no codec allows."""
+        header's max_shift, a max_shift above the tiles' largest and one no codec allows."""
         def coded(c: int, tile_shift: int = 8, max_shift: int = 8, codec: int = 1,
                   bits: int = 16) -> bytes:
             z = np.zeros(64, dtype=np.uint32)
@@ -267,6 +267,9 @@ class Suite:
         refused(lambda: lixel_maps.decode(coded(1, tile_shift=3, max_shift=2)),
                 "coded_map.tile_modes")
         refused(lambda: lixel_maps.decode(coded(1, max_shift=9)), "coded_map.max_shift")
+        # A header stating more than its tiles' largest shift: a second coding of the same map.
+        refused(lambda: lixel_maps.decode(coded(1, tile_shift=2, max_shift=3)),
+                "coded_map.max_shift")
         refused(lambda: lixel_maps.decode(coded(1, tile_shift=0, max_shift=1, codec=2, bits=32)),
                 "coded_map.max_shift")
 

@@ -269,6 +269,10 @@ def decode(data: bytes, references: dict[int, IntegerImage] | None = None,
             raise _bad("tile_modes", f"tile {t} has shift {shifts[t]}, past the header's "
                        f"max_shift {h.max_shift}")
         raise _bad("tile_modes", f"tile {t} reads a reference frame, and none is named")
+    # One map, one coding: the header states the largest shift its tiles take, not more.
+    largest = int(shifts.max())
+    if largest != h.max_shift:
+        raise _bad("max_shift", f"{h.max_shift}, but the largest tile shift is {largest}")
     if h.reference_id != 0 and not (modes >= TileMode.TEMPORAL).any():
         raise _bad("reference_id", "named, but no tile reads it")
     spans_x = [(x0, min(h.width, x0 + h.tile)) for x0 in range(0, h.width, h.tile)]
