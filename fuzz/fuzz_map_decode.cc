@@ -2,10 +2,9 @@
 // The first byte picks how the rest is used, so the fuzzer reaches past each check:
 //   0: the bytes as a coded map, as they came;
 //   1: the same with the header's CRC-32 made right (every header field's check);
-//   2: a header built from the next bytes (small sizes, max_shift) around the rest as the
-//      payload's content, compressed here with zstd's checksum on (tile modes and shifts,
-//      exceptions, residuals),
-//      decoded with a reference of that shape held;
+//   2: a header built from the next bytes (small sizes; max_shift mostly the tiles' largest)
+//      around the rest as the payload's content, compressed here with zstd's checksum on (tile
+//      modes and shifts, exceptions, residuals), decoded with a reference of that shape held;
 //   3: the rest as float32 texels, encoded (quantised tiles at shifts drawn from the texels'
 //      bits) and decoded: integer values bit for bit, depth within the stated bound, the exact
 //      codec bit for bit.
@@ -17,6 +16,7 @@
 #include <zlib.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -58,8 +58,9 @@ void Built(FuzzedDataProvider& in) {
     h.content = in.ConsumeBool() ? Content::kPoints : Content::kDepth;
     h.codec = h.content == Content::kPoints || in.ConsumeBool() ? Codec::kExact : Codec::kQuantised;
     h.bits = h.codec == Codec::kExact ? 32 : in.ConsumeIntegralInRange(16, 24);
+    // Mostly the largest shift the tiles' bytes take (else the decoder stops at max_shift).
+    const bool drawn_shift = in.ConsumeIntegralInRange(0, 7) == 0;
     h.max_shift = h.codec == Codec::kExact ? 0 : in.ConsumeIntegralInRange(0, kMaxTileShift);
-    h.error_bound = h.codec == Codec::kExact ? 0.0 : QuantisedErrorBound(h.bits, h.max_shift);
     h.width = in.ConsumeIntegralInRange<std::uint32_t>(1, 40);
     h.height = in.ConsumeIntegralInRange<std::uint32_t>(1, 40);
     h.tile = in.ConsumeIntegralInRange(8, 24);
@@ -69,6 +70,15 @@ void Built(FuzzedDataProvider& in) {
     h.reference_id = temporal ? 1 : 0;
     h.keyframe_id = temporal ? 1 : 2;
     const std::string raw = in.ConsumeRemainingBytesAsString();
+    if (h.codec == Codec::kQuantised && !drawn_shift) {
+        const std::uint64_t tiles = std::uint64_t{TilesAcross(h)} * TilesUp(h);
+        int largest = 0;
+        for (std::uint64_t t = 0; t < tiles && t < raw.size(); ++t) {
+            largest = std::max(largest, TileShift(static_cast<std::uint8_t>(raw[t])));
+        }
+        h.max_shift = std::min(largest, kMaxTileShift);
+    }
+    h.error_bound = h.codec == Codec::kExact ? 0.0 : QuantisedErrorBound(h.bits, h.max_shift);
     h.raw_bytes = raw.size();
     std::string packed(ZSTD_compressBound(raw.size()), '\0');
     ZSTD_CCtx* z = ZSTD_createCCtx();
