@@ -56,21 +56,23 @@ std::vector<std::uint32_t> Values(Codec codec, int bits, const float* texels, st
         return values;
     }
     const double steps = std::ldexp(1.0, bits) - 1.0;
-    const auto quantise = [&](std::uint64_t i, double scale, int shift) {
-        const float d = texels[i];
-        if (d >= 0.0f && d <= 1.0f) {
-            // d >= 0: adding a half and truncating rounds half away from zero, as llround.
-            const auto c = static_cast<std::uint32_t>(static_cast<double>(d) * scale + 0.5);
-            values[i] = detail::Fine(c, shift, static_cast<std::uint32_t>(steps));
-        } else {
-            values[i] = 0;
-            exceptions->push_back({static_cast<std::uint32_t>(i), std::bit_cast<std::uint32_t>(d)});
-        }
+    const auto exception = [&](std::uint64_t i, float d) {
+        values[i] = 0;
+        exceptions->push_back({static_cast<std::uint32_t>(i), std::bit_cast<std::uint32_t>(d)});
     };
     if (shifts.empty()) {  // one loop, N's step everywhere
-        for (std::uint64_t i = 0; i < count; ++i) quantise(i, steps, 0);
+        for (std::uint64_t i = 0; i < count; ++i) {
+            const float d = texels[i];
+            if (d >= 0.0f && d <= 1.0f) {
+                // d >= 0: adding a half and truncating rounds half away from zero, as llround.
+                values[i] = static_cast<std::uint32_t>(static_cast<double>(d) * steps + 0.5);
+            } else {
+                exception(i, d);
+            }
+        }
         return values;
     }
+    const auto mask = static_cast<std::uint32_t>(steps);
     const auto t = static_cast<std::uint32_t>(tile);
     const std::uint32_t across = (width + t - 1) / t;
     for (std::uint32_t y = 0; y < height; ++y) {
@@ -79,7 +81,13 @@ std::vector<std::uint32_t> Values(Codec codec, int bits, const float* texels, st
             const double scale = std::ldexp(steps, -shift);
             const std::uint64_t end = std::uint64_t{y} * width + std::min(width, x0 + t);
             for (std::uint64_t i = std::uint64_t{y} * width + x0; i < end; ++i) {
-                quantise(i, scale, shift);
+                const float d = texels[i];
+                if (d >= 0.0f && d <= 1.0f) {
+                    const auto c = static_cast<std::uint32_t>(static_cast<double>(d) * scale + 0.5);
+                    values[i] = detail::Fine(c, shift, mask);
+                } else {
+                    exception(i, d);
+                }
             }
         }
     }
