@@ -77,7 +77,7 @@ std::vector<std::uint32_t> Values(Codec codec, int bits, const float* texels, st
     const std::uint32_t across = (width + t - 1) / t;
     for (std::uint32_t y = 0; y < height; ++y) {
         for (std::uint32_t x0 = 0; x0 < width; x0 += t) {
-            const int shift = shifts.empty() ? 0 : int{shifts[(y / t) * across + x0 / t]};
+            const int shift = shifts[(y / t) * across + x0 / t];
             const double scale = std::ldexp(steps, -shift);
             const std::uint64_t end = std::uint64_t{y} * width + std::min(width, x0 + t);
             for (std::uint64_t i = std::uint64_t{y} * width + x0; i < end; ++i) {
