@@ -92,6 +92,8 @@ DepthQuantisation DefaultDepthQuantisation(const render::FloatImage& image, cons
     const Vec4 z_row = lixel.row(2).cwiseAbs().transpose();
     const Vec4 w_row = lixel.row(3).cwiseAbs().transpose();
     const double offset = corner_depth ? 0.0 : 0.5;
+    // A side the encoder refuses (outside [8, 1024]) still divides nothing by zero here.
+    tile = std::clamp(tile, codec::kMinTile, codec::kMaxTile);
     const int stride_x = std::max(1, std::min(image.width / 64, tile / 8));
     const int stride_y = std::max(1, std::min(image.height / 64, tile / 8));
     const int across = (image.width + tile - 1) / tile;
