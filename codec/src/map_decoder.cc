@@ -169,18 +169,7 @@ bool DecodeShiftedRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
     const std::uint32_t* below = kMode == TileMode::kTemporal ? ref + at
                                  : y > 0                      ? cur - g.width
                                                               : zeros;
-    known[0] = s.x0 > 0 ? Coarse(below[s.x0 - 1], shift) : 0;
-    // Every value is below 2^N <= 2^24 (the reference's checked so, the image's decoded so), so
-    // signed 32-bit arithmetic, which SSE2 vectorises (its unsigned min and compares it lacks).
-    // The rows are addressed from locals: a store through a uint32 pointer could change the
-    // span's own uint32 x0, which would stop the loops' vectorisation.
-    const std::int32_t half = (1 << shift) >> 1;
-    const std::uint32_t* from = below + s.x0;
-    std::uint32_t* to = cur + s.x0;
-    for (std::uint64_t i = 0; i < n; ++i) {
-        known[i + 1] =
-            static_cast<std::uint32_t>((static_cast<std::int32_t>(from[i]) + half) >> shift);
-    }
+    detail::CoarsenRow(below, s.x0, n, shift, known);
     if constexpr (kMode == TileMode::kTemporal) {
         for (std::uint64_t i = 0; i < n; ++i) c[i] = UnZigZag(residuals[i], known[i + 1], g);
     } else {
@@ -198,7 +187,11 @@ bool DecodeShiftedRow(const Grid& g, std::uint32_t* v, const std::uint32_t* ref,
     const auto mask = static_cast<std::uint32_t>(g.mask);
     const std::uint32_t limit = detail::CoarseLimit(g.bits, shift);
     // Fine(c) for c up to the limit (past it the map is refused, whatever the value), in signed
-    // 32-bit arithmetic: c <= 2^(N - s) puts c 2^s at most 2^N.
+    // 32-bit arithmetic, which SSE2 vectorises (its unsigned min and compares it lacks): c <=
+    // 2^(N - s) puts c 2^s at most 2^N. The row is addressed from a local pointer: a store
+    // through a uint32 pointer could change the span's own uint32 x0, which would stop the
+    // loop's vectorisation.
+    std::uint32_t* to = cur + s.x0;
     const auto most = static_cast<std::int32_t>(limit);
     const auto top = static_cast<std::int32_t>(mask);
     std::int32_t over = 0;

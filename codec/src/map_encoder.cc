@@ -140,15 +140,11 @@ std::uint64_t ShiftedRowResiduals(const Grid& g, const std::uint32_t* v, const s
     std::uint32_t* below = cur + n + 1;
     std::uint32_t* prior = below + n + 1;
     const std::uint64_t at = std::uint64_t{y} * g.width;
-    const auto coarsen = [&](const std::uint32_t* row, std::uint32_t* into) {
-        into[0] = x0 > 0 ? detail::Coarse(row[x0 - 1], shift) : 0;
-        for (std::uint64_t i = 0; i < n; ++i) into[i + 1] = detail::Coarse(row[x0 + i], shift);
-    };
-    coarsen(v + at, cur);
+    detail::CoarsenRow(v + at, x0, n, shift, cur);
     if constexpr (kMode == TileMode::kTemporal) {
-        coarsen(ref + at, prior);
+        detail::CoarsenRow(ref + at, x0, n, shift, prior);
     } else {
-        coarsen(y > 0 ? v + at - g.width : zeros, below);
+        detail::CoarsenRow(y > 0 ? v + at - g.width : zeros, x0, n, shift, below);
     }
     std::uint64_t bits = 0;
     for (std::uint64_t i = 1; i <= n; ++i) {
@@ -286,7 +282,6 @@ Result<EncodedMap> MapEncoder::Encode(Content content, const float* texels, std:
     h.width = width;
     h.height = height;
     h.tile = o.tile;
-    h.error_bound = o.codec == Codec::kQuantised ? QuantisedErrorBound(h.bits) : 0.0;
     h.frame_id = o.frame_id;
     const Grid g = detail::GridOf(h);
     const std::uint64_t count = h.texels() * g.channels;

@@ -49,6 +49,22 @@ inline std::uint32_t Fine(std::uint32_t c, int shift, std::uint32_t mask) {
     const std::uint32_t q = c << shift;
     return q < mask ? q : mask;
 }
+// Texels [x0, x0 + n) of a row read at shift s into `into`[1 .. n], `into`[0] the texel left of
+// x0 (0 at the image's edge, the format's edge rule): the neighbours a shifted row's predictors
+// read, in the encoder and the decoders alike. Every value is below 2^N <= 2^24 (an image's
+// values, a checked reference's, the zero row), so the loop runs in signed 32-bit arithmetic,
+// which SSE2 vectorises.
+inline void CoarsenRow(const std::uint32_t* row, std::uint32_t x0, std::uint64_t n, int shift,
+                       std::uint32_t* into) {
+    into[0] = x0 > 0 ? Coarse(row[x0 - 1], shift) : 0;
+    const std::int32_t half = (1 << shift) >> 1;
+    const std::uint32_t* from = row + x0;
+    for (std::uint64_t i = 0; i < n; ++i) {
+        into[i + 1] =
+            static_cast<std::uint32_t>((static_cast<std::int32_t>(from[i]) + half) >> shift);
+    }
+}
+
 // The largest c a tile of shift s holds: 2^(N - s) (d = 1 rounds up to it, and Fine clamps it
 // to 2^N - 1). A decoder refuses larger ones, which would give one map two codings.
 inline std::uint32_t CoarseLimit(int bits, int shift) { return 1u << (bits - shift); }
