@@ -22,13 +22,15 @@ constexpr double kSnap = 1e-6;
 constexpr size_t kPairwiseMergeLimit = 32;
 
 // Sutherland-Hodgman on (x, y) against f . (x, y, 1) >= -slack, keeping degenerate results (a
-// segment or a point is still a footprint, of a caster seen edge-on).
-std::vector<Vec2> ClipImage(const std::vector<Vec2>& polygon, const Eigen::Vector3d& f) {
-    std::vector<Vec2> out;
+// segment or a point is still a footprint, of a caster seen edge-on), into `out` (whose storage
+// the caller reuses: a footprint takes one clip a facet).
+void ClipImageInto(const std::vector<Vec2>& polygon, const Eigen::Vector3d& f,
+                   std::vector<Vec2>& out) {
+    out.clear();
     const size_t n = polygon.size();
-    out.reserve(n + 1);
+    const double f_norm = f.norm();
     auto side = [&](const Vec2& p) {
-        const double slack = kFacetTolerance * f.norm() * (std::abs(p.x()) + std::abs(p.y()) + 1.0);
+        const double slack = kFacetTolerance * f_norm * (std::abs(p.x()) + std::abs(p.y()) + 1.0);
         return f.x() * p.x() + f.y() * p.y() + f.z() + slack;
     };
     for (size_t i = 0; i < n; ++i) {
@@ -42,6 +44,12 @@ std::vector<Vec2> ClipImage(const std::vector<Vec2>& polygon, const Eigen::Vecto
             out.push_back(a + t * (b - a));
         }
     }
+}
+
+std::vector<Vec2> ClipImage(const std::vector<Vec2>& polygon, const Eigen::Vector3d& f) {
+    std::vector<Vec2> out;
+    out.reserve(polygon.size() + 1);
+    ClipImageInto(polygon, f, out);
     return out;
 }
 
@@ -52,19 +60,22 @@ std::vector<Vec2> ClipImage(const std::vector<Vec2>& polygon, const Eigen::Vecto
 bool ConeFacets(const std::vector<Eigen::Vector3d>& generators,
                 std::vector<Eigen::Vector3d>& facets) {
     const size_t n = generators.size();
+    // Each generator's norm, taken once (the tests below read it for every pair).
+    thread_local std::vector<double> norms;
+    norms.clear();
+    for (const Eigen::Vector3d& g : generators) norms.push_back(g.norm());
     for (size_t i = 0; i < n; ++i) {
         for (size_t j = i + 1; j < n; ++j) {
             Eigen::Vector3d normal = generators[i].cross(generators[j]);
             const double length = normal.norm();
-            if (!(length > kFacetTolerance * generators[i].norm() * generators[j].norm())) {
-                continue;
-            }
+            if (!(length > kFacetTolerance * norms[i] * norms[j])) continue;
             normal /= length;
             bool all_above = true;
             bool all_below = true;
-            for (const Eigen::Vector3d& g : generators) {
-                const double s = g.dot(normal);
-                const double slack = kFacetTolerance * g.norm();
+            // Stops at the first generator past each side: the pair is then no facet.
+            for (size_t k = 0; k < n && (all_above || all_below); ++k) {
+                const double s = generators[k].dot(normal);
+                const double slack = kFacetTolerance * norms[k];
                 all_above = all_above && s >= -slack;
                 all_below = all_below && s <= slack;
             }
@@ -99,12 +110,21 @@ std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Ve
     const std::optional<Vec4> level = LightLevel(plane, light);
     if (!level) return needed_image;
     // The caster's part that can cast onto the plane: on its lit side, P . X >= 0, and no
-    // higher than the light.
-    ConvexPolytope part = caster.Clipped(plane);
-    part.Clip(*level);
-    if (part.empty()) return {};
-    std::vector<Eigen::Vector3d> generators;
-    for (const Vec3& v : part.vertices()) {
+    // higher than the light. Most casters lie wholly there: the caster itself, without a copy.
+    thread_local ConvexPolytope cut;
+    const ConvexPolytope* part = &caster;
+    for (const PlaneTest& side : {PlaneTest(plane), PlaneTest(*level)}) {
+        if (part->Effect(side) == ClipEffect::kKeepsAll) continue;
+        if (part != &cut) {
+            cut = *part;
+            part = &cut;
+        }
+        cut.Clip(side);
+    }
+    if (part->empty()) return {};
+    thread_local std::vector<Eigen::Vector3d> generators;
+    generators.clear();
+    for (const Vec3& v : part->vertices()) {
         const Vec4 h = matrix * Point(v);
         const Eigen::Vector3d g(h.x(), h.y(), h.w());
         if (!g.allFinite()) return needed_image;
@@ -112,15 +132,19 @@ std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Ve
         // other vertices already span the directions it fans out to.
         if (g.norm() > 0.0) generators.push_back(g);
     }
-    std::vector<Eigen::Vector3d> facets;
+    thread_local std::vector<Eigen::Vector3d> facets;
+    facets.clear();
     if (!ConeFacets(generators, facets)) {
         // Not pointed (the light inside the caster's box, or on its level within it), flat, or
         // a single ray: everything, which is always safe.
         return needed_image;
     }
-    std::vector<Vec2> image = needed_image;
+    // Clipped facet after facet between two per-thread buffers.
+    thread_local std::vector<Vec2> image, clipped;
+    image = needed_image;
     for (const Eigen::Vector3d& f : facets) {
-        image = ClipImage(image, f);
+        ClipImageInto(image, f, clipped);
+        std::swap(image, clipped);
         if (image.empty()) break;
     }
     return image;

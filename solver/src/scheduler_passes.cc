@@ -30,9 +30,7 @@ void VisitCasters(const Context& c, const PlannedMap& m, Wanted wanted, Visit vi
         if (m.role == MapRole::kPlane) {
             const Vec4& p = c.request.planes[m.plane_index].plane;
             const double n = p.head<3>().norm();
-            double highest = -std::numeric_limits<double>::infinity();
-            for (const Vec4& corner : BoxCorners(box)) highest = std::max(highest, p.dot(corner) / n);
-            if (!(highest > c.thickness)) continue;
+            if (!(p.dot(HighestCorner(box, p)) / n > c.thickness)) continue;
         }
         thread_local ConvexPolytope scratch;
         if (!ClipInto(scratch, c.object_boxes[i], cone_planes).empty() && !visit(o)) return;

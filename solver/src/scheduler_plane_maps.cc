@@ -79,11 +79,9 @@ std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate
     for (size_t i = 0; i < r.objects.size(); ++i) {
         c.poll();
         if (!possible[i] || c.object_boxes.empty(i)) continue;
-        std::array<Vec4, 8> corners;
-        for (int k = 0; k < 8; ++k) corners[k] = Point(BoxCorner(r.objects[i].bounds, k));
+        const Aabb& box = r.objects[i].bounds;
         const bool shielded = std::any_of(shields.begin(), shields.end(), [&](const Vec4& s) {
-            return std::all_of(corners.begin(), corners.end(),
-                               [&](const Vec4& x) { return s.dot(x) <= c.thickness; });
+            return s.dot(HighestCorner(box, s)) <= c.thickness;
         });
         if (!shielded) casters.push_back(&c.object_boxes[i]);
     }

@@ -282,11 +282,7 @@ void FindViewRegions(Context& c) {
         const bool in_bounds = (b.min.array() >= c.bounds.min.array()).all() &&
                                (b.max.array() <= c.bounds.max.array()).all();
         for (size_t k = 0; k < hiding.size() && in_bounds && v.on_plane < 0; ++k) {
-            bool behind = true;
-            for (const Vec4& corner : BoxCorners(b)) {
-                behind = behind && hiding[k].dot(corner) <= 0.0;
-            }
-            if (behind) v.on_plane = hiding_index[k];
+            if (hiding[k].dot(HighestCorner(b, hiding[k])) <= 0.0) v.on_plane = hiding_index[k];
         }
         c.view_regions.push_back(std::move(v));
     }

@@ -38,6 +38,16 @@ inline Vec3 BoxCorner(const Aabb& box, int k) {
 // The eight corners of a box as finite homogeneous points, in BoxCorner's order.
 std::vector<Vec4> BoxCorners(const Aabb& box);
 
+// The corner of a box where plane . (x, 1) is largest: on each axis the max where the plane's
+// normal is positive there, else the min. A computed dot product is monotone in each coordinate
+// (every product and every rounded sum is), so its value at this corner is the largest any
+// corner's computed value takes: "every corner at most v" is "this corner at most v", exactly.
+inline Vec4 HighestCorner(const Aabb& box, const Vec4& plane) {
+    return {plane.x() > 0.0 ? box.max.x() : box.min.x(),
+            plane.y() > 0.0 ? box.max.y() : box.min.y(),
+            plane.z() > 0.0 ? box.max.z() : box.min.z(), 1.0};
+}
+
 // True when every entry is finite.
 bool AllFinite(const Mat4& m) noexcept;
 bool AllFinite(const Vec4& v) noexcept;
