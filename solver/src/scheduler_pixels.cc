@@ -183,11 +183,18 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
         }
     };
     if (screen_culls) {
-        // Only the boxes whose screen rectangles can hold this ray (ScreenCells).
-        for (const std::uint32_t i : e.proofs.cells.everywhere()) try_box(i);
+        // Only the boxes whose screen rectangles can hold this ray (ScreenCells): the
+        // `everywhere` ones and those of the ray's cell on each level.
+        const ScreenCells& cells = e.proofs.cells;
+        for (const std::uint32_t i : cells.everywhere()) try_box(i);
         const int last = ScreenCells::kCells - 1;
-        for (const std::uint32_t i : e.proofs.cells.Cell(std::min(sx, last), std::min(sy, last))) {
-            try_box(i);
+        const int cx = std::min(sx, last), cy = std::min(sy, last);
+        for (const std::uint32_t i : cells.Cell(cx, cy)) try_box(i);
+        for (int level = 1; level < ScreenCells::kLevels && cells.coarse_filed(); ++level) {
+            for (const std::uint32_t i : cells.Cell(ScreenCells::Coarse(cx, level),
+                                                    ScreenCells::Coarse(cy, level), level)) {
+                try_box(i);
+            }
         }
     } else {
         for (size_t i = 0; i < r.objects.size(); ++i) try_box(i);
@@ -425,12 +432,19 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
     }
     if (!proofs.cells.any_filed()) return true;
     const std::uint32_t tile = ++e.tile;
-    for (int cy = first_y; cy < last_y; ++cy) {
-        for (int cx = first_x; cx < last_x; ++cx) {
-            for (const std::uint32_t b : proofs.cells.Cell(cx, cy)) {
-                if (e.visited[b] == tile) continue;
-                e.visited[b] = tile;
-                if (!not_nearer(b)) return false;
+    for (int level = 0; level < ScreenCells::kLevels; ++level) {
+        if (!proofs.cells.filed(level)) continue;
+        const int row0 = ScreenCells::Coarse(first_y, level);
+        const int row1 = ScreenCells::Coarse(last_y - 1, level);
+        const int column0 = ScreenCells::Coarse(first_x, level);
+        const int column1 = ScreenCells::Coarse(last_x - 1, level);
+        for (int cy = row0; cy <= row1; ++cy) {
+            for (int cx = column0; cx <= column1; ++cx) {
+                for (const std::uint32_t b : proofs.cells.Cell(cx, cy, level)) {
+                    if (e.visited[b] == tile) continue;
+                    e.visited[b] = tile;
+                    if (!not_nearer(b)) return false;
+                }
             }
         }
     }

@@ -16,33 +16,61 @@ ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes) {
         }
         return;
     }
-    // A counting sort in one array: offsets_[k] counts cell k's boxes, then (summed) is where
-    // its list ends; the boxes go in from the last down, each at its cell's end less one, which
-    // leaves offsets_[k] where the cell's list begins, in index order.
-    constexpr int kAll = kCells * kCells;
-    std::vector<std::array<int, 4>> spans(boxes.size(), {0, -1, 0, -1});
-    offsets_.assign(kAll + 1, 0);
+    // Each box's level and its span of that level's cells.
+    struct Filed {
+        int level = -1;  // -1: everywhere
+        std::array<int, 4> span{0, -1, 0, -1};
+    };
+    std::vector<Filed> filed(boxes.size());
+    const auto count = [](const std::array<int, 4>& span) {
+        return std::max(0, span[1] - span[0] + 1) * std::max(0, span[3] - span[2] + 1);
+    };
     for (std::size_t b = 0; b < boxes.size(); ++b) {
-        const std::array<int, 4> span = boxes[b].valid ? SpanOf(boxes[b])
-                                                       : std::array<int, 4>{0, -1, 0, -1};
-        const int cells =
-            std::max(0, span[1] - span[0] + 1) * std::max(0, span[3] - span[2] + 1);
-        if (!boxes[b].valid || cells > kMaxCellsPerBox) {
+        if (!boxes[b].valid) {
             everywhere_.push_back(static_cast<std::uint32_t>(b));
             continue;
         }
-        spans[b] = span;
-        for (int cy = span[2]; cy <= span[3]; ++cy) {
-            for (int cx = span[0]; cx <= span[1]; ++cx) ++offsets_[cy * kCells + cx];
+        const std::array<int, 4> cells = SpanOf(boxes[b]);
+        Filed& f = filed[b];
+        f.level = 0;
+        f.span = cells;
+        while (count(f.span) > kMaxCellsPerBox && f.level + 1 < kLevels) {
+            ++f.level;
+            for (int k = 0; k < 4; ++k) f.span[k] = Coarse(cells[k], f.level);
         }
     }
-    for (int k = 1; k < kAll; ++k) offsets_[k] += offsets_[k - 1];
-    offsets_[kAll] = offsets_[kAll - 1];
-    boxes_.resize(offsets_[kAll]);
-    for (std::size_t b = boxes.size(); b-- > 0;) {
-        for (int cy = spans[b][2]; cy <= spans[b][3]; ++cy) {
-            for (int cx = spans[b][0]; cx <= spans[b][1]; ++cx) {
-                boxes_[--offsets_[cy * kCells + cx]] = static_cast<std::uint32_t>(b);
+    // On each level a counting sort in one array: offsets[k] counts cell k's boxes, then
+    // (summed) is where its list ends; the boxes go in from the last down, each at its cell's
+    // end less one, which leaves offsets[k] where the cell's list begins, in index order.
+    std::array<bool, kLevels> used{};
+    for (const Filed& f : filed) {
+        if (f.level >= 0) used[f.level] = true;
+    }
+    for (int level = 0; level < kLevels; ++level) {
+        if (!used[level]) continue;
+        any_filed_ = true;
+        coarse_filed_ = coarse_filed_ || level > 0;
+        const int side = Side(level);
+        const int all = side * side;
+        std::vector<std::size_t>& offsets = offsets_[level];
+        offsets.assign(all + 1, 0);
+        for (const Filed& f : filed) {
+            if (f.level != level) continue;
+            for (int cy = f.span[2]; cy <= f.span[3]; ++cy) {
+                for (int cx = f.span[0]; cx <= f.span[1]; ++cx) ++offsets[cy * side + cx];
+            }
+        }
+        for (int k = 1; k < all; ++k) offsets[k] += offsets[k - 1];
+        offsets[all] = offsets[all - 1];
+        std::vector<std::uint32_t>& list = boxes_[level];
+        list.resize(offsets[all]);
+        for (std::size_t b = boxes.size(); b-- > 0;) {
+            const Filed& f = filed[b];
+            if (f.level != level) continue;
+            for (int cy = f.span[2]; cy <= f.span[3]; ++cy) {
+                for (int cx = f.span[0]; cx <= f.span[1]; ++cx) {
+                    list[--offsets[cy * side + cx]] = static_cast<std::uint32_t>(b);
+                }
             }
         }
     }

@@ -77,41 +77,62 @@ inline double SampleNdc(int k) { return 2.0 * (k + 0.5) / kPixelSamplesPerSide -
 // the cells a sample or a tile touches are a superset of those Disjoint keeps for it: a ray or a
 // tile visits only them, with the same tests, and finds what the scan of every box finds (a
 // ray's nearest box does not depend on the order boxes are tried; a tile's proof is a
-// conjunction). Boxes without a rectangle are never culled and are in `everywhere`, and so are
-// boxes over more than kMaxCellsPerBox cells (tried by every ray and tile, with Disjoint's test
-// as before), which bounds the cells' lists to that many entries per box; so are all boxes when
-// there are at most kFewBoxes.
+// conjunction). A box over more than kMaxCellsPerBox cells (near the eye) is filed one level up,
+// where a cell is kGrowth x kGrowth cells of the level below (the last of a row may be
+// narrower), and so on up to kLevels levels, whose top has a few cells a side: a ray tries the
+// boxes of its cell on every level, which bounds every list to kMaxCellsPerBox entries a box
+// below the top, where a crowded view's large boxes were tried by every ray. Boxes without a
+// rectangle are never culled and are in `everywhere`, and so are all boxes when there are at
+// most kFewBoxes.
 class ScreenCells {
   public:
-    static constexpr int kCells = kPixelSamplesPerSide - 1;
+    static constexpr int kCells = kPixelSamplesPerSide - 1;  // level 0's cells a side
+    static constexpr int kLevels = 3;
+    static constexpr int kGrowthBits = 2;  // a level's cell is 4 x 4 cells of the level below
+    static constexpr int kGrowth = 1 << kGrowthBits;
     static constexpr int kMaxCellsPerBox = 64;
     // Up to this many boxes are all `everywhere` and no cell holds any.
     static constexpr std::size_t kFewBoxes = 8;
 
+    // The cell of `level` that holds level 0's cell `c`, along either axis, and the cells a side
+    // of `level`.
+    static constexpr int Coarse(int c, int level) { return c >> (kGrowthBits * level); }
+    // Level 0's cells along a side of one of `level`'s.
+    static constexpr int Scale(int level) { return 1 << (kGrowthBits * level); }
+    static constexpr int Side(int level) { return Coarse(kCells - 1, level) + 1; }
+
     ScreenCells() = default;
     explicit ScreenCells(const std::vector<ScreenRect>& boxes);
 
-    // The boxes of cell (cx, cy), in index order; the cell of sample (sx, sy) is
-    // (min(sx, kCells - 1), min(sy, kCells - 1)).
-    std::span<const std::uint32_t> Cell(int cx, int cy) const {
-        if (offsets_.empty()) return {};
-        const int k = cy * kCells + cx;
-        return {boxes_.data() + offsets_[k], boxes_.data() + offsets_[k + 1]};
+    // The boxes filed under `level`'s cell (cx, cy), in index order; the level-0 cell of sample
+    // (sx, sy) is (min(sx, kCells - 1), min(sy, kCells - 1)). Each box is filed on one level.
+    std::span<const std::uint32_t> Cell(int cx, int cy, int level = 0) const {
+        const std::vector<std::size_t>& offsets = offsets_[level];
+        if (offsets.empty()) return {};  // no box on this level
+        const int k = cy * Side(level) + cx;
+        const std::uint32_t* boxes = boxes_[level].data();
+        return {boxes + offsets[k], boxes + offsets[k + 1]};
     }
     const std::vector<std::uint32_t>& everywhere() const { return everywhere_; }
-    // Whether any cell holds a box (false when every box is `everywhere`).
-    bool any_filed() const { return !boxes_.empty(); }
+    // Whether any cell of `level` holds a box.
+    bool filed(int level) const { return !offsets_[level].empty(); }
+    // Whether any cell holds a box (false when every box is `everywhere`), and any cell above
+    // level 0.
+    bool any_filed() const { return any_filed_; }
+    bool coarse_filed() const { return coarse_filed_; }
 
   private:
     // The cells whose closed squares the rectangle, widened by kScreenMargin, meets: the same
     // comparisons Disjoint makes, at the cells' edges. {cx0, cx1, cy0, cy1}, empty when cx1 < cx0.
     static std::array<int, 4> SpanOf(const ScreenRect& r);
 
-    // Cell k's boxes are boxes_[offsets_[k]] up to boxes_[offsets_[k + 1]]; empty when every
-    // box is `everywhere`.
-    std::vector<std::size_t> offsets_;
-    std::vector<std::uint32_t> boxes_;
+    // On each level, cell k's boxes are boxes_[offsets_[k]] up to boxes_[offsets_[k + 1]];
+    // both empty when no box is filed on that level.
+    std::array<std::vector<std::size_t>, kLevels> offsets_;
+    std::array<std::vector<std::uint32_t>, kLevels> boxes_;
     std::vector<std::uint32_t> everywhere_;
+    bool any_filed_ = false;
+    bool coarse_filed_ = false;
 };
 
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <limits>
 #include <random>
@@ -36,13 +37,15 @@ ScreenRect RandomRect(std::mt19937_64& rng) {
     return r;
 }
 
-// For 0 to 60 boxes, on either side of kFewBoxes: every cell's boxes and the `everywhere` ones
-// hold each box Disjoint does not keep off the cell's closed square, a filed box lies only in
-// cells it is near, and each list is strictly increasing.
+// For 0 to 60 boxes, on either side of kFewBoxes: for every cell, the boxes of the cells that
+// hold it on every level and the `everywhere` ones hold each box Disjoint does not keep off the
+// cell's closed square; a filed box lies only in cells it is near, on one level only, and below
+// the top level in at most kMaxCellsPerBox cells; each list is strictly increasing.
 TEST(ScreenCells, EveryCellHoldsTheBoxesNearItOnceInIndexOrder) {
     std::mt19937_64 rng(2929);
     int filed = 0, unfiled = 0;
-    for (int trial = 0; trial < 120; ++trial) {
+    std::array<int, ScreenCells::kLevels> on_level{};
+    for (int trial = 0; trial < 160; ++trial) {
         std::vector<ScreenRect> rects(trial % 61);
         for (ScreenRect& r : rects) r = RandomRect(rng);
         const ScreenCells cells(rects);
@@ -54,27 +57,61 @@ TEST(ScreenCells, EveryCellHoldsTheBoxesNearItOnceInIndexOrder) {
         if (rects.size() <= ScreenCells::kFewBoxes) {
             EXPECT_EQ(everywhere.size(), rects.size()) << "trial " << trial;
         }
+        // Each level's lists: strictly increasing, near their cell's square, and each box on
+        // one level.
+        std::vector<int> level_of(rects.size(), -1);
+        std::vector<int> cells_of(rects.size(), 0);
+        for (int level = 0; level < ScreenCells::kLevels; ++level) {
+            const int side = ScreenCells::Side(level);
+            for (int cy = 0; cy < side; ++cy) {
+                for (int cx = 0; cx < side; ++cx) {
+                    const auto list = cells.Cell(cx, cy, level);
+                    EXPECT_TRUE(std::adjacent_find(list.begin(), list.end(),
+                                                   std::greater_equal<>()) == list.end())
+                        << "trial " << trial << " level " << level;
+                    // The level's cell spans level 0's cells first to last along each axis.
+                    const int scale = ScreenCells::Scale(level);
+                    const int first_x = cx * scale, first_y = cy * scale;
+                    const int last_x = std::min((cx + 1) * scale, ScreenCells::kCells);
+                    const int last_y = std::min((cy + 1) * scale, ScreenCells::kCells);
+                    for (const std::uint32_t b : list) {
+                        ASSERT_LT(b, rects.size());
+                        EXPECT_FALSE(is_everywhere[b]) << "trial " << trial << " box " << b;
+                        EXPECT_TRUE(level_of[b] < 0 || level_of[b] == level)
+                            << "trial " << trial << " box " << b << " on two levels";
+                        level_of[b] = level;
+                        ++cells_of[b];
+                        EXPECT_FALSE(Disjoint(rects[b], SampleNdc(first_x), SampleNdc(first_y),
+                                              SampleNdc(last_x), SampleNdc(last_y)))
+                            << "trial " << trial << " box " << b << " level " << level;
+                    }
+                }
+            }
+        }
+        for (std::size_t b = 0; b < rects.size(); ++b) {
+            if (level_of[b] < 0) continue;
+            ++on_level[level_of[b]];
+            if (level_of[b] + 1 < ScreenCells::kLevels) {
+                EXPECT_LE(cells_of[b], ScreenCells::kMaxCellsPerBox)
+                    << "trial " << trial << " box " << b;
+            }
+        }
+        // Every box near a level-0 cell is in that cell on its level, or everywhere.
         for (int cy = 0; cy < ScreenCells::kCells; ++cy) {
             for (int cx = 0; cx < ScreenCells::kCells; ++cx) {
-                const auto list = cells.Cell(cx, cy);
-                EXPECT_TRUE(std::adjacent_find(list.begin(), list.end(), std::greater_equal<>()) ==
-                            list.end())
-                    << "trial " << trial << " cell " << cx << ", " << cy;
-                std::vector<char> in_cell(rects.size(), 0);
-                for (const std::uint32_t b : list) {
-                    ASSERT_LT(b, rects.size());
-                    EXPECT_FALSE(is_everywhere[b]) << "trial " << trial << " box " << b;
-                    in_cell[b] = 1;
+                std::vector<char> held(rects.size(), 0);
+                for (int level = 0; level < ScreenCells::kLevels; ++level) {
+                    for (const std::uint32_t b :
+                         cells.Cell(ScreenCells::Coarse(cx, level), ScreenCells::Coarse(cy, level),
+                                    level)) {
+                        held[b] = 1;
+                    }
                 }
                 const double x0 = SampleNdc(cx), x1 = SampleNdc(cx + 1);
                 const double y0 = SampleNdc(cy), y1 = SampleNdc(cy + 1);
                 for (std::size_t b = 0; b < rects.size(); ++b) {
-                    const bool near = !Disjoint(rects[b], x0, y0, x1, y1);
-                    if (near) {
-                        EXPECT_TRUE(in_cell[b] || is_everywhere[b])
-                            << "trial " << trial << " box " << b << " cell " << cx << ", " << cy;
-                    } else if (rects[b].valid) {
-                        EXPECT_FALSE(in_cell[b])
+                    if (!Disjoint(rects[b], x0, y0, x1, y1)) {
+                        EXPECT_TRUE(held[b] || is_everywhere[b])
                             << "trial " << trial << " box " << b << " cell " << cx << ", " << cy;
                     }
                 }
@@ -83,6 +120,10 @@ TEST(ScreenCells, EveryCellHoldsTheBoxesNearItOnceInIndexOrder) {
     }
     EXPECT_GT(filed, 50);
     EXPECT_GT(unfiled, 15);
+    // Wide rectangles (over a third of the screen) reach the levels above 0.
+    for (int level = 0; level < ScreenCells::kLevels; ++level) {
+        EXPECT_GT(on_level[level], 20) << "level " << level;
+    }
 }
 
 }  // namespace
