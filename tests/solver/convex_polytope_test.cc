@@ -3,6 +3,7 @@
 // reusing storage and sharing one pass for the tolerance change no bit of any face.
 #include <gtest/gtest.h>
 #include <lixel/solver/convex_polytope.h>
+#include <lixel/solver/homogeneous.h>
 #include <lixel/solver/polygon.h>
 
 #include <algorithm>
@@ -339,6 +340,38 @@ TEST(PolytopeBounds, OfABoxAreTheBoundsOfItsPolytopeBitForBit) {
     }
     EXPECT_GT(empty, 4000);
     EXPECT_LT(empty, 12000);
+}
+
+// The scheduler asks whether every corner of a box lies behind a plane from one corner
+// (HighestCorner): its computed plane value must be the largest of the eight corners' computed
+// values, bit for bit, over seeded boxes and planes at every scale and sign, with zero and
+// negative-zero normal components and ties between corners.
+TEST(BoxCorners, TheHighestCornersValueIsTheLargestOfTheEightBitForBit) {
+    std::mt19937_64 rng(2931);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    int ties = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const double scale = std::pow(10.0, -9.0 + 18.0 * (trial % 19) / 18.0);
+        const Vec3 p = scale * Vec3(unit(rng), unit(rng), unit(rng));
+        const Vec3 q = p + scale * Vec3(unit(rng), unit(rng), unit(rng)).cwiseAbs();
+        Aabb box{p.cwiseMin(q), p.cwiseMax(q)};
+        if (trial % 5 == 0) box.max(trial % 3) = box.min(trial % 3);  // flat: corners tie
+        Vec4 plane(unit(rng), unit(rng), unit(rng), scale * unit(rng));
+        if (trial % 3 == 0) plane(trial % 7 % 3) = trial % 2 ? 0.0 : -0.0;
+        if (trial % 13 == 0) plane.head<3>() = plane.head<3>().normalized();
+        double largest = -std::numeric_limits<double>::infinity();
+        for (const Vec4& corner : BoxCorners(box)) largest = std::max(largest, plane.dot(corner));
+        const double highest = plane.dot(HighestCorner(box, plane));
+        ASSERT_EQ(highest, largest) << "trial " << trial;
+        // "Every corner at most v" for v at the largest value and just below it.
+        for (const double v : {largest, std::nextafter(largest, -1e300)}) {
+            bool every = true;
+            for (const Vec4& corner : BoxCorners(box)) every = every && plane.dot(corner) <= v;
+            ASSERT_EQ(highest <= v, every) << "trial " << trial;
+        }
+        ties += trial % 5 == 0;
+    }
+    EXPECT_GT(ties, 3000);
 }
 
 // The bounds are the ones Effect tests: a plane past a box's face by less than its tolerance is
