@@ -69,11 +69,9 @@ void GrowAxis(int& a, int& b, int size, int lo, int hi) {
 }  // namespace
 
 std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& plane,
-                                          const Vec4& light,
-                                          std::span<const ConvexPolytope* const> casters,
-                                          const std::vector<Vec3>& needed_polygon,
-                                          double thickness, int max_rects,
-                                          double size_ratio,
+                                          const Vec4& light, const Casters& casters,
+                                          const std::vector<Vec3>& needed_polygon, double thickness,
+                                          int max_rects, double size_ratio,
                                           const std::function<void()>& poll) {
     const int g = whole.lookup.guard;
     const LixelRect interior{g, g, whole.map.width - g, whole.map.height - g};
@@ -85,22 +83,23 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
                                       Vec2(accepted[2], accepted[3]), Vec2(accepted[0], accepted[3])};
     const std::vector<PlaneTest> cone = RegionCone(whole.map.matrix, plane, light, accepted);
     std::vector<LixelRect> rects;
-    for (const ConvexPolytope* caster : casters) {
+    for (const std::size_t caster : casters.indices) {
         if (poll) poll();  // a cancelled request's poll throws
+        const PolytopeBounds& bounds = casters.bounds[caster];
         // Wholly past a side of the region's light cone: no shadow there, however degenerate
         // the caster's own cone (CastersOnto skips these by the object tree).
-        if (OutsideRegionCone(caster->Bounds(), cone)) continue;
+        if (OutsideRegionCone(bounds, cone)) continue;
         // Most casters stand clear of the light and of the region's edges: their bounds'
         // corners decide the rectangle without the clips.
-        const CornerFootprint corners = CornerFootprintOf(whole.map.matrix, plane, light,
-                                                          caster->Bounds(), thickness, accepted);
+        const CornerFootprint corners =
+            CornerFootprintOf(whole.map.matrix, plane, light, bounds, thickness, accepted);
         if (corners.kind == CornerFootprint::Kind::kOutside) continue;
         LixelRect r;
         if (corners.kind == CornerFootprint::Kind::kInside) {
             r = RectAround(corners.images);
         } else {
             const std::vector<Vec2> image =
-                FootprintImage(whole.map.matrix, plane, light, *caster, region);
+                FootprintImage(whole.map.matrix, plane, light, casters.polytope(caster), region);
             if (image.empty()) continue;
             r = RectAround(image);
         }

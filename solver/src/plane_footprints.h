@@ -5,10 +5,21 @@
 #include <lixel/solver/convex_polytope.h>
 #include <lixel/solver/scheduler.h>
 
+#include <cstddef>
+#include <functional>
 #include <span>
 #include <vector>
 
 namespace lixel {
+
+// What SplitByFootprints reads of the casters: each one's bounds, and its polytope for the few
+// whose bounds' corners leave the footprint undecided (built then: the scheduler's boxes are
+// built when first asked for).
+struct Casters {
+    std::span<const std::size_t> indices;                        // the casters, in order
+    std::span<const PolytopeBounds> bounds;                      // by index
+    std::function<const ConvexPolytope&(std::size_t)> polytope;  // by index
+};
 
 // The maps that replace `whole` (a plane map over the needed polygon `needed_polygon` of the
 // unit plane `plane`): one map per merged footprint rectangle of `casters` (thickened boxes
@@ -20,11 +31,9 @@ namespace lixel {
 // of the geometric series size_ratio^k on each axis, centred and kept inside the plane's
 // rectangle, so a shadow that moves a little keeps its map's size (and an engine its atlas).
 std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& plane,
-                                          const Vec4& light,
-                                          std::span<const ConvexPolytope* const> casters,
-                                          const std::vector<Vec3>& needed_polygon,
-                                          double thickness, int max_rects,
-                                          double size_ratio = 0.0,
+                                          const Vec4& light, const Casters& casters,
+                                          const std::vector<Vec3>& needed_polygon, double thickness,
+                                          int max_rects, double size_ratio = 0.0,
                                           const std::function<void()>& poll = {});
 
 }  // namespace lixel

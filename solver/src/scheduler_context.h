@@ -43,7 +43,9 @@ struct Candidate {
 // The part of one object's box (thickened) in view and in front of every plane that hides its
 // back side: what some map must hold.
 struct ViewRegion {
-    const ConvexPolytope* region = nullptr;  // an object's box, or in Context::cut_regions
+    // In Context::cut_regions, or an object's box once built; nullptr for the object's whole
+    // box not built yet (RegionOf builds it, RegionBounds reads its bounds without).
+    const ConvexPolytope* region = nullptr;
     int object = -1;  // into PlanRequest::objects; -1 for the scene bounds when there are none
     // An infinite plane of interest the object lies on or behind (its box on the plane's back
     // side, the plane hiding that side, the box inside the scene bounds), else -1: then every
@@ -101,6 +103,15 @@ struct Context {
     std::vector<LeftOut> plane_left_out;           // from the candidate stage
     CancelPoll poll;                               // request.cancelled
 };
+
+// A visible region's polytope (an object's whole box built when first asked for) and its bounds
+// (a whole box's without building it: ObjectBoxes::bounds are its polytope's, bit for bit).
+inline const ConvexPolytope& RegionOf(const Context& c, const ViewRegion& v) {
+    return v.region != nullptr ? *v.region : c.object_boxes[v.object];
+}
+inline PolytopeBounds RegionBounds(const Context& c, const ViewRegion& v) {
+    return v.region != nullptr ? v.region->Bounds() : c.object_boxes.bounds()[v.object];
+}
 
 // --- scheduler_validation.cc
 

@@ -46,8 +46,8 @@ std::vector<UncoveredPiece> Uncovered(const Context& c, const std::vector<Planne
             if (held == 1) continue;
         }
         // Most regions of a crowded view lie inside some map's cone: nothing to subtract.
-        if (SubtractAllLeavesNothing(v.region->Bounds(), cone_tests)) continue;
-        for (ConvexPolytope& piece : SubtractAll(*v.region, std::span(cone_tests))) {
+        if (SubtractAllLeavesNothing(RegionBounds(c, v), cone_tests)) continue;
+        for (ConvexPolytope& piece : SubtractAll(RegionOf(c, v), std::span(cone_tests))) {
             out.push_back({std::move(piece), v.object});
         }
     }

@@ -60,8 +60,7 @@ namespace {
 // Of those, only the ones the object tree cannot prove wholly past a side of the light cone over
 // the map `m`'s lookup rectangle (RegionCone): SplitByFootprints would skip them by the same
 // test, so the list differs only in what it would have skipped.
-std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate& cand,
-                                               const PlannedMap& m) {
+std::vector<std::size_t> CastersOnto(const Context& c, const Candidate& cand, const PlannedMap& m) {
     const PlanRequest& r = c.request;
     std::vector<Vec4> shields;
     for (const PlaneOfInterest& p : r.planes) {
@@ -75,7 +74,7 @@ std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate
         RegionCone(m.map.matrix, cand.plane, c.light, LookupRectangle(m.map, m.lookup));
     std::vector<char> possible;
     c.object_tree.tree().MarkPossible(cone, possible);
-    std::vector<const ConvexPolytope*> casters;
+    std::vector<std::size_t> casters;
     for (size_t i = 0; i < r.objects.size(); ++i) {
         c.poll();
         if (!possible[i] || c.object_boxes.empty(i)) continue;
@@ -83,7 +82,7 @@ std::vector<const ConvexPolytope*> CastersOnto(const Context& c, const Candidate
         const bool shielded = std::any_of(shields.begin(), shields.end(), [&](const Vec4& s) {
             return s.dot(HighestCorner(box, s)) <= c.thickness;
         });
-        if (!shielded) casters.push_back(&c.object_boxes[i]);
+        if (!shielded) casters.push_back(i);
     }
     return casters;
 }
@@ -215,9 +214,13 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, const std::vect
             maps.push_back(std::move(m));
             continue;
         }
+        const std::vector<std::size_t> casters = CastersOnto(c, cand, m);
+        const Casters by_box{
+            casters, c.object_boxes.bounds(),
+            [&c](std::size_t i) -> const ConvexPolytope& { return c.object_boxes[i]; }};
         for (PlannedMap& piece :
-             SplitByFootprints(m, cand.plane, c.light, CastersOnto(c, cand, m), cand.polygon,
-                               c.thickness, std::min(r.footprints.max_per_plane, rects_left),
+             SplitByFootprints(m, cand.plane, c.light, by_box, cand.polygon, c.thickness,
+                               std::min(r.footprints.max_per_plane, rects_left),
                                r.coherence ? 1.0 / std::sqrt(1.0 - r.coherence->waste_bound) : 0.0,
                                [&c] { c.poll(); })) {
             if (piece.footprint) --rects_left;

@@ -269,11 +269,14 @@ void FindViewRegions(Context& c) {
     for (size_t i = 0; i < c.object_boxes.size(); ++i) {
         c.poll();
         if (!maybe_seen[i]) continue;
-        const ConvexPolytope& seen = maybe_seen[i] == ObjectTree::kInside
-                                         ? c.object_boxes[i]
-                                         : ClipInto(scratch, c.object_boxes[i], seen_planes);
-        if (seen.empty()) continue;
-        ViewRegion v{keep(seen), static_cast<int>(i), -1};
+        if (c.object_boxes.empty(i)) continue;  // as the clips of an empty polytope find
+        ViewRegion v{nullptr, static_cast<int>(i), -1};
+        // Held whole by every plane: the box itself, built only if a later step asks for it.
+        if (maybe_seen[i] != ObjectTree::kInside) {
+            const ConvexPolytope& seen = ClipInto(scratch, c.object_boxes[i], seen_planes);
+            if (seen.empty()) continue;
+            v.region = keep(seen);
+        }
         // A slab standing for the plane itself (a floor mesh at y = 0): its box, unthickened,
         // lies on the plane or behind it, so what the viewer sees of it is on the plane. The test
         // is exact, with no tolerance: a point above the plane by any amount has its light ray
