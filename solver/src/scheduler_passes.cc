@@ -1,8 +1,9 @@
 // The passes each map needs beyond depth, and the warning when second depth meets open casters.
-#include "scheduler_context.h"
-
 #include <algorithm>
+#include <cmath>
 #include <limits>
+
+#include "scheduler_context.h"
 
 namespace lixel::scheduling {
 
@@ -30,7 +31,16 @@ void VisitCasters(const Context& c, const PlannedMap& m, Wanted wanted, Visit vi
         if (m.role == MapRole::kPlane) {
             const Vec4& p = c.request.planes[m.plane_index].plane;
             const double n = p.head<3>().norm();
-            if (!(p.dot(HighestCorner(box, p)) / n > c.thickness)) continue;
+            double highest = p.dot(HighestCorner(box, p)) / n;
+            if (std::isnan(highest)) {
+                // An infinite thickened side (a box at the edge of double's range): the largest
+                // value over the corners that have one, as std::max from -inf keeps it.
+                highest = -std::numeric_limits<double>::infinity();
+                for (const Vec4& corner : BoxCorners(box)) {
+                    highest = std::max(highest, p.dot(corner) / n);
+                }
+            }
+            if (!(highest > c.thickness)) continue;
         }
         thread_local ConvexPolytope scratch;
         if (!ClipInto(scratch, c.object_boxes[i], cone_planes).empty() && !visit(o)) return;

@@ -16,12 +16,10 @@ ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes) {
         }
         return;
     }
-    // Each box's level and its span of that level's cells.
-    struct Filed {
-        int level = -1;  // -1: everywhere
-        std::array<int, 4> span{0, -1, 0, -1};
-    };
-    std::vector<Filed> filed(boxes.size());
+    // Each box's span of its level's cells, and the boxes of each level in index order (a box
+    // whose span is empty, nowhere on screen, on none).
+    std::vector<std::array<int, 4>> spans(boxes.size());
+    std::array<std::vector<std::uint32_t>, kLevels> by_level;
     const auto count = [](const std::array<int, 4>& span) {
         return std::max(0, span[1] - span[0] + 1) * std::max(0, span[3] - span[2] + 1);
     };
@@ -31,46 +29,43 @@ ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes) {
             continue;
         }
         const std::array<int, 4> cells = SpanOf(boxes[b]);
-        Filed& f = filed[b];
-        f.level = 0;
-        f.span = cells;
-        while (count(f.span) > kMaxCellsPerBox && f.level + 1 < kLevels) {
-            ++f.level;
-            for (int k = 0; k < 4; ++k) f.span[k] = Coarse(cells[k], f.level);
+        if (count(cells) == 0) continue;
+        std::array<int, 4>& span = spans[b];
+        span = cells;
+        int level = 0;
+        while (count(span) > kMaxCellsPerBox && level + 1 < kLevels) {
+            ++level;
+            for (int k = 0; k < 4; ++k) span[k] = Coarse(cells[k], level);
         }
+        by_level[level].push_back(static_cast<std::uint32_t>(b));
     }
     // On each level a counting sort in one array: offsets[k] counts cell k's boxes, then
     // (summed) is where its list ends; the boxes go in from the last down, each at its cell's
     // end less one, which leaves offsets[k] where the cell's list begins, in index order.
-    std::array<bool, kLevels> used{};
-    for (const Filed& f : filed) {
-        if (f.level >= 0) used[f.level] = true;
-    }
     for (int level = 0; level < kLevels; ++level) {
-        if (!used[level]) continue;
+        const std::vector<std::uint32_t>& filed = by_level[level];
+        if (filed.empty()) continue;
         any_filed_ = true;
         coarse_filed_ = coarse_filed_ || level > 0;
         const int side = Side(level);
         const int all = side * side;
         std::vector<std::size_t>& offsets = offsets_[level];
         offsets.assign(all + 1, 0);
-        for (const Filed& f : filed) {
-            if (f.level != level) continue;
-            for (int cy = f.span[2]; cy <= f.span[3]; ++cy) {
-                for (int cx = f.span[0]; cx <= f.span[1]; ++cx) ++offsets[cy * side + cx];
+        for (const std::uint32_t b : filed) {
+            const std::array<int, 4>& span = spans[b];
+            for (int cy = span[2]; cy <= span[3]; ++cy) {
+                for (int cx = span[0]; cx <= span[1]; ++cx) ++offsets[cy * side + cx];
             }
         }
         for (int k = 1; k < all; ++k) offsets[k] += offsets[k - 1];
         offsets[all] = offsets[all - 1];
         std::vector<std::uint32_t>& list = boxes_[level];
         list.resize(offsets[all]);
-        for (std::size_t b = boxes.size(); b-- > 0;) {
-            const Filed& f = filed[b];
-            if (f.level != level) continue;
-            for (int cy = f.span[2]; cy <= f.span[3]; ++cy) {
-                for (int cx = f.span[0]; cx <= f.span[1]; ++cx) {
-                    list[--offsets[cy * side + cx]] = static_cast<std::uint32_t>(b);
-                }
+        for (std::size_t f = filed.size(); f-- > 0;) {
+            const std::uint32_t b = filed[f];
+            const std::array<int, 4>& span = spans[b];
+            for (int cy = span[2]; cy <= span[3]; ++cy) {
+                for (int cx = span[0]; cx <= span[1]; ++cx) list[--offsets[cy * side + cx]] = b;
             }
         }
     }

@@ -361,6 +361,8 @@ TEST(BoxCorners, TheHighestCornersValueIsTheLargestOfTheEightBitForBit) {
         if (trial % 13 == 0) plane.head<3>() = plane.head<3>().normalized();
         double largest = -std::numeric_limits<double>::infinity();
         for (const Vec4& corner : BoxCorners(box)) largest = std::max(largest, plane.dot(corner));
+        int at_largest = 0;
+        for (const Vec4& corner : BoxCorners(box)) at_largest += plane.dot(corner) == largest;
         const double highest = plane.dot(HighestCorner(box, plane));
         ASSERT_EQ(highest, largest) << "trial " << trial;
         // "Every corner at most v" for v at the largest value and just below it.
@@ -369,9 +371,56 @@ TEST(BoxCorners, TheHighestCornersValueIsTheLargestOfTheEightBitForBit) {
             for (const Vec4& corner : BoxCorners(box)) every = every && plane.dot(corner) <= v;
             ASSERT_EQ(highest <= v, every) << "trial " << trial;
         }
-        ties += trial % 5 == 0;
+        ties += at_largest > 1;
     }
     EXPECT_GT(ties, 3000);
+    // At the edge of double's range. Finite corners (the request's boxes) whose sums overflow:
+    // "every corner at most v" is still "the highest corner at most v" for a finite v, NaN sums
+    // included (a
+    // corner's NaN comes from partial sums overflowing both ways, and the highest corner's
+    // partial sums overflow upward too). Infinite sides (a thickened box, which the passes test):
+    // where the highest corner's value is not NaN it is the largest of the corners' values that
+    // are not NaN, as std::max from -inf keeps them; the passes take every corner where it is.
+    const double inf = std::numeric_limits<double>::infinity();
+    const double big = std::numeric_limits<double>::max();
+    int overflows = 0, nan_highest = 0;
+    for (int trial = 0; trial < 8000; ++trial) {
+        const bool infinite = trial % 2 == 1;
+        const Vec3 a = Vec3(unit(rng), unit(rng), unit(rng)) * big;
+        const Vec3 b = Vec3(unit(rng), unit(rng), unit(rng)) * big;
+        Aabb box{a.cwiseMin(b), a.cwiseMax(b)};
+        if (infinite) {
+            box.min(trial % 3) = -inf;
+            if (trial % 4 == 1) box.max((trial + 1) % 3) = inf;
+        }
+        Vec4 plane(unit(rng), unit(rng), unit(rng), unit(rng) * (trial % 5 == 0 ? big : 1.0));
+        if (trial % 3 == 0) plane(trial % 7 % 3) = 0.0;
+        const double highest = plane.dot(HighestCorner(box, plane));
+        double largest = -inf;
+        bool some_nan = false, some_inf = false;
+        for (const Vec4& corner : BoxCorners(box)) {
+            const double v = plane.dot(corner);
+            largest = std::max(largest, v);
+            some_nan = some_nan || std::isnan(v);
+            some_inf = some_inf || std::isinf(v);
+        }
+        SCOPED_TRACE("trial " + std::to_string(trial) + " at double's edge");
+        overflows += !infinite && (some_nan || some_inf);
+        if (!infinite) {
+            // The callers' v is finite (0, the planning thickness).
+            for (const double v : {std::isfinite(largest) ? largest : 0.0, 0.0, big, -big}) {
+                bool every = true;
+                for (const Vec4& corner : BoxCorners(box)) every = every && plane.dot(corner) <= v;
+                ASSERT_EQ(highest <= v, every);
+            }
+        } else if (std::isnan(highest)) {
+            ++nan_highest;
+        } else {
+            ASSERT_EQ(highest, largest);
+        }
+    }
+    EXPECT_GT(overflows, 200);
+    EXPECT_GT(nan_highest, 100);
 }
 
 // The bounds are the ones Effect tests: a plane past a box's face by less than its tolerance is

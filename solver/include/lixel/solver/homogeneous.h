@@ -40,8 +40,11 @@ std::vector<Vec4> BoxCorners(const Aabb& box);
 
 // The corner of a box where plane . (x, 1) is largest: on each axis the max where the plane's
 // normal is positive there, else the min. A computed dot product is monotone in each coordinate
-// (every product and every rounded sum is), so its value at this corner is the largest any
-// corner's computed value takes: "every corner at most v" is "this corner at most v", exactly.
+// (every product and every rounded sum is), so where its value at this corner is not NaN it is
+// the largest of the corners' values that are not NaN. With finite coordinates and a finite v,
+// "every corner at most v" is "this corner at most v", exactly, sums that overflow included: a
+// corner's NaN comes from partial sums overflowing both ways, and this corner's overflow upward
+// too, so its value is +inf or NaN. With an infinite coordinate (0 x inf) that no longer holds.
 inline Vec4 HighestCorner(const Aabb& box, const Vec4& plane) {
     return {plane.x() > 0.0 ? box.max.x() : box.min.x(),
             plane.y() > 0.0 ? box.max.y() : box.min.y(),
