@@ -311,10 +311,50 @@ ClipEffect ConvexPolytope::Effect(const PlaneTest& t) const {
     return any_in ? ClipEffect::kCuts : ClipEffect::kKeepsNothing;
 }
 
+std::pair<ClipEffect, ClipEffect> ConvexPolytope::Effects(const PlaneTest& t,
+                                                          const PlaneTest& opposite) const {
+    if (empty() || !t.finite || t.at_infinity) return {Effect(t), Effect(opposite)};
+    const Vec4& p = t.unit;
+    const Vec3 n = p.head<3>();
+    const double tol = Tolerance();
+    // Effect's fast test on both sides: the opposite's lowest is this one's highest negated
+    // (the same corner on every axis where the normal is not zero, a zero term elsewhere, which
+    // moves at most the sign of a zero sum), and its slack is this one's.
+    const Extent& e = extent();
+    double lowest = p.w();
+    double highest = p.w();
+    for (int a = 0; a < 3; ++a) {
+        lowest += n(a) * (n(a) > 0.0 ? e.lo(a) : e.hi(a));
+        highest += n(a) * (n(a) > 0.0 ? e.hi(a) : e.lo(a));
+    }
+    const double slack =
+        16.0 * std::numeric_limits<double>::epsilon() * (t.n_sum * e.magnitude + std::abs(p.w()));
+    if (lowest - slack > tol) return {ClipEffect::kKeepsAll, ClipEffect::kKeepsNothing};
+    if (highest + slack < -tol) return {ClipEffect::kKeepsNothing, ClipEffect::kKeepsAll};
+    // Neither side's fast test decides (each is the other's mirrored): the vertices, whose
+    // opposite distances are these negated.
+    bool any_out = false;
+    bool any_in = false;
+    for (const FaceRange& f : faces_) {
+        for (const Vec3& x : std::span<const Vec3>(points_.data() + f.begin, f.count)) {
+            const double d = n.dot(x) + p.w();
+            any_out = any_out || d < -tol;
+            any_in = any_in || d > tol;
+        }
+        if (any_out && any_in) break;
+    }
+    const auto effect = [](bool out, bool in) {
+        if (!out) return ClipEffect::kKeepsAll;
+        return in ? ClipEffect::kCuts : ClipEffect::kKeepsNothing;
+    };
+    return {effect(any_out, any_in), effect(any_in, any_out)};
+}
+
 void ConvexPolytope::Clip(const Vec4& plane) { Clip(PlaneTest(plane)); }
 
-void ConvexPolytope::Clip(const PlaneTest& t) {
-    const ClipEffect effect = Effect(t);
+void ConvexPolytope::Clip(const PlaneTest& t) { Clip(t, Effect(t)); }
+
+void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
     if (effect == ClipEffect::kKeepsAll) return;
     whole_box_ = false;
     if (effect == ClipEffect::kKeepsNothing) {

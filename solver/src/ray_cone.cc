@@ -76,8 +76,7 @@ Subtracted SubtractInto(const ConvexPolytope& region, const RayConeTests& cone,
     thread_local ConvexPolytope outside;
     for (std::size_t k = 0; k < cone.inside.size(); ++k) {
         if (inside->empty()) break;
-        const ClipEffect beyond = inside->Effect(cone.outside[k]);
-        const ClipEffect within = inside->Effect(cone.inside[k]);
+        const auto [within, beyond] = inside->Effects(cone.inside[k], cone.outside[k]);
         if (inside == &region && pieces.size() == first_piece && beyond == ClipEffect::kKeepsAll &&
             within == ClipEffect::kKeepsNothing) {
             return Subtracted::kWhole;  // the only piece, and nothing is left inside
@@ -90,7 +89,7 @@ Subtracted SubtractInto(const ConvexPolytope& region, const RayConeTests& cone,
                 break;
             case ClipEffect::kCuts:
                 outside = *inside;
-                outside.Clip(cone.outside[k]);
+                outside.Clip(cone.outside[k], beyond);
                 if (!outside.empty()) pieces.push_back(outside);
                 break;
         }
@@ -99,7 +98,7 @@ Subtracted SubtractInto(const ConvexPolytope& region, const RayConeTests& cone,
             cut = region;
             inside = &cut;
         }
-        cut.Clip(cone.inside[k]);
+        cut.Clip(cone.inside[k], within);
     }
     return Subtracted::kPieces;
 }

@@ -178,6 +178,56 @@ TEST(ConvexPolytope, ClipInPlaceMatchesAPlainCopyingClipBitForBit) {
     }
 }
 
+// A set difference tests both sides of each plane (Subtract): Effects(plane, opposite) must be
+// Effect of each, bit for bit, over seeded polytopes at every scale, cut ones among them, and
+// planes through them, through a vertex or along a face (on the cut within the tolerance),
+// missing them either way, with zero normal components, unnormalised, at infinity and not
+// finite; and clipping with the effect given must be clipping without it.
+TEST(ConvexPolytope, EffectsAreTheEffectOfEachSideBitForBit) {
+    std::mt19937_64 rng(12352);
+    int decided = 0, cut = 0, looped = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const double scale = std::pow(10.0, Uniform(rng, -6.0, 6.0));
+        const Vec3 centre =
+            scale * Vec3(Uniform(rng, -5, 5), Uniform(rng, -5, 5), Uniform(rng, -5, 5));
+        const Vec3 half =
+            scale * Vec3(Uniform(rng, 0.1, 3), Uniform(rng, 0.1, 3), Uniform(rng, 0.1, 3));
+        ConvexPolytope polytope = ConvexPolytope::FromBox(Aabb{centre - half, centre + half});
+        for (int step = 0; step < 12 && !polytope.empty(); ++step) {
+            Vec3 n = RandomUnit(rng);
+            if (step % 4 == 1) n(step % 3) = 0.0;
+            Vec3 through = centre + scale * Vec3(Uniform(rng, -4, 4), Uniform(rng, -4, 4),
+                                                 Uniform(rng, -4, 4));
+            const int kind = static_cast<int>(rng() % 6);
+            if (kind == 1) {
+                through = polytope.face_polygon(rng() % polytope.face_count())[0];
+            }
+            Vec4 plane(n.x(), n.y(), n.z(), -n.dot(through));
+            if (kind == 2) plane = -polytope.face_plane(rng() % polytope.face_count());
+            if (kind == 3) plane *= Uniform(rng, 1e-3, 1e3);
+            if (kind == 4) plane = Vec4(0, 0, 0, trial % 2 ? 1.0 : -1.0);  // at infinity
+            if (kind == 5 && step == 0) plane.x() = std::numeric_limits<double>::infinity();
+            const PlaneTest t(plane), opposite(Vec4(-plane));
+            const auto [side, other] = polytope.Effects(t, opposite);
+            SCOPED_TRACE("trial " + std::to_string(trial) + " step " + std::to_string(step));
+            ASSERT_EQ(side, polytope.Effect(t));
+            ASSERT_EQ(other, polytope.Effect(opposite));
+            decided += side != ClipEffect::kCuts;
+            cut += side == ClipEffect::kCuts;
+            // The cut side's vertices decide where the bounds cannot.
+            looped += side == ClipEffect::kKeepsAll && kind == 1;
+            ConvexPolytope given = polytope;
+            given.Clip(t, side);
+            polytope.Clip(t);
+            ExpectSameFaces(given, Reference{polytope.faces()}, step);
+            if (polytope.empty()) break;
+        }
+    }
+    EXPECT_GT(decided, 1000);
+    EXPECT_GT(cut, 300);
+    EXPECT_GT(looped, 20);
+}
+
 // Size and tolerance are kept with the faces between clips; copies, assignments into a reused
 // polytope and clips that leave it whole must all report what the faces themselves give.
 TEST(ConvexPolytope, KeptExtentMatchesTheFacesThroughClipsCopiesAndAssignments) {

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace lixel {
@@ -92,11 +93,20 @@ class ConvexPolytope {
     // times per plan).
     void Clip(const Vec4& plane);
     void Clip(const PlaneTest& plane);
+    // Clip(plane) where `effect` is Effect(plane), already taken: the same result without
+    // taking it again.
+    void Clip(const PlaneTest& plane, ClipEffect effect);
 
     // What Clip(plane) would do, by the same tests, without changing the polytope: callers that
     // clip a copy by many planes need no copy while the planes keep all of it.
     ClipEffect Effect(const Vec4& plane) const;
     ClipEffect Effect(const PlaneTest& plane) const;
+    // Effect(plane) and Effect(opposite), where `opposite` is PlaneTest(-plane.plane), from one
+    // pass over the vertices: the opposite's unit plane is this one's negated, bit for bit, so
+    // each of its distances and bounds is this one's negated and every test comes out mirrored
+    // (a set difference tests both sides of every plane).
+    std::pair<ClipEffect, ClipEffect> Effects(const PlaneTest& plane,
+                                              const PlaneTest& opposite) const;
 
     bool empty() const noexcept { return faces_.size() < 4; }
     // The faces, copied out (for callers outside the scheduler's loops: the polytope keeps its
