@@ -114,12 +114,13 @@ std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Ve
     thread_local ConvexPolytope cut;
     const ConvexPolytope* part = &caster;
     for (const PlaneTest& side : {PlaneTest(plane), PlaneTest(*level)}) {
-        if (part->Effect(side) == ClipEffect::kKeepsAll) continue;
+        const ClipEffect effect = part->Effect(side);
+        if (effect == ClipEffect::kKeepsAll) continue;
         if (part != &cut) {
             cut = *part;
             part = &cut;
         }
-        cut.Clip(side);
+        cut.Clip(side, effect);
     }
     if (part->empty()) return {};
     thread_local std::vector<Eigen::Vector3d> generators;

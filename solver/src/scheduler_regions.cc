@@ -36,8 +36,9 @@ ConvexPolytope ClippedByAll(ConvexPolytope polytope, std::span<const PlaneTest> 
 const ConvexPolytope& ClipInto(ConvexPolytope& out, const ConvexPolytope& polytope,
                                std::span<const PlaneTest> planes) {
     size_t k = 0;
+    ClipEffect effect = ClipEffect::kKeepsAll;
     for (; k < planes.size(); ++k) {
-        const ClipEffect effect = polytope.Effect(planes[k]);
+        effect = polytope.Effect(planes[k]);
         if (effect == ClipEffect::kKeepsAll) continue;
         if (effect == ClipEffect::kKeepsNothing) {
             out = ConvexPolytope();
@@ -47,7 +48,8 @@ const ConvexPolytope& ClipInto(ConvexPolytope& out, const ConvexPolytope& polyto
     }
     if (k == planes.size()) return polytope;
     out = polytope;
-    for (; k < planes.size(); ++k) {
+    out.Clip(planes[k], effect);  // the cut just found, on the copy
+    for (++k; k < planes.size(); ++k) {
         if (out.empty()) break;
         out.Clip(planes[k]);
     }
