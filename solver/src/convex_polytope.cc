@@ -274,80 +274,60 @@ bool PolytopeBounds::InsideOf(const PlaneTest& t) const {
 
 ClipEffect ConvexPolytope::Effect(const Vec4& plane) const { return Effect(PlaneTest(plane)); }
 
+inline ConvexPolytope::Sides ConvexPolytope::SidesOf(const PlaneTest& t) const {
+    const Vec4& p = t.unit;
+    const Vec3 n = p.head<3>();
+    const double tol = Tolerance();
+    // The bounds' support: every vertex's n . x + d lies between `lowest` and `highest`, and a
+    // computed value strays from the exact one by a few ulps of the terms' sizes, so a margin of
+    // 16 ulps decides for every vertex at once when the box is clear of the cut. The opposite
+    // plane's lowest is this one's highest negated (the same corner on every axis where the
+    // normal is not zero, a zero term elsewhere, which moves at most the sign of a zero sum),
+    // and its slack is this one's: its fast test is this one's mirrored.
+    const Extent& e = extent();
+    double lowest = p.w();
+    double highest = p.w();
+    for (int a = 0; a < 3; ++a) {
+        lowest += n(a) * (n(a) > 0.0 ? e.lo(a) : e.hi(a));
+        highest += n(a) * (n(a) > 0.0 ? e.hi(a) : e.lo(a));
+    }
+    const double slack =
+        16.0 * std::numeric_limits<double>::epsilon() * (t.n_sum * e.magnitude + std::abs(p.w()));
+    if (lowest - slack > tol) return {false, true};
+    if (highest + slack < -tol) return {true, false};
+    Sides sides;
+    for (const FaceRange& f : faces_) {
+        for (const Vec3& x : std::span<const Vec3>(points_.data() + f.begin, f.count)) {
+            const double d = n.dot(x) + p.w();
+            sides.out = sides.out || d < -tol;
+            sides.in = sides.in || d > tol;
+        }
+        if (sides.out && sides.in) break;
+    }
+    return sides;
+}
+
+ClipEffect ConvexPolytope::EffectOf(Sides sides) {
+    if (!sides.out) return ClipEffect::kKeepsAll;
+    return sides.in ? ClipEffect::kCuts : ClipEffect::kKeepsNothing;
+}
+
 ClipEffect ConvexPolytope::Effect(const PlaneTest& t) const {
     if (empty() || !t.finite) return ClipEffect::kKeepsNothing;
     if (t.at_infinity) {
         // A plane at infinity (e.g. the far plane of an infinite projection): its sign decides.
         return t.plane.w() >= 0.0 ? ClipEffect::kKeepsAll : ClipEffect::kKeepsNothing;
     }
-    const Vec4& p = t.unit;
-    const Vec3 n = p.head<3>();
-    const double tol = Tolerance();
-    // The bounds' support: every vertex's n . x + d lies between `lowest` and `highest`, and a
-    // computed value strays from the exact one by a few ulps of the terms' sizes, so a margin of
-    // 16 ulps decides for every vertex at once when the box is clear of the cut.
-    const Extent& e = extent();
-    double lowest = p.w();
-    double highest = p.w();
-    for (int a = 0; a < 3; ++a) {
-        lowest += n(a) * (n(a) > 0.0 ? e.lo(a) : e.hi(a));
-        highest += n(a) * (n(a) > 0.0 ? e.hi(a) : e.lo(a));
-    }
-    const double slack =
-        16.0 * std::numeric_limits<double>::epsilon() * (t.n_sum * e.magnitude + std::abs(p.w()));
-    if (lowest - slack > tol) return ClipEffect::kKeepsAll;
-    if (highest + slack < -tol) return ClipEffect::kKeepsNothing;
-    bool any_out = false;
-    bool any_in = false;
-    for (const FaceRange& f : faces_) {
-        for (const Vec3& x : std::span<const Vec3>(points_.data() + f.begin, f.count)) {
-            const double d = n.dot(x) + p.w();
-            any_out = any_out || d < -tol;
-            any_in = any_in || d > tol;
-        }
-        if (any_out && any_in) break;
-    }
-    if (!any_out) return ClipEffect::kKeepsAll;
-    return any_in ? ClipEffect::kCuts : ClipEffect::kKeepsNothing;
+    return EffectOf(SidesOf(t));
 }
 
 std::pair<ClipEffect, ClipEffect> ConvexPolytope::Effects(const PlaneTest& t,
                                                           const PlaneTest& opposite) const {
     if (empty() || !t.finite || t.at_infinity) return {Effect(t), Effect(opposite)};
-    const Vec4& p = t.unit;
-    const Vec3 n = p.head<3>();
-    const double tol = Tolerance();
-    // Effect's fast test on both sides: the opposite's lowest is this one's highest negated
-    // (the same corner on every axis where the normal is not zero, a zero term elsewhere, which
-    // moves at most the sign of a zero sum), and its slack is this one's.
-    const Extent& e = extent();
-    double lowest = p.w();
-    double highest = p.w();
-    for (int a = 0; a < 3; ++a) {
-        lowest += n(a) * (n(a) > 0.0 ? e.lo(a) : e.hi(a));
-        highest += n(a) * (n(a) > 0.0 ? e.hi(a) : e.lo(a));
-    }
-    const double slack =
-        16.0 * std::numeric_limits<double>::epsilon() * (t.n_sum * e.magnitude + std::abs(p.w()));
-    if (lowest - slack > tol) return {ClipEffect::kKeepsAll, ClipEffect::kKeepsNothing};
-    if (highest + slack < -tol) return {ClipEffect::kKeepsNothing, ClipEffect::kKeepsAll};
-    // Neither side's fast test decides (each is the other's mirrored): the vertices, whose
-    // opposite distances are these negated.
-    bool any_out = false;
-    bool any_in = false;
-    for (const FaceRange& f : faces_) {
-        for (const Vec3& x : std::span<const Vec3>(points_.data() + f.begin, f.count)) {
-            const double d = n.dot(x) + p.w();
-            any_out = any_out || d < -tol;
-            any_in = any_in || d > tol;
-        }
-        if (any_out && any_in) break;
-    }
-    const auto effect = [](bool out, bool in) {
-        if (!out) return ClipEffect::kKeepsAll;
-        return in ? ClipEffect::kCuts : ClipEffect::kKeepsNothing;
-    };
-    return {effect(any_out, any_in), effect(any_in, any_out)};
+    // The opposite's distances are these negated: its vertices out are these in, and the other
+    // way round.
+    const Sides sides = SidesOf(t);
+    return {EffectOf(sides), EffectOf({sides.in, sides.out})};
 }
 
 void ConvexPolytope::Clip(const Vec4& plane) { Clip(PlaneTest(plane)); }

@@ -140,6 +140,16 @@ class ConvexPolytope {
     double SignedDistance(const Vec3& p) const;
 
   private:
+    // Whether some vertex lies past the plane's tolerance outside it (`out`) and inside it
+    // (`in`), as Effect's tests find them: a finite plane not at infinity, a polytope not empty.
+    // Where the bounds decide alone, the side they rule out is false and the other true.
+    struct Sides {
+        bool out = false;
+        bool in = false;
+    };
+    Sides SidesOf(const PlaneTest& plane) const;
+    static ClipEffect EffectOf(Sides sides);
+
     // The vertices' bounds, kept with the faces: every Clip needs the tolerance, and most clips
     // leave the polytope whole, so it is recomputed only when the faces change.
     struct Extent {
