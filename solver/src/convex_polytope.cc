@@ -439,4 +439,27 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
     }
 }
 
+const ConvexPolytope& ClipInto(ConvexPolytope& out, const ConvexPolytope& polytope,
+                               std::span<const PlaneTest> planes) {
+    size_t k = 0;
+    ClipEffect effect = ClipEffect::kKeepsAll;
+    for (; k < planes.size(); ++k) {
+        effect = polytope.Effect(planes[k]);
+        if (effect == ClipEffect::kKeepsAll) continue;
+        if (effect == ClipEffect::kKeepsNothing) {
+            out = ConvexPolytope();
+            return out;
+        }
+        break;
+    }
+    if (k == planes.size()) return polytope;
+    out = polytope;
+    out.Clip(planes[k], effect);  // the cut just found, on the copy
+    for (++k; k < planes.size(); ++k) {
+        if (out.empty()) break;
+        out.Clip(planes[k]);
+    }
+    return out;
+}
+
 }  // namespace lixel

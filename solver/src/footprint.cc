@@ -112,20 +112,12 @@ std::vector<Vec2> FootprintImage(const Mat4& matrix, const Vec4& plane, const Ve
     // The caster's part that can cast onto the plane: on its lit side, P . X >= 0, and no
     // higher than the light. Most casters lie wholly there: the caster itself, without a copy.
     thread_local ConvexPolytope cut;
-    const ConvexPolytope* part = &caster;
-    for (const PlaneTest& side : {PlaneTest(plane), PlaneTest(*level)}) {
-        const ClipEffect effect = part->Effect(side);
-        if (effect == ClipEffect::kKeepsAll) continue;
-        if (part != &cut) {
-            cut = *part;
-            part = &cut;
-        }
-        cut.Clip(side, effect);
-    }
-    if (part->empty()) return {};
+    const PlaneTest sides[] = {PlaneTest(plane), PlaneTest(*level)};
+    const ConvexPolytope& part = ClipInto(cut, caster, sides);
+    if (part.empty()) return {};
     thread_local std::vector<Eigen::Vector3d> generators;
     generators.clear();
-    for (const Vec3& v : part->vertices()) {
+    for (const Vec3& v : part.vertices()) {
         const Vec4 h = matrix * Point(v);
         const Eigen::Vector3d g(h.x(), h.y(), h.w());
         if (!g.allFinite()) return needed_image;

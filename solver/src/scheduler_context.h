@@ -133,8 +133,6 @@ const PreviousMap* PreviousOf(const PlanRequest& r, MapRole role, int plane_inde
 
 Aabb Thickened(const Aabb& box, double thickness);
 ConvexPolytope ClippedByAll(ConvexPolytope polytope, std::span<const PlaneTest> planes);
-const ConvexPolytope& ClipInto(ConvexPolytope& out, const ConvexPolytope& polytope,
-                               std::span<const PlaneTest> planes);
 bool MeetingLine(const Vec4& a, const Vec4& b, Vec4& p0, Vec4& p1);
 Eigen::Vector3d ImageLine(const Mat4& m, const Vec4& a, const Vec4& b, const Vec3& inside);
 std::vector<Vec2> ImageHull(const Mat4& m, const std::vector<Vec4>& points);

@@ -30,32 +30,6 @@ ConvexPolytope ClippedByAll(ConvexPolytope polytope, std::span<const PlaneTest> 
     return polytope;
 }
 
-// ClippedByAll without copying while the planes keep all of `polytope` (the common case): the
-// result is `polytope` itself then, or `out` (whose storage copy-assignment reuses, so a
-// per-thread scratch spares the allocations of a fresh copy) once some plane cuts it.
-const ConvexPolytope& ClipInto(ConvexPolytope& out, const ConvexPolytope& polytope,
-                               std::span<const PlaneTest> planes) {
-    size_t k = 0;
-    ClipEffect effect = ClipEffect::kKeepsAll;
-    for (; k < planes.size(); ++k) {
-        effect = polytope.Effect(planes[k]);
-        if (effect == ClipEffect::kKeepsAll) continue;
-        if (effect == ClipEffect::kKeepsNothing) {
-            out = ConvexPolytope();
-            return out;
-        }
-        break;
-    }
-    if (k == planes.size()) return polytope;
-    out = polytope;
-    out.Clip(planes[k], effect);  // the cut just found, on the copy
-    for (++k; k < planes.size(); ++k) {
-        if (out.empty()) break;
-        out.Clip(planes[k]);
-    }
-    return out;
-}
-
 // Two finite points on the line where two planes meet; false for (near) parallel planes.
 bool MeetingLine(const Vec4& a, const Vec4& b, Vec4& p0, Vec4& p1) {
     const Vec3 direction = a.head<3>().cross(b.head<3>());

@@ -173,4 +173,11 @@ class ConvexPolytope {
     bool whole_box_ = false;
 };
 
+// `polytope` clipped by every plane in order, without copying while the planes keep all of it
+// (the common case): the result is `polytope` itself then, or `out` (whose storage
+// copy-assignment reuses, so a per-thread scratch spares the allocations of a fresh copy) once
+// some plane cuts it, or empty.
+const ConvexPolytope& ClipInto(ConvexPolytope& out, const ConvexPolytope& polytope,
+                               std::span<const PlaneTest> planes);
+
 }  // namespace lixel
