@@ -1,9 +1,9 @@
 // The passes each map needs beyond depth, and the warning when second depth meets open casters.
+#include "scheduler_context.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include "scheduler_context.h"
 
 namespace lixel::scheduling {
 
