@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <string>
 
+#include "rect_cover.h"
+
 namespace lixel {
 
 namespace {
@@ -83,6 +85,12 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
                                       Vec2(accepted[2], accepted[3]), Vec2(accepted[0], accepted[3])};
     const std::vector<PlaneTest> cone = RegionCone(whole.map.matrix, plane, light, accepted);
     std::vector<LixelRect> rects;
+    // Once the rectangles cover the interior, so do the merged ones (each covers its inputs) and
+    // the grown ones (each holds what it grew from), and with their guard bands they cover the
+    // whole map: their areas sum to at least its width x height, and the test below keeps
+    // `whole`. The casters not read yet cannot change that, so a crowded plane stops here.
+    const bool may_cover = whole.lixels <= std::int64_t{whole.map.width} * whole.map.height;
+    RectCover cover(may_cover ? interior : LixelRect{});
     for (const std::size_t caster : casters.indices) {
         if (poll) poll();  // a cancelled request's poll throws
         const PolytopeBounds& bounds = casters.bounds[caster];
@@ -105,7 +113,10 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
         }
         r = {std::max(r.x0, interior.x0), std::max(r.y0, interior.y0),
              std::min(r.x1, interior.x1), std::min(r.y1, interior.y1)};
-        if (r.x1 > r.x0 && r.y1 > r.y0) rects.push_back(r);
+        if (r.x1 > r.x0 && r.y1 > r.y0) {
+            rects.push_back(r);
+            if (cover.Covers(rects)) return {whole};
+        }
     }
     rects = MergeRects(std::move(rects), g, max_rects);
     if (size_ratio > 1.0) {
