@@ -86,10 +86,12 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
     const std::vector<PlaneTest> cone = RegionCone(whole.map.matrix, plane, light, accepted);
     std::vector<LixelRect> rects;
     // Once the rectangles cover the interior, so do the merged ones (each covers its inputs) and
-    // the grown ones (each holds what it grew from), and with their guard bands they cover the
-    // whole map: their areas sum to at least its width x height, and the test below keeps
-    // `whole`. The casters not read yet cannot change that, so a crowded plane stops here.
-    const bool may_cover = whole.lixels <= std::int64_t{whole.map.width} * whole.map.height;
+    // the grown ones (each holds what it grew from), and with their guard bands (g >= 0) they
+    // cover the whole map: their areas sum to at least its width x height, at least
+    // whole.lixels, and the test below keeps `whole`. The casters not read yet cannot change
+    // that, so a crowded plane stops here, without their polls.
+    const bool may_cover =
+        g >= 0 && whole.lixels <= std::int64_t{whole.map.width} * whole.map.height;
     RectCover cover(may_cover ? interior : LixelRect{});
     for (const std::size_t caster : casters.indices) {
         if (poll) poll();  // a cancelled request's poll throws

@@ -32,7 +32,7 @@ void RectCover::Bits::Set(int from, int to) {
 RectCover::RectCover(const LixelRect& area) : area_(area) {
     const std::int64_t width = std::int64_t{area.x1} - area.x0;
     const std::int64_t height = std::int64_t{area.y1} - area.y0;
-    enabled_ = width > 0 && height > 0 && width * height <= kMaxLixels;
+    enabled_ = width > 0 && height > 0 && ((width + 63) / 64) * ((height + 63) / 64) <= kMaxBlocks;
     if (enabled_) bare_ = width * height;
 }
 
@@ -45,7 +45,6 @@ void RectCover::ReadEdges(const LixelRect& r) {
 }
 
 bool RectCover::CoversFrom(std::span<const LixelRect> rects) {
-    if (!enabled_) return false;
     if (bits_.empty()) {
         if (edges_[0].words.empty()) {  // the first call: nothing allocated before a rectangle
             const int width = area_.x1 - area_.x0, height = area_.y1 - area_.y0;

@@ -21,15 +21,18 @@ namespace lixel {
 // skips the blocks already full: the list of a crowded plane covers each lixel many times over.
 class RectCover {
   public:
-    // Areas over this many lixels are never proven covered (their bitmap would pass 2 MiB).
-    static constexpr std::int64_t kMaxLixels = std::int64_t{1} << 24;
+    // Areas over this many 64 x 64 blocks (a thin one is padded to whole blocks) are never
+    // proven covered: their bitmap would pass 2 MiB. 4096 x 4096 lixels is the largest square.
+    static constexpr std::int64_t kMaxBlocks = 4096;
 
-    // Every rectangle given must lie inside `area` and hold at least one lixel.
+    // Every rectangle given must lie inside `area` and hold at least one lixel. An empty area
+    // (or one over kMaxBlocks) takes any rectangles and is never covered.
     explicit RectCover(const LixelRect& area);
 
     bool Covers(std::span<const LixelRect> rects) {
         // Most rectangles of a plane touch none of its edges: while some edge lixel is bare, such
         // a one only adds its area (it cannot complete a cover the edges lack).
+        if (!enabled_) return false;
         if (rects.size() == read_ + 1 && !edges_covered_) {
             const LixelRect& r = rects.back();
             if (r.x0 != area_.x0 && r.y0 != area_.y0 && r.x1 != area_.x1 && r.y1 != area_.y1) {
@@ -57,10 +60,12 @@ class RectCover {
     bool enabled_ = false;
     std::size_t read_ = 0;     // rectangles read so far
     Bits edges_[4];            // the rows y0 and y1 - 1, the columns x0 and x1 - 1
-    bool edges_covered_ = false;
-    std::int64_t summed_ = 0;  // the rectangles' areas while the bitmap is not built
+    bool edges_covered_ = false;  // once true, every rectangle goes through CoversFrom
+    std::int64_t summed_ = 0;     // the rectangles' areas while the bitmap is not built
     // The bitmap: block (bx, by) is bits_[(by * blocks_across_ + bx) * 64 + row], bit x of the
-    // row its lixel x; bare_ per block, and in all.
+    // row its lixel x; bare_ per block, and in all (the area's lixels before it is built, when
+    // the summed areas are weighed against it). Once built, a rectangle costs at most a word per
+    // row of each block it meets that is not yet full.
     int blocks_across_ = 0;
     std::vector<std::uint64_t> bits_;
     std::vector<std::int32_t> block_bare_;

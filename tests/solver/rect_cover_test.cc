@@ -109,15 +109,22 @@ TEST(RectCover, NamedCases) {
         rects.push_back({1, 1, 89, 69});
         EXPECT_TRUE(cover.Covers(rects));
     }
-    // An empty area, and one over the bitmap's limit, are never proven covered.
+    // Areas at the bitmap's limit of 4096 blocks are proven covered, square or one block thin;
+    // a block more, or an empty area, never.
     {
         RectCover empty({5, 5, 5, 9});
         const std::vector<LixelRect> none;
         EXPECT_FALSE(empty.Covers(none));
-        const int side = 4097;  // 4097^2 > 2^24
-        RectCover huge({0, 0, side, side});
-        const std::vector<LixelRect> whole = {{0, 0, side, side}};
-        EXPECT_FALSE(huge.Covers(whole));
+        for (const LixelRect& area :
+             {LixelRect{0, 0, 4096, 4096}, LixelRect{-3, 7, -2, 7 + 64 * 4096},
+              LixelRect{0, 0, 4096, 4097}, LixelRect{-3, 7, -2, 8 + 64 * 4096}}) {
+            RectCover cover(area);
+            const std::int64_t blocks = (std::int64_t{area.x1 - area.x0} + 63) / 64 *
+                                        ((std::int64_t{area.y1 - area.y0} + 63) / 64);
+            const std::vector<LixelRect> whole = {area};
+            EXPECT_EQ(cover.Covers(whole), blocks <= RectCover::kMaxBlocks)
+                << area.x1 - area.x0 << " x " << area.y1 - area.y0;
+        }
     }
 }
 
