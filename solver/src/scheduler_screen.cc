@@ -7,25 +7,28 @@
 
 namespace lixel::scheduling {
 
-ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes) {
+ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes,
+                         std::span<const std::uint32_t> order) {
+    const auto box_at = [&](std::size_t k) {
+        return order.empty() ? static_cast<std::uint32_t>(k) : order[k];
+    };
     // Few boxes: every ray and tile tries each (with Disjoint's test, as `everywhere` boxes are),
     // which costs less than a pass over the kCells^2 cells to file them.
     if (boxes.size() <= kFewBoxes) {
-        for (std::size_t b = 0; b < boxes.size(); ++b) {
-            everywhere_.push_back(static_cast<std::uint32_t>(b));
-        }
+        for (std::size_t at = 0; at < boxes.size(); ++at) everywhere_.push_back(box_at(at));
         return;
     }
-    // Each box's span of its level's cells, and the boxes of each level in index order (a box
-    // whose span is empty, nowhere on screen, on none).
+    // Each box's span of its level's cells, and the boxes of each level in order (a box whose
+    // span is empty, nowhere on screen, on none).
     std::vector<std::array<int, 4>> spans(boxes.size());
     std::array<std::vector<std::uint32_t>, kLevels> by_level;
     const auto count = [](const std::array<int, 4>& span) {
         return std::max(0, span[1] - span[0] + 1) * std::max(0, span[3] - span[2] + 1);
     };
-    for (std::size_t b = 0; b < boxes.size(); ++b) {
+    for (std::size_t at = 0; at < boxes.size(); ++at) {
+        const std::uint32_t b = box_at(at);
         if (!boxes[b].valid) {
-            everywhere_.push_back(static_cast<std::uint32_t>(b));
+            everywhere_.push_back(b);
             continue;
         }
         const std::array<int, 4> cells = SpanOf(boxes[b]);
@@ -37,11 +40,11 @@ ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes) {
             ++level;
             for (int k = 0; k < 4; ++k) span[k] = Coarse(cells[k], level);
         }
-        by_level[level].push_back(static_cast<std::uint32_t>(b));
+        by_level[level].push_back(b);
     }
     // On each level a counting sort in one array: offsets[k] counts cell k's boxes, then
     // (summed) is where its list ends; the boxes go in from the last down, each at its cell's
-    // end less one, which leaves offsets[k] where the cell's list begins, in index order.
+    // end less one, which leaves offsets[k] where the cell's list begins, in the boxes' order.
     for (int level = 0; level < kLevels; ++level) {
         const std::vector<std::uint32_t>& filed = by_level[level];
         if (filed.empty()) continue;

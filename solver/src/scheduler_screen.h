@@ -102,10 +102,15 @@ class ScreenCells {
     static constexpr int Side(int level) { return Coarse(kCells - 1, level) + 1; }
 
     ScreenCells() = default;
-    explicit ScreenCells(const std::vector<ScreenRect>& boxes);
+    // `order`: the boxes' indices in the order every list keeps (each once), or empty for index
+    // order. The pixel estimate gives them nearest first, so that a ray can stop a list at the
+    // first box beyond its hit.
+    explicit ScreenCells(const std::vector<ScreenRect>& boxes,
+                         std::span<const std::uint32_t> order = {});
 
-    // The boxes filed under `level`'s cell (cx, cy), in index order; the level-0 cell of sample
-    // (sx, sy) is (min(sx, kCells - 1), min(sy, kCells - 1)). Each box is filed on one level.
+    // The boxes filed under `level`'s cell (cx, cy), in the constructor's order; the level-0
+    // cell of sample (sx, sy) is (min(sx, kCells - 1), min(sy, kCells - 1)). Each box is filed
+    // on one level.
     std::span<const std::uint32_t> Cell(int cx, int cy, int level = 0) const {
         const std::vector<std::size_t>& offsets = offsets_[level];
         if (offsets.empty()) return {};  // no box on this level
@@ -113,7 +118,7 @@ class ScreenCells {
         const std::uint32_t* boxes = boxes_[level].data();
         return {boxes + offsets[k], boxes + offsets[k + 1]};
     }
-    const std::vector<std::uint32_t>& everywhere() const { return everywhere_; }
+    const std::vector<std::uint32_t>& everywhere() const { return everywhere_; }  // in order too
     // Whether any cell of `level` holds a box.
     bool filed(int level) const { return !offsets_[level].empty(); }
     // Whether any cell holds a box (false when every box is `everywhere`), and any cell above

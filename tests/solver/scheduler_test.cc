@@ -624,6 +624,55 @@ TEST(Scheduler, ExpectedPixelsEqualTracingEveryRayOnRandomRooms) {
     EXPECT_GT(compared, 100);
 }
 
+// A crowd of boxes (over kBoxesByDepth in scheduler_pixels.cc: the cells list them nearest first
+// and a traced ray stops each list at its first box beyond its hit): the counts must still be
+// those of tracing every ray against every box, with boxes in view at every depth, stacked,
+// touching, beside the view and behind the eye, under viewers looking across, down onto and up
+// from the room.
+TEST(Scheduler, ExpectedPixelsEqualTracingEveryRayInACrowd) {
+    std::mt19937_64 rng(20261206);
+    int compared = 0;
+    for (int i = 0; i < 6; ++i) {
+        PlanRequest r = FloorWallRequest();
+        r.scene_bounds = Aabb{Vec3(-10, -0.1, -5.1), Vec3(10, 8, 10)};
+        const int boxes = 2000 + 150 * i;
+        for (int k = 0; static_cast<int>(r.objects.size()) < boxes; ++k) {
+            const Vec3 lo(Uniform(rng, -10, 9.5), k % 4 == 0 ? 0.0 : Uniform(rng, 0, 7),
+                          Uniform(rng, -5, 9.5));
+            const double side = k % 9 == 0 ? Uniform(rng, 1, 3) : Uniform(rng, 0.02, 0.6);
+            const Vec3 size(side, Uniform(rng, 0.02, 1) * side, Uniform(rng, 0.5, 1) * side);
+            r.objects.push_back(Box("box" + std::to_string(k), lo, lo + size));
+            if (k % 13 == 0) {  // a box on top of it, sharing its face
+                const Vec3 up(lo.x(), lo.y() + size.y(), lo.z());
+                r.objects.push_back(Box("stacked" + std::to_string(k), up, up + size));
+            }
+        }
+        const Vec3 eye(Uniform(rng, -8, 8), i % 3 == 1 ? 7.5 : Uniform(rng, 0.3, 4),
+                       Uniform(rng, -3, 9));
+        const Vec3 target(Uniform(rng, -5, 5), i % 3 == 2 ? 6.0 : Uniform(rng, 0, 2),
+                          Uniform(rng, -5, 2));
+        r.viewport = {static_cast<int>(Uniform(rng, 64, 1024)),
+                      static_cast<int>(Uniform(rng, 64, 1024))};
+        r.viewer =
+            Perspective(Uniform(rng, 30, 90) * kDegree,
+                        static_cast<double>(r.viewport.width) / r.viewport.height, 0.1, 100.0) *
+            LookAt(eye, target, Vec3::UnitY());
+        r.light = i % 2 == 0
+                      ? Vec4(Uniform(rng, -1, 1), Uniform(rng, 0.3, 1), Uniform(rng, -0.2, 1), 0)
+                      : Point(Vec3(Uniform(rng, -9, 9), Uniform(rng, 5, 7.9), Uniform(rng, -4, 9)));
+        r.lixel_budget = 1024 * 1024;
+        const auto plan = PlanShadowMaps(r);
+        ASSERT_TRUE(plan.ok()) << "configuration " << i << ": " << plan.error().Message();
+        ++compared;
+        const std::vector<double> expected = ReferencePixels(r, *plan);
+        for (size_t m = 0; m < plan->maps.size(); ++m) {
+            EXPECT_EQ(plan->maps[m].expected_pixels, expected[m])
+                << "configuration " << i << " map " << plan->maps[m].name;
+        }
+    }
+    EXPECT_EQ(compared, 6);
+}
+
 // A request with one bounded plane of interest: `polygon` on the plane with unit normal `n`
 // through `origin`, vertices given in the plane's (u, v) coordinates with u x v = n, in the
 // paper's room.
