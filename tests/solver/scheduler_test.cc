@@ -574,6 +574,15 @@ std::vector<double> ReferencePixels(const PlanRequest& r, const Plan& plan) {
     return counts;
 }
 
+// Each map's expected pixels in `plan` are those ReferencePixels counts.
+void ExpectPixelsOfTracingEveryRay(const PlanRequest& r, const Plan& plan, int configuration) {
+    const std::vector<double> expected = ReferencePixels(r, plan);
+    for (size_t m = 0; m < plan.maps.size(); ++m) {
+        EXPECT_EQ(plan.maps[m].expected_pixels, expected[m])
+            << "configuration " << configuration << " map " << plan.maps[m].name;
+    }
+}
+
 // The estimate skips rays by culls and by tiles whose corners prove them alike; on random rooms
 // with tables and walls it must count exactly what tracing every ray counts.
 TEST(Scheduler, ExpectedPixelsEqualTracingEveryRayOnRandomRooms) {
@@ -615,11 +624,7 @@ TEST(Scheduler, ExpectedPixelsEqualTracingEveryRayOnRandomRooms) {
         const auto plan = PlanShadowMaps(r);
         if (!plan.ok()) continue;
         ++compared;
-        const std::vector<double> expected = ReferencePixels(r, *plan);
-        for (size_t m = 0; m < plan->maps.size(); ++m) {
-            EXPECT_EQ(plan->maps[m].expected_pixels, expected[m])
-                << "configuration " << i << " map " << plan->maps[m].name;
-        }
+        ExpectPixelsOfTracingEveryRay(r, *plan, i);
     }
     EXPECT_GT(compared, 100);
 }
@@ -664,11 +669,7 @@ TEST(Scheduler, ExpectedPixelsEqualTracingEveryRayInACrowd) {
         const auto plan = PlanShadowMaps(r);
         ASSERT_TRUE(plan.ok()) << "configuration " << i << ": " << plan.error().Message();
         ++compared;
-        const std::vector<double> expected = ReferencePixels(r, *plan);
-        for (size_t m = 0; m < plan->maps.size(); ++m) {
-            EXPECT_EQ(plan->maps[m].expected_pixels, expected[m])
-                << "configuration " << i << " map " << plan->maps[m].name;
-        }
+        ExpectPixelsOfTracingEveryRay(r, *plan, i);
     }
     EXPECT_EQ(compared, 6);
 }
