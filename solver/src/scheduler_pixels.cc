@@ -19,11 +19,13 @@ namespace {
 // Samples per side of the tiles whose corners EstimatePixels traces first.
 constexpr int kPixelTileSamples = 4;
 
-// Boxes from which the cells list them nearest first and a traced ray stops each list at its
-// first box beyond its hit: below it, the stops cost more than the boxes a ray skips (the
-// crowded room's plan, in instructions against index order: 1.030 at 300 boxes and 1.007 at
-// 1 000 with the order on from 300; 0.982 at 3 000, 0.963 at 10 000, 0.954 at 100 000).
-constexpr std::size_t kBoxesByDepth = 2000;
+// Boxes a ray meets on average (their screen rectangles' areas over the screen's) from which the
+// cells list them nearest first and a traced ray stops each list at its first box beyond its
+// hit: below it, the sort and the stops cost more than the boxes a ray skips. The crowded room
+// has 2.5 at 1 000 objects (the order cost it 0.7 % more instructions), 7.1 at 3 000 (1.8 %
+// fewer), 24 at 10 000 and 236 at 100 000; the world of 100 000 objects, 15 000 of them on
+// screen but far and small, 1.6.
+constexpr double kBoxesPerRayByDepth = 4.0;
 
 // The points origin + t direction, t in [0, reach] (reach may be infinite), as per-axis bounds,
 // and the rounding margin a box test against them needs.
@@ -124,8 +126,8 @@ struct TileProofs {
     bool enabled = false;
     std::vector<ScreenRect> boxes;
     // Per box, a float at or below the least clip w of its corners (-infinity where that is not
-    // a number), by which the cells list their boxes nearest first (TraceSample); empty below
-    // kBoxesByDepth boxes.
+    // a number), by which the cells list their boxes nearest first (TraceSample); empty where
+    // rays meet fewer than kBoxesPerRayByDepth boxes.
     std::vector<float> least_w;
     ScreenCells cells;                 // the boxes by screen cell, each list in least_w order
     std::vector<ScreenRect> polygons;  // per candidate; invalid for an infinite plane
@@ -359,21 +361,19 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
         PlaneTests({Vec4(wide - vx), Vec4(wide + vx), Vec4(wide - vy), Vec4(wide + vy), behind}),
         reached);
     t.boxes.reserve(r.objects.size());
-    // Nearest first only for a crowd of boxes, where it pays (docs/performance.md, *Rays stop
-    // at the first box beyond their hit*).
-    const bool by_depth = r.objects.size() >= kBoxesByDepth;
-    if (by_depth) t.least_w.assign(r.objects.size(), -std::numeric_limits<float>::infinity());
+    std::size_t shown = 0;  // boxes some ray may reach
+    double covered = 0.0;   // the sum of their rectangles' areas on screen, NDC
+    const auto cover = [&](const ScreenRect& rect) {
+        const double w = std::min(rect.x1, 1.0) - std::max(rect.x0, -1.0);
+        const double h = std::min(rect.y1, 1.0) - std::max(rect.y0, -1.0);
+        if (rect.valid && w > 0.0 && h > 0.0) covered += w * h;
+    };
     for (std::size_t i = 0; i < r.objects.size(); ++i) {
         const SceneObject& o = r.objects[i];
         e.c.poll();
         if (!reached[i] && !e.c.object_boxes.empty(i)) {
             t.boxes.push_back(NowhereOnScreen());
             continue;
-        }
-        if (by_depth) {
-            // The least clip w over the box is at the corner HighestCorner finds for -w.
-            const double w = vw.dot(HighestCorner(o.bounds, -vw));
-            if (!std::isnan(w)) t.least_w[i] = FloatAtOrBelow(w);
         }
         std::array<Vec3, 8> corners;
         for (int k = 0; k < 8; ++k) corners[k] = BoxCorner(o.bounds, k);
@@ -382,18 +382,43 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
             t.boxes.push_back(NowhereOnScreen());
             continue;
         }
+        ++shown;
         if (WhollyBeyond(o.bounds, corners, beyond_near)) {
             // The clip keeps the whole box, whose vertices are its eight corners.
             t.boxes.push_back(ScreenRectOf(r.viewer, corners));
+            cover(t.boxes.back());
             continue;
         }
         ConvexPolytope part = ConvexPolytope::FromBox(o.bounds);
         part.Clip(beyond_near);
         // A flat or emptied box keeps no rectangle: it is then tested as a whole below.
         t.boxes.push_back(part.empty() ? ScreenRect{} : ScreenRectOf(r.viewer, part.vertices()));
+        cover(t.boxes.back());
     }
-    // Nearest first (ties in index order); NowhereOnScreen boxes are filed nowhere.
-    t.cells = ScreenCells(t.boxes, by_depth ? Ascending(t.least_w) : std::vector<std::uint32_t>{});
+    // Nearest first (ties in index order) only where rays meet many boxes, where it pays
+    // (docs/performance.md, *Rays stop at the first box beyond their hit*); the boxes no ray
+    // reaches are left out of the order, and so filed nowhere, as their rectangles would file
+    // them.
+    std::vector<std::uint32_t> order;
+    if (covered >= 4.0 * kBoxesPerRayByDepth) {  // the screen is 2 x 2 in NDC
+        // Per box on screen, a float at or below its least clip w, at the corner HighestCorner
+        // finds for -w.
+        std::vector<std::uint32_t> boxes;
+        std::vector<float> keys;
+        boxes.reserve(shown);
+        keys.reserve(shown);
+        t.least_w.assign(r.objects.size(), -std::numeric_limits<float>::infinity());
+        for (std::size_t i = 0; i < r.objects.size(); ++i) {
+            const ScreenRect& rect = t.boxes[i];
+            if (rect.valid && rect.x0 == std::numeric_limits<double>::infinity()) continue;
+            const double w = vw.dot(HighestCorner(r.objects[i].bounds, -vw));
+            if (!std::isnan(w)) t.least_w[i] = FloatAtOrBelow(w);
+            boxes.push_back(static_cast<std::uint32_t>(i));
+            keys.push_back(t.least_w[i]);
+        }
+        for (const std::uint32_t k : Ascending(keys)) order.push_back(boxes[k]);
+    }
+    t.cells = ScreenCells(t.boxes, order);
     for (const Candidate& cand : e.c.candidates) {
         const auto& poly = r.planes[cand.index].polygon;
         const std::vector<Vec3> part = poly.empty() ? poly : ClipPolygon(poly, beyond_near);
@@ -623,44 +648,12 @@ bool TileUniform(const PixelEstimate& e, const TileProofs& proofs, const RaySamp
            TileLooksUpOneMap(e, proofs, corner, j);
 }
 
-}  // namespace
-
-// Rays from the viewer: the nearest of the planes' needed surfaces and the objects' boxes, then
-// the lookup rule; counts per map scaled to the viewport (DESIGN §4.5 statistics). The grid is
-// traced at tile corners first; a tile whose corners TileUniform proves alike is filled without
-// tracing its other samples, which gives the same counts as tracing every one.
-void EstimatePixels(const Context& c, Plan& plan) {
-    const PlanRequest& r = c.request;
-    PixelEstimate e{c,
-                    plan,
-                    r.viewer.inverse(),
-                    PixelMatrix(r.viewer, r.viewport),
-                    {},
-                    {},
-                    0.0,
-                    r.viewer.row(3).transpose(),
-                    {},
-                    {},
-                    0};
-    e.edges.resize(c.candidates.size());
-    for (size_t i = 0; i < c.candidates.size(); ++i) {
-        const auto& poly = r.planes[c.candidates[i].index].polygon;
-        for (size_t k = 0; k < poly.size(); ++k) {
-            e.edges[i].push_back(poly[(k + 1) % poly.size()] - poly[k]);
-        }
-    }
-    e.box_magnitudes.reserve(r.objects.size());
-    for (const SceneObject& o : r.objects) {
-        e.box_magnitudes.push_back(
-            std::max(o.bounds.min.cwiseAbs().maxCoeff(), o.bounds.max.cwiseAbs().maxCoeff()));
-    }
-    for (const double m : e.box_magnitudes) {
-        e.largest_box_magnitude = std::max(e.largest_box_magnitude, m);
-    }
-    e.proofs = PrepareTileProofs(e);
-    e.visited.assign(r.objects.size(), 0);
+// The samples of the grid each map reads: corners of tiles first, a tile whose corners
+// TileUniform proves alike filled without tracing its other samples, which gives the same counts
+// as tracing every one.
+template <bool kByDepth>
+std::vector<std::int64_t> CountSamples(const PixelEstimate& e) {
     const TileProofs& proofs = e.proofs;
-    const auto trace = proofs.least_w.empty() ? &TraceSample<false> : &TraceSample<true>;
     const int n = kPixelSamplesPerSide;
     constexpr int kTile = kPixelTileSamples;
     // Tile corners: every kTile-th sample and the last one.
@@ -674,7 +667,7 @@ void EstimatePixels(const Context& c, Plan& plan) {
     auto corner = [&](size_t a, size_t b) -> const RaySample* {
         const size_t k = b * side + a;
         if (!traced[k]) {
-            corners[k] = trace(e, lattice[a], lattice[b]);
+            corners[k] = TraceSample<kByDepth>(e, lattice[a], lattice[b]);
             traced[k] = true;
         }
         return &corners[k];
@@ -714,14 +707,14 @@ void EstimatePixels(const Context& c, Plan& plan) {
     }
     // Counted in runs of one map: adding one per sample to the same counter is a chain of
     // dependent stores that costs more than the filled tiles' tracing saved.
-    std::vector<std::int64_t> counts(plan.maps.size(), 0);
+    std::vector<std::int64_t> counts(e.plan.maps.size(), 0);
     int run_map = -1;
     std::int64_t run = 0;
     for (int sy = 0; sy < n; ++sy) {
-        c.poll.Now();  // a row of traced rays can take a millisecond at 100 k objects
+        e.c.poll.Now();  // a row of traced rays can take a millisecond at 100 k objects
         for (int sx = 0; sx < n; ++sx) {
             int index = maps[sy * n + sx];
-            if (index == kUntraced) index = trace(e, sx, sy).map;
+            if (index == kUntraced) index = TraceSample<kByDepth>(e, sx, sy).map;
             if (index != run_map) {
                 if (run_map >= 0) counts[run_map] += run;
                 run_map = index;
@@ -731,6 +724,48 @@ void EstimatePixels(const Context& c, Plan& plan) {
         }
     }
     if (run_map >= 0) counts[run_map] += run;
+    return counts;
+}
+
+}  // namespace
+
+// Rays from the viewer: the nearest of the planes' needed surfaces and the objects' boxes, then
+// the lookup rule; counts per map scaled to the viewport (DESIGN §4.5 statistics). The grid is
+// traced at tile corners first; a tile whose corners TileUniform proves alike is filled without
+// tracing its other samples, which gives the same counts as tracing every one.
+void EstimatePixels(const Context& c, Plan& plan) {
+    const PlanRequest& r = c.request;
+    PixelEstimate e{c,
+                    plan,
+                    r.viewer.inverse(),
+                    PixelMatrix(r.viewer, r.viewport),
+                    {},
+                    {},
+                    0.0,
+                    r.viewer.row(3).transpose(),
+                    {},
+                    {},
+                    0};
+    e.edges.resize(c.candidates.size());
+    for (size_t i = 0; i < c.candidates.size(); ++i) {
+        const auto& poly = r.planes[c.candidates[i].index].polygon;
+        for (size_t k = 0; k < poly.size(); ++k) {
+            e.edges[i].push_back(poly[(k + 1) % poly.size()] - poly[k]);
+        }
+    }
+    e.box_magnitudes.reserve(r.objects.size());
+    for (const SceneObject& o : r.objects) {
+        e.box_magnitudes.push_back(
+            std::max(o.bounds.min.cwiseAbs().maxCoeff(), o.bounds.max.cwiseAbs().maxCoeff()));
+    }
+    for (const double m : e.box_magnitudes) {
+        e.largest_box_magnitude = std::max(e.largest_box_magnitude, m);
+    }
+    e.proofs = PrepareTileProofs(e);
+    e.visited.assign(r.objects.size(), 0);
+    const std::vector<std::int64_t> counts =
+        e.proofs.least_w.empty() ? CountSamples<false>(e) : CountSamples<true>(e);
+    const int n = kPixelSamplesPerSide;
     const double pixels_per_sample =
         static_cast<double>(r.viewport.width) * r.viewport.height / (n * n);
     for (size_t i = 0; i < plan.maps.size(); ++i) {

@@ -9,13 +9,14 @@ namespace lixel::scheduling {
 
 ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes,
                          std::span<const std::uint32_t> order) {
+    const std::size_t listed = order.empty() ? boxes.size() : order.size();
     const auto box_at = [&](std::size_t k) {
         return order.empty() ? static_cast<std::uint32_t>(k) : order[k];
     };
     // Few boxes: every ray and tile tries each (with Disjoint's test, as `everywhere` boxes are),
     // which costs less than a pass over the kCells^2 cells to file them.
     if (boxes.size() <= kFewBoxes) {
-        for (std::size_t at = 0; at < boxes.size(); ++at) everywhere_.push_back(box_at(at));
+        for (std::size_t at = 0; at < listed; ++at) everywhere_.push_back(box_at(at));
         return;
     }
     // Each box's span of its level's cells, and the boxes of each level in order (a box whose
@@ -25,7 +26,7 @@ ScreenCells::ScreenCells(const std::vector<ScreenRect>& boxes,
     const auto count = [](const std::array<int, 4>& span) {
         return std::max(0, span[1] - span[0] + 1) * std::max(0, span[3] - span[2] + 1);
     };
-    for (std::size_t at = 0; at < boxes.size(); ++at) {
+    for (std::size_t at = 0; at < listed; ++at) {
         const std::uint32_t b = box_at(at);
         if (!boxes[b].valid) {
             everywhere_.push_back(b);

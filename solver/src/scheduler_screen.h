@@ -102,9 +102,10 @@ class ScreenCells {
     static constexpr int Side(int level) { return Coarse(kCells - 1, level) + 1; }
 
     ScreenCells() = default;
-    // `order`: the boxes' indices in the order every list keeps (each once), or empty for index
-    // order. The pixel estimate gives them nearest first, so that a ray can stop a list at the
-    // first box beyond its hit.
+    // `order`: the indices of the boxes to file, in the order every list keeps (each once; a box
+    // left out is filed nowhere, so the caller leaves out only boxes NowhereOnScreen), or empty
+    // for every box in index order. The pixel estimate gives them nearest first, so that a ray
+    // can stop a list at the first box beyond its hit.
     explicit ScreenCells(const std::vector<ScreenRect>& boxes,
                          std::span<const std::uint32_t> order = {});
 
