@@ -30,9 +30,9 @@ class RectCover {
     explicit RectCover(const LixelRect& area);
 
     bool Covers(std::span<const LixelRect> rects) {
+        if (!enabled_) return false;
         // Most rectangles of a plane touch none of its edges: while some edge lixel is bare, such
         // a one only adds its area (it cannot complete a cover the edges lack).
-        if (!enabled_) return false;
         if (rects.size() == read_ + 1 && !edges_covered_) {
             const LixelRect& r = rects.back();
             if (r.x0 != area_.x0 && r.y0 != area_.y0 && r.x1 != area_.x1 && r.y1 != area_.y1) {
@@ -45,6 +45,7 @@ class RectCover {
     }
 
   private:
+    // Covers for any list: the edges and the sum until both hold, then the bitmap.
     bool CoversFrom(std::span<const LixelRect> rects);
     // A row of bits over [0, n), counting those still clear.
     struct Bits {
