@@ -111,20 +111,31 @@ TEST(PlanObjectLimit, ADeadlineEndsALongPlanAndFreesTheWorker) {
     std::chrono::steady_clock::duration whole{}, read{};
     for (int count = 8000;; count *= 2) {
         big = PlanOverBoxes(count);
-        const auto reading = std::chrono::steady_clock::now();
-        v1::PlanRequest parsed;
-        ASSERT_TRUE(parsed.ParseFromString(big.SerializeAsString()));
-        auto decoded = service::DecodePlanRequest(parsed, nullptr, "plan");
-        ASSERT_TRUE(decoded.ok()) << decoded.error().Message();
-        read = std::chrono::steady_clock::now() - reading;
+        // Reading is the server's parse and decode of the bytes, the least of three (a read of
+        // some 20 ms is easily lengthened by another process taking the core).
+        const std::string bytes = big.SerializeAsString();
+        Result<PlanRequest> decoded = Error{"plan", "not read"};
+        read = std::chrono::steady_clock::duration::max();
+        for (int attempt = 0; attempt < 3; ++attempt) {
+            const auto reading = std::chrono::steady_clock::now();
+            v1::PlanRequest parsed;
+            ASSERT_TRUE(parsed.ParseFromString(bytes));
+            decoded = service::DecodePlanRequest(parsed, nullptr, "plan");
+            ASSERT_TRUE(decoded.ok()) << decoded.error().Message();
+            read = std::min(read, std::chrono::steady_clock::now() - reading);
+        }
         const auto planning = std::chrono::steady_clock::now();
         ASSERT_TRUE(PlanShadowMaps(*decoded).ok());
         whole = std::chrono::steady_clock::now() - planning;
         if (whole >= std::chrono::milliseconds(150) || count >= 128000) break;
     }
     // Without the deadline the worker would be held for the read and the whole plan, past the
-    // bound below by a quarter of the plan less the read.
-    ASSERT_LT(read * 8, whole) << "reading the request is too slow against planning it";
+    // bound below by a quarter of the plan less the read: the test tells the two apart while the
+    // plan takes over 4 times the read, and asks 6. (It asked 8 of a read that included
+    // serialising the request, until the crowded floor's split stopped at its cover and its rays
+    // at their first box: the plan of 64 000 boxes came to 7.6 times that read, and is 8.3 to 9.4
+    // times the parse and decode alone.)
+    ASSERT_LT(read * 6, whole) << "reading the request is too slow against planning it";
     const auto deadline = 2 * read + whole / 4;
 
     service::ServerOptions options = SmallServerOptions("test-plan-deadline");
