@@ -89,8 +89,13 @@ double Slack(const Vec3& a, double d, const Vec3& x) {
     return kCullMargin * (a.cwiseAbs().dot(x.cwiseAbs()) + std::abs(d));
 }
 
-// The largest float at or below `x` (not NaN); -infinity below the floats' range.
+// The largest float at or below `x` (not NaN); -infinity below the floats' range. A double past
+// the range is not converted (that would be undefined behaviour): a box 1e39 units in front of a
+// well-conditioned viewer has such a clip w.
 float FloatAtOrBelow(double x) {
+    constexpr float kLargest = std::numeric_limits<float>::max();
+    if (x >= kLargest) return kLargest;
+    if (x < -static_cast<double>(kLargest)) return -std::numeric_limits<float>::infinity();
     const float f = static_cast<float>(x);
     return static_cast<double>(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity())
                                       : f;

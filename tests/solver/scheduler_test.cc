@@ -629,63 +629,72 @@ TEST(Scheduler, ExpectedPixelsEqualTracingEveryRayOnRandomRooms) {
     EXPECT_GT(compared, 100);
 }
 
+// Seeded crowded room `i`: 4 000 + 400 i boxes at every depth, some stacked on others sharing a
+// face, seen from the room's front across it, so that thousands of boxes are on screen.
+PlanRequest CrowdedRoom(std::mt19937_64& rng, int i) {
+    PlanRequest r = FloorWallRequest();
+    r.scene_bounds = Aabb{Vec3(-10, -0.1, -5.1), Vec3(10, 8, 10)};
+    const int boxes = 4000 + 400 * i;
+    for (int k = 0; static_cast<int>(r.objects.size()) < boxes; ++k) {
+        const Vec3 lo(Uniform(rng, -10, 9.5), k % 4 == 0 ? 0.0 : Uniform(rng, 0, 7),
+                      Uniform(rng, -5, 9.5));
+        const double side = k % 9 == 0 ? Uniform(rng, 1, 3) : Uniform(rng, 0.02, 0.6);
+        const Vec3 size(side, Uniform(rng, 0.02, 1) * side, Uniform(rng, 0.5, 1) * side);
+        r.objects.push_back(Box("box" + std::to_string(k), lo, lo + size));
+        if (k % 13 == 0) {  // a box on top of it, sharing its face
+            const Vec3 up(lo.x(), lo.y() + size.y(), lo.z());
+            r.objects.push_back(Box("stacked" + std::to_string(k), up, up + size));
+        }
+    }
+    const Vec3 eye(Uniform(rng, -6, 6), i % 3 == 1 ? 7.5 : Uniform(rng, 0.3, 4),
+                   Uniform(rng, 8, 9.8));
+    const Vec3 target(Uniform(rng, -3, 3), i % 3 == 2 ? 4.5 : Uniform(rng, 0, 2),
+                      Uniform(rng, -5, -2));
+    const int width = static_cast<int>(Uniform(rng, 256, 1024));
+    r.viewport = {width, static_cast<int>(width * Uniform(rng, 0.5, 1.2))};
+    r.viewer = Perspective(Uniform(rng, 60, 90) * kDegree,
+                           static_cast<double>(r.viewport.width) / r.viewport.height, 0.1, 100.0) *
+               LookAt(eye, target, Vec3::UnitY());
+    r.light = i % 2 == 0
+                  ? Vec4(Uniform(rng, -1, 1), Uniform(rng, 0.3, 1), Uniform(rng, -0.2, 1), 0)
+                  : Point(Vec3(Uniform(rng, -9, 9), Uniform(rng, 5, 7.9), Uniform(rng, -4, 9)));
+    r.lixel_budget = 1024 * 1024;
+    return r;
+}
+
+// Boxes a ray of `r` meets on average, by their screen rectangles (boxes wholly in front of the
+// eye).
+double BoxesPerRay(const PlanRequest& r) {
+    double covered = 0.0;
+    for (const SceneObject& o : r.objects) {
+        double x0 = 1.0, x1 = -1.0, y0 = 1.0, y1 = -1.0;
+        bool in_front = true;
+        for (int k = 0; k < 8 && in_front; ++k) {
+            const Vec4 clip = r.viewer * Point(BoxCorner(o.bounds, k));
+            in_front = clip.w() > 0.0;
+            x0 = std::min(x0, clip.x() / clip.w());
+            x1 = std::max(x1, clip.x() / clip.w());
+            y0 = std::min(y0, clip.y() / clip.w());
+            y1 = std::max(y1, clip.y() / clip.w());
+        }
+        const double w = std::min(x1, 1.0) - std::max(x0, -1.0);
+        const double h = std::min(y1, 1.0) - std::max(y0, -1.0);
+        if (in_front && w > 0.0 && h > 0.0) covered += w * h;
+    }
+    return covered / 4.0;  // the screen is 2 x 2 in NDC
+}
+
 // A crowd of boxes (rays meet more than kBoxesPerRayByDepth in scheduler_pixels.cc: the cells list
 // them nearest first and a traced ray stops each list at its first box beyond its hit): the counts
 // must still be those of tracing every ray against every box, with boxes in view at every depth,
 // stacked, touching, beside the view and behind the eye, under viewers looking across, down onto
-// and up from the room.
+// and up into the room.
 TEST(Scheduler, ExpectedPixelsEqualTracingEveryRayInACrowd) {
     std::mt19937_64 rng(20261206);
     int compared = 0;
     for (int i = 0; i < 6; ++i) {
-        PlanRequest r = FloorWallRequest();
-        r.scene_bounds = Aabb{Vec3(-10, -0.1, -5.1), Vec3(10, 8, 10)};
-        const int boxes = 4000 + 400 * i;
-        for (int k = 0; static_cast<int>(r.objects.size()) < boxes; ++k) {
-            const Vec3 lo(Uniform(rng, -10, 9.5), k % 4 == 0 ? 0.0 : Uniform(rng, 0, 7),
-                          Uniform(rng, -5, 9.5));
-            const double side = k % 9 == 0 ? Uniform(rng, 1, 3) : Uniform(rng, 0.02, 0.6);
-            const Vec3 size(side, Uniform(rng, 0.02, 1) * side, Uniform(rng, 0.5, 1) * side);
-            r.objects.push_back(Box("box" + std::to_string(k), lo, lo + size));
-            if (k % 13 == 0) {  // a box on top of it, sharing its face
-                const Vec3 up(lo.x(), lo.y() + size.y(), lo.z());
-                r.objects.push_back(Box("stacked" + std::to_string(k), up, up + size));
-            }
-        }
-        // From the front of the room across it, so that thousands of boxes are on screen.
-        const Vec3 eye(Uniform(rng, -6, 6), i % 3 == 1 ? 7.5 : Uniform(rng, 0.3, 4),
-                       Uniform(rng, 8, 9.8));
-        const Vec3 target(Uniform(rng, -3, 3), i % 3 == 2 ? 4.5 : Uniform(rng, 0, 2),
-                          Uniform(rng, -5, -2));
-        const int width = static_cast<int>(Uniform(rng, 256, 1024));
-        r.viewport = {width, static_cast<int>(width * Uniform(rng, 0.5, 1.2))};
-        r.viewer =
-            Perspective(Uniform(rng, 60, 90) * kDegree,
-                        static_cast<double>(r.viewport.width) / r.viewport.height, 0.1, 100.0) *
-            LookAt(eye, target, Vec3::UnitY());
-        r.light = i % 2 == 0
-                      ? Vec4(Uniform(rng, -1, 1), Uniform(rng, 0.3, 1), Uniform(rng, -0.2, 1), 0)
-                      : Point(Vec3(Uniform(rng, -9, 9), Uniform(rng, 5, 7.9), Uniform(rng, -4, 9)));
-        r.lixel_budget = 1024 * 1024;
-        // Boxes a ray meets on average, by their screen rectangles (boxes wholly in front of
-        // the eye): at least the 4 from which the order is used (kBoxesPerRayByDepth).
-        double covered = 0.0;
-        for (const SceneObject& o : r.objects) {
-            double x0 = 1.0, x1 = -1.0, y0 = 1.0, y1 = -1.0;
-            bool in_front = true;
-            for (int k = 0; k < 8 && in_front; ++k) {
-                const Vec4 clip = r.viewer * Point(BoxCorner(o.bounds, k));
-                in_front = clip.w() > 0.1;
-                x0 = std::min(x0, clip.x() / clip.w());
-                x1 = std::max(x1, clip.x() / clip.w());
-                y0 = std::min(y0, clip.y() / clip.w());
-                y1 = std::max(y1, clip.y() / clip.w());
-            }
-            const double w = std::min(x1, 1.0) - std::max(x0, -1.0);
-            const double h = std::min(y1, 1.0) - std::max(y0, -1.0);
-            if (in_front && w > 0.0 && h > 0.0) covered += w * h;
-        }
-        EXPECT_GE(covered / 4.0, 4.0) << "configuration " << i;
+        const PlanRequest r = CrowdedRoom(rng, i);
+        EXPECT_GE(BoxesPerRay(r), 4.0) << "configuration " << i;
         const auto plan = PlanShadowMaps(r);
         ASSERT_TRUE(plan.ok()) << "configuration " << i << ": " << plan.error().Message();
         ++compared;
