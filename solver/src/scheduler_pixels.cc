@@ -222,9 +222,7 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
     // list stops there (`beyond`).
     const Vec4& w_row = e.clip_w;
     const Vec3 w_normal = w_row.head<3>();
-    const bool depth_ordered =
-        kByDepth && screen_culls &&
-        w_normal.dot(direction) > kCullMargin * w_normal.cwiseAbs().dot(direction.cwiseAbs());
+    const bool depth_ordered = kByDepth && screen_culls && ClipWGrowsAlong(w_normal, direction);
     double beyond = std::numeric_limits<double>::infinity();
     bool stale = true;  // `beyond` not yet taken at the current `best`
     const auto limit_to_best = [&] {

@@ -23,6 +23,15 @@ constexpr int kPixelSamplesPerSide = 48;
 // never drops a box that test would hit.
 constexpr double kCullMargin = 1e-9;
 
+// Whether a ray's clip w grows along it (w_normal: the viewer's row 3 without its w) by far
+// more than the rounding of the dot product: kCullMargin of the terms' sizes, and that margin a
+// normal number, since products that underflow to subnormals are rounded by as much as they are
+// worth (a computed slope of +4.9e-324 can be exactly -2.4e-324).
+inline bool ClipWGrowsAlong(const Vec3& w_normal, const Vec3& direction) {
+    const double margin = kCullMargin * w_normal.cwiseAbs().dot(direction.cwiseAbs());
+    return margin >= std::numeric_limits<double>::min() && w_normal.dot(direction) > margin;
+}
+
 // An NDC rectangle holding the viewer image of a set of world points, valid when every point
 // lies strictly in front of the viewer (clip w > 0): a ray of the viewer meets their convex hull
 // only where its NDC lies in the rectangle, whatever its parameter (every point of the ray

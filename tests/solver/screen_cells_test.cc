@@ -140,5 +140,25 @@ TEST(ScreenCells, EveryCellHoldsTheBoxesNearItOnceInTheGivenOrder) {
     }
 }
 
+// A traced ray stops a depth-ordered list only where its clip w grows along it: never where the
+// exact slope is zero or negative, however the computed one rounds. Named: a slope of products
+// that underflow to subnormals (a viewer's w row of denorm_min entries, its other rows scaled by
+// 1e-30, which the tile proofs accept: computed +4.9e-324, exactly -2.4e-324); an orthographic
+// viewer's zero slope; a slope of either sign at ordinary sizes.
+TEST(ClipW, GrowsAlongARayOnlyWhereItsExactSlopeIsPositive) {
+    const double tiny = std::numeric_limits<double>::denorm_min();
+    const Vec3 direction(0.50200000000000011, 0.49800000000000005, 0.49800000000000011);
+    const Vec3 subnormal(tiny, -tiny, -tiny);
+    ASSERT_GT(subnormal.dot(direction), 0.0);  // what the plain test computed
+    EXPECT_FALSE(ClipWGrowsAlong(subnormal, direction));
+    EXPECT_FALSE(ClipWGrowsAlong(Vec3(0, 0, 0), direction));
+    EXPECT_FALSE(ClipWGrowsAlong(Vec3(1, -1, 0), Vec3(1, 1, 5)));
+    EXPECT_TRUE(ClipWGrowsAlong(Vec3(0, 0, -1), Vec3(0.1, -0.2, -3)));
+    EXPECT_FALSE(ClipWGrowsAlong(Vec3(0, 0, -1), Vec3(0.1, -0.2, 3)));
+    EXPECT_TRUE(ClipWGrowsAlong(Vec3(1e-150, 0, 0), Vec3(1e-100, 0, 0)));
+    // Too small to tell (the margin would be subnormal): the ray reads its lists whole.
+    EXPECT_FALSE(ClipWGrowsAlong(Vec3(1e-200, 0, 0), Vec3(1e-100, 0, 0)));
+}
+
 }  // namespace
 }  // namespace lixel::scheduling
