@@ -265,7 +265,7 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
         const int cx = std::min(sx, last), cy = std::min(sy, last);
         // Whether a list stops before box i: it lies beyond the nearest hit so far.
         const auto stops = [&](std::uint32_t i) {
-            if (!kByDepth || !depth_ordered) return false;
+            if (!depth_ordered) return false;  // always so without kByDepth
             if (stale) limit_to_best();
             return e.proofs.least_w[i] > beyond;
         };
@@ -351,14 +351,13 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
     // objects'): wholly past a side of the pyramid the rays fill (every sample's NDC lies within
     // 1 - 1 / kPixelSamplesPerSide of the centre; a side pushed out to NDC 1 + kScreenMargin), or
     // behind the near plane by WhollyBehind's margin at the largest box's magnitude.
-    double magnitude = 0.0;
-    for (const double m : e.box_magnitudes) magnitude = std::max(magnitude, m);
     const Vec4 vx = r.viewer.row(0).transpose(), vy = r.viewer.row(1).transpose();
-    const Vec4 vw = r.viewer.row(3).transpose();
+    const Vec4& vw = e.clip_w;
     const Vec4 wide = (1.0 + kScreenMargin) * vw;
     Vec4 behind = beyond_near;
-    behind.w() += kScreenMargin * (beyond_near.head<3>().cwiseAbs().sum() * magnitude +
-                                   std::abs(beyond_near.w()));
+    behind.w() +=
+        kScreenMargin * (beyond_near.head<3>().cwiseAbs().sum() * e.largest_box_magnitude +
+                         std::abs(beyond_near.w()));
     std::vector<char> reached;
     e.c.object_tree.tree().MarkPossible(
         PlaneTests({Vec4(wide - vx), Vec4(wide + vx), Vec4(wide - vy), Vec4(wide + vy), behind}),
