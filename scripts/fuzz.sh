@@ -2,7 +2,9 @@
 # Builds the libFuzzer harnesses (fuzz/) in the clang-14 ASan + UBSan build they share with the
 # sanitized test suite (scripts/lib/asan_build.sh; build-asan/ or $LIXEL_FUZZ_BUILD_DIR) and runs
 # each for LIXEL_FUZZ_SECONDS (default 20) over its seed corpus fuzz/corpus/<harness>/, as many at
-# once as there are cores (LIXEL_JOBS). Fails after the batch that had a crash, leak, timeout or
+# once as there are cores (LIXEL_JOBS). LIXEL_FUZZ_TOTAL_SECONDS, where set, bounds the whole run:
+# each harness then gets at most that over the number of batches (at least 10 s; .ci/run sets it to
+# what is left of CI's time). Fails after the batch that had a crash, leak, timeout or
 # out-of-memory, leaving the input in <build>/artifacts/.
 # A harness with a dictionary fuzz/<harness>.dict runs with it.
 # Harnesses to run can be named: scripts/fuzz.sh fuzz_solver. New inputs the fuzzer finds go to
@@ -16,6 +18,11 @@ harnesses=("$@")
 if ((${#harnesses[@]} == 0)); then
     harnesses=(fuzz_request_decode fuzz_solver fuzz_mesh_load fuzz_scheduler fuzz_upload
                fuzz_map_decode fuzz_session_decode)
+fi
+batches=$(((${#harnesses[@]} + jobs - 1) / jobs))
+if [[ -n ${LIXEL_FUZZ_TOTAL_SECONDS:-} ]] && ((LIXEL_FUZZ_TOTAL_SECONDS / batches < seconds)); then
+    seconds=$((LIXEL_FUZZ_TOTAL_SECONDS / batches > 10 ? LIXEL_FUZZ_TOTAL_SECONDS / batches : 10))
+    echo "lixel fuzz: ${LIXEL_FUZZ_TOTAL_SECONDS} s for $batches batches: $seconds s a harness"
 fi
 source "$root/scripts/lib/asan_build.sh"
 

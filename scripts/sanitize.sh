@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sanitizer runs (docs/reliability.md, "Sanitizers"); CI runs both (.ci/run):
 #   1. AddressSanitizer + UndefinedBehaviorSanitizer + LeakSanitizer: the whole test suite, in the
-#      clang-14 build it shares with the fuzz harnesses (scripts/lib/asan_build.sh), build-asan/.
+#      clang-14 build it shares with the fuzz harnesses (scripts/lib/asan_build.sh), build-asan/,
+#      less the reruns labelled "gl_names_reused" and "sweep" (cmake/WholeSuiteTest.cmake says why).
 #   2. ThreadSanitizer: the service's concurrency tests (tests/service/concurrency_test.cc: one
 #      ShadowService, 4 GL workers, 8 caller threads, no gRPC in between), Render's streaming
 #      hand-off (tests/service/render_feed_test.cc, RenderFeed.*) and plans sharing a kept object
@@ -29,7 +30,8 @@ if [[ " $runs " == *" asan "* ]]; then
     configure_asan_build "$root" "$asan_dir"
     cmake --build "$asan_dir" --parallel "$jobs"
     built=$SECONDS
-    ctest --test-dir "$asan_dir" --output-on-failure --timeout 1200 -j "$jobs"
+    ctest --test-dir "$asan_dir" --output-on-failure --timeout 1200 -j "$jobs" \
+          --label-exclude '^(gl_names_reused|sweep)$'
     echo "sanitize.sh: ASan+UBSan build $((built - start)) s, suite $((SECONDS - built)) s"
     unset ASAN_OPTIONS LSAN_OPTIONS UBSAN_OPTIONS
 fi
@@ -42,7 +44,8 @@ if [[ " $runs " == *" tsan "* ]]; then
     cmake -S "$root" -B "$tsan_dir" -G Ninja -DCMAKE_BUILD_TYPE=Debug \
           "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" -DLIXEL_SANITIZE=thread -DLIXEL_BUILD_TESTS=ON \
           -DLIXEL_BUILD_BENCH=OFF -DLIXEL_BUILD_EXAMPLES=OFF >/dev/null
-    cmake --build "$tsan_dir" --parallel "$jobs" --target lixel_service_tests lixel_solver_tests
+    cmake --build "$tsan_dir" --parallel "$jobs" \
+          --target lixel_service_concurrency_tests lixel_object_index_tests
     built=$SECONDS
     ctest --test-dir "$tsan_dir/tests/service" --output-on-failure --timeout 1200 -j "$jobs" \
           -R '^(Concurrency|RenderFeed)\.'
