@@ -1,11 +1,11 @@
 // How many viewer pixels read each map (PlannedMap::expected_pixels): a grid of view rays traced
 // through the lookup rule, whole tiles proved to go to one map from their corners.
+#include "depth_keys.h"
 #include "scheduler_context.h"
 #include "scheduler_screen.h"
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -87,40 +87,6 @@ struct RaySample {
 // above the few ulps by which a ray's computed values (and hence its end point) stray.
 double Slack(const Vec3& a, double d, const Vec3& x) {
     return kCullMargin * (a.cwiseAbs().dot(x.cwiseAbs()) + std::abs(d));
-}
-
-// The largest float at or below `x` (not NaN); -infinity below the floats' range. A double past
-// the range is not converted (that would be undefined behaviour): a box 1e39 units in front of a
-// well-conditioned viewer has such a clip w.
-float FloatAtOrBelow(double x) {
-    constexpr float kLargest = std::numeric_limits<float>::max();
-    if (x >= kLargest) return kLargest;
-    if (x < -static_cast<double>(kLargest)) return -std::numeric_limits<float>::infinity();
-    const float f = static_cast<float>(x);
-    return static_cast<double>(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity())
-                                      : f;
-}
-
-// The indices of `keys` (none NaN) in ascending order, ties in index order: a least-significant-
-// digit radix sort on the keys' bits, flipped so that their unsigned order is the floats' (four
-// passes of a byte; std::sort of the 10 000-box room's keys cost its plan 0.84 M instructions
-// more).
-std::vector<std::uint32_t> Ascending(const std::vector<float>& keys) {
-    const std::size_t n = keys.size();
-    std::vector<std::uint32_t> bits(n), order(n), next(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const auto u = std::bit_cast<std::uint32_t>(keys[i]);
-        bits[i] = (u >> 31) != 0 ? ~u : u | 0x80000000u;  // -0 sorts before +0, which is fine
-        order[i] = static_cast<std::uint32_t>(i);
-    }
-    for (int shift = 0; shift < 32; shift += 8) {
-        std::array<std::size_t, 257> start{};
-        for (std::size_t i = 0; i < n; ++i) ++start[((bits[i] >> shift) & 0xffu) + 1];
-        for (int b = 0; b < 256; ++b) start[b + 1] += start[b];
-        for (const std::uint32_t i : order) next[start[(bits[i] >> shift) & 0xffu]++] = i;
-        order.swap(next);
-    }
-    return order;
 }
 
 // Largest ||Mv|| ||Mv^-1|| (infinity norms) for which the tile proofs run.
