@@ -1,3 +1,4 @@
+// The nearest-first keys of the pixel estimate's screen cells (depth_keys.h).
 #include "depth_keys.h"
 
 #include <array>
