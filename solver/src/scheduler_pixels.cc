@@ -19,6 +19,10 @@ namespace {
 // Samples per side of the tiles whose corners EstimatePixels traces first.
 constexpr int kPixelTileSamples = 4;
 
+// Untraced samples between two traced ones of a row from which CountSamples tries to prove them
+// alike rather than trace them: a proof costs about four rays.
+constexpr int kMinRowProof = 4;
+
 // Boxes a ray meets on average (their screen rectangles' areas over the screen's) from which the
 // cells list them nearest first and a traced ray stops each list at its first box beyond its
 // hit: below it, the sort and the stops cost more than the boxes a ray skips. The crowded room
@@ -520,10 +524,17 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
     const std::uint32_t tile = ++e.tile;
     for (int level = 0; level < ScreenCells::kLevels; ++level) {
         if (!proofs.cells.filed(level)) continue;
-        const int row0 = ScreenCells::Coarse(first_y, level);
-        const int row1 = ScreenCells::Coarse(last_y - 1, level);
-        const int column0 = ScreenCells::Coarse(first_x, level);
-        const int column1 = ScreenCells::Coarse(last_x - 1, level);
+        // A tile covers the cells between its first and last samples; a tile one sample high (or
+        // wide) lies on the edge of the cell its samples' rays use (TraceSample), whose closed
+        // square holds it.
+        const auto first_cell = [](int first) { return std::min(first, ScreenCells::kCells - 1); };
+        const auto last_cell = [&](int first, int last) {
+            return std::max(first_cell(first), last - 1);
+        };
+        const int row0 = ScreenCells::Coarse(first_cell(first_y), level);
+        const int row1 = ScreenCells::Coarse(last_cell(first_y, last_y), level);
+        const int column0 = ScreenCells::Coarse(first_cell(first_x), level);
+        const int column1 = ScreenCells::Coarse(last_cell(first_x, last_x), level);
         for (int cy = row0; cy <= row1; ++cy) {
             for (int cx = column0; cx <= column1; ++cx) {
                 for (const std::uint32_t b : proofs.cells.Cell(cx, cy, level)) {
@@ -617,8 +628,8 @@ bool TileUniform(const PixelEstimate& e, const TileProofs& proofs, const RaySamp
 }
 
 // The samples of the grid each map reads: corners of tiles first, a tile whose corners
-// TileUniform proves alike filled without tracing its other samples, which gives the same counts
-// as tracing every one.
+// TileUniform proves alike filled without tracing its other samples, then the same along the
+// rows the tiles left, which gives the same counts as tracing every one.
 template <bool kByDepth>
 std::vector<std::int64_t> CountSamples(const PixelEstimate& e) {
     const TileProofs& proofs = e.proofs;
@@ -672,6 +683,44 @@ std::vector<std::int64_t> CountSamples(const PixelEstimate& e) {
     }
     for (size_t k = 0; k < side * side; ++k) {
         if (traced[k]) maps[lattice[k / side] * n + lattice[k % side]] = corners[k].map;
+    }
+    // What the tiles left, row by row: a run of untraced samples is traced at its ends and
+    // proved alike between them as a tile one sample high (TileUniform over the corners
+    // {a, b, a, b}: the rays between lie in the hull of the two), halved where it is not. A
+    // boundary the lattice cells straddle (the horizon of a floor and a wall) leaves whole rows
+    // of cells untraced, most of whose rows lie on one side of it.
+    const auto trace = [&](int sx, int sy) {
+        RaySample s = TraceSample<kByDepth>(e, sx, sy);
+        maps[sy * n + sx] = s.map;
+        return s;
+    };
+    const auto fill_row = [&](auto& self, const RaySample& a, const RaySample& b) -> void {
+        const int sy = a.sy;
+        if (b.sx - a.sx - 1 < kMinRowProof) {
+            for (int sx = a.sx + 1; sx < b.sx; ++sx) trace(sx, sy);
+            return;
+        }
+        const RaySample* tile[4] = {&a, &b, &a, &b};
+        if (TileUniform(e, proofs, tile)) {
+            std::fill(maps.begin() + sy * n + a.sx + 1, maps.begin() + sy * n + b.sx, a.map);
+            return;
+        }
+        const RaySample middle = trace((a.sx + b.sx) / 2, sy);
+        self(self, a, middle);
+        self(self, middle, b);
+    };
+    if (proofs.enabled) {
+        for (int sy = 0; sy < n; ++sy) {
+            for (int sx = 0; sx < n; ++sx) {
+                if (maps[sy * n + sx] != kUntraced) continue;
+                e.c.poll.Now();  // a run of traced rays can take a millisecond at 100 k objects
+                int last = sx;
+                while (last + 1 < n && maps[sy * n + last + 1] == kUntraced) ++last;
+                const RaySample first = trace(sx, sy);
+                if (last > sx) fill_row(fill_row, first, trace(last, sy));
+                sx = last;
+            }
+        }
     }
     // Counted in runs of one map: adding one per sample to the same counter is a chain of
     // dependent stores that costs more than the filled tiles' tracing saved.
