@@ -101,6 +101,10 @@ ConvexPolytope ConvexPolytope::FromBox(const Aabb& box) {
         }
     }
     out.whole_box_ = true;
+    // Consecutive corners of a face differ by one side on one axis, computed as sides are: at a
+    // tolerance below the shortest side (and that side above underflow) ClearlyApart keeps each.
+    const double shortest = (box.max - box.min).minCoeff();
+    if (shortest > kNoUnderflow) out.merged_at_ = std::nextafter(shortest, 0.0);
     // The extent the corners give (PolytopeBounds::OfBox, bit for bit): set here, since most
     // boxes are asked for their tolerance before anything cuts them.
     const PolytopeBounds bounds = PolytopeBounds::OfBox(box);
@@ -374,6 +378,7 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
         }
         kept.clear();
         bool all_on = true;
+        bool cut = false;  // some vertex dropped: otherwise `kept` is the face as it was
         for (size_t i = 0; i < count; ++i) {
             const size_t next = i + 1 == count ? 0 : i + 1;
             const Vec3& a = poly[i];
@@ -383,6 +388,7 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
             const int sa = sides[i];
             const int sb = sides[next];
             all_on = all_on && sa == 0;
+            cut = cut || sa < 0;
             if (sa >= 0) kept.push_back(a);
             if (sa == 0) cap_points.push_back(a);
             if (sa * sb < 0) {
@@ -399,7 +405,9 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
             }
         }
         if (all_on) continue;  // lies in the cut: the cap replaces it
-        MergeCloseVertices(kept, tol);
+        // A face merged at a tolerance at least this one's stays as it is (FartherThan holds
+        // at every smaller tolerance where it held).
+        if (cut || !(tol <= merged_at_)) MergeCloseVertices(kept, tol);
         if (kept.empty()) continue;
         faces.push_back({static_cast<std::uint32_t>(points.size()),
                          static_cast<std::uint32_t>(kept.size()), face.outward_plane});
@@ -433,6 +441,7 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
     }
     points_.assign(points.begin(), points.end());
     faces_.assign(faces.begin(), faces.end());
+    merged_at_ = tol;
     if (empty()) {
         faces_.clear();
         points_.clear();

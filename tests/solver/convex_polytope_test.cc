@@ -178,6 +178,34 @@ TEST(ConvexPolytope, ClipInPlaceMatchesAPlainCopyingClipBitForBit) {
     }
 }
 
+// A box flatter than its tolerance (a floor slab given no thickness) has faces whose corners
+// merge on the first cut, uncut faces too; every later cut must leave as they are only the faces
+// the merge left as they are (ConvexPolytope::merged_at_).
+TEST(ConvexPolytope, ClipMergesTheFacesOfABoxFlatterThanItsToleranceAsThePlainClipDoes) {
+    std::mt19937_64 rng(4471);
+    for (int trial = 0; trial < 200; ++trial) {
+        const double scale = std::pow(10.0, Uniform(rng, -3.0, 3.0));
+        const Vec3 centre =
+            scale * Vec3(Uniform(rng, -5, 5), Uniform(rng, -5, 5), Uniform(rng, -5, 5));
+        Vec3 half = scale * Vec3(Uniform(rng, 0.5, 3), Uniform(rng, 0.5, 3), Uniform(rng, 0.5, 3));
+        // One side from far below the tolerance (about 1e-9 of the size) to just above it.
+        half(static_cast<int>(rng() % 3)) = scale * std::pow(10.0, Uniform(rng, -13.0, -8.0));
+        ConvexPolytope polytope = ConvexPolytope::FromBox(Aabb{centre - half, centre + half});
+        Reference reference{polytope.faces()};
+        for (int step = 0; step < 8 && !reference.Empty(); ++step) {
+            const Vec3 n = RandomUnit(rng);
+            const Vec3 through =
+                centre + Vec3(Uniform(rng, -1, 1) * half.x(), Uniform(rng, -1, 1) * half.y(),
+                              Uniform(rng, -1, 1) * half.z());
+            const Vec4 plane(n.x(), n.y(), n.z(), -n.dot(through));
+            polytope.Clip(plane);
+            reference = reference.Clipped(plane);
+            ExpectSameFaces(polytope, reference, step);
+            EXPECT_EQ(polytope.empty(), reference.Empty());
+        }
+    }
+}
+
 // A set difference tests both sides of each plane (Subtract): Effects(plane, opposite) must be
 // Effect of each, bit for bit, over seeded polytopes at every scale, cut ones among them, and
 // planes through them, through a vertex or along a face (on the cut within the tolerance),

@@ -171,6 +171,9 @@ class ConvexPolytope {
     mutable bool extent_valid_ = false;
     // FromBox's faces, uncut: vertices() is then the eight corners in the order they first appear.
     bool whole_box_ = false;
+    // Every face polygon is one Clip's merge of close vertices leaves as it is at any tolerance
+    // up to this (negative: not known), so a face a clip does not cut needs no merge.
+    double merged_at_ = -1.0;
 };
 
 // `polytope` clipped by every plane in order, without copying while the planes keep all of it
