@@ -548,6 +548,18 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
     return true;
 }
 
+// Whether every corner's end point lies on the positive side of a lookup's world limit, by more
+// than rounding: then so does every end point of the tile (a linear form in the point).
+bool LimitHoldsOver(const Vec4& limit, const RaySample* corner[4]) {
+    for (int k = 0; k < 4; ++k) {
+        const Vec3& h = corner[k]->hit;
+        if (!(limit.head<3>().dot(h) + limit.w() > Slack(limit.head<3>(), limit.w(), h))) {
+            return false;
+        }
+    }
+    return true;
+}
+
 // Its third: map `j` accepts every end point on the tile, and each earlier map rejects all of
 // them by one of its tests.
 bool TileLooksUpOneMap(const PixelEstimate& e, const TileProofs& proofs, const RaySample* corner[4],
@@ -558,6 +570,12 @@ bool TileLooksUpOneMap(const PixelEstimate& e, const TileProofs& proofs, const R
     for (int m = 0; m <= j; ++m) {
         const PlannedMap& map = e.plan.maps[m];
         const Mat4& M = map.map.matrix;
+        // Map j's world limit (an unshadowed entry's) must hold at every end point; an earlier
+        // map's is not needed to reject them.
+        if (m == j && map.lookup.world_limit != Vec4::Zero() &&
+            !LimitHoldsOver(map.lookup.world_limit, corner)) {
+            return false;
+        }
         const size_t forms = 5 + map.lookup.half_planes.size();
         const Eigen::Vector4d rect = LookupRectangle(map.map, map.lookup);
         // Form f: coefficients on (x, y, q); f >= 0 (or > 0) is the test.
