@@ -219,7 +219,7 @@ std::vector<Receiver> ViewReceivers(const PlanRequest& request) {
         std::vector<Vec3> polygon = p.polygon.empty()
                                         ? PlaneBoxPolygon(p.plane, request.scene_bounds)
                                         : p.polygon;
-        for (const Vec4& half_space : frustum) polygon = ClipPolygon(polygon, half_space);
+        for (const Vec4& half_space : frustum) ClipPolygonInPlace(polygon, half_space);
         if (polygon.size() < 3) continue;
         for (const Vec3& s : SamplePolygon(polygon)) out.push_back({s, p.plane});
     }

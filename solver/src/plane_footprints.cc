@@ -37,7 +37,7 @@ PlannedMap CropTo(const PlannedMap& whole, const LixelRect& r, int index,
     }
     std::vector<Vec3> polygon = needed_polygon;
     const RayCone cone = AcceptedCone(m.map, LookupRectangle(m.map, m.lookup), {});
-    for (const Vec4& plane : cone.planes) polygon = ClipPolygon(polygon, plane);
+    for (const Vec4& plane : cone.planes) ClipPolygonInPlace(polygon, plane);
     // Empty when the rectangle holds only shadows out of view (of casters in view).
     m.needed_polygon = std::move(polygon);
     return m;

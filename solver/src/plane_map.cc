@@ -115,7 +115,7 @@ Result<Vec2> LixelsPerPixel(const Mat4& viewer, const Viewport& viewport, const 
 std::vector<Vec3> VisiblePlanePolygon(const Mat4& viewer, const Vec4& plane, const Aabb& bounds) {
     std::vector<Vec3> polygon = PlaneBoxPolygon(plane, bounds);
     for (const Vec4& half_space : FrustumPlanes(viewer)) {
-        polygon = ClipPolygon(polygon, half_space);
+        ClipPolygonInPlace(polygon, half_space);
     }
     return polygon;
 }

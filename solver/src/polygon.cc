@@ -28,6 +28,19 @@ std::vector<Vec3> ClipPolygon(const std::vector<Vec3>& polygon, const Vec4& plan
     return out;
 }
 
+void ClipPolygonInPlace(std::vector<Vec3>& polygon, const Vec4& plane) {
+    // ClipPolygon keeps a vertex where its side is >= 0 and adds a point only on an edge whose
+    // ends differ in that test: with every vertex kept it returns them as they are.
+    const bool all_kept = std::all_of(polygon.begin(), polygon.end(), [&](const Vec3& p) {
+        return plane.head<3>().dot(p) + plane.w() >= 0.0;
+    });
+    if (!all_kept) {
+        polygon = ClipPolygon(polygon, plane);
+    } else if (polygon.size() < 3) {
+        polygon.clear();
+    }
+}
+
 std::vector<Vec3> PlaneBoxPolygon(const Vec4& plane, const Aabb& box) {
     const double n_length = plane.head<3>().norm();
     if (!(n_length > 0.0)) return {};
@@ -50,8 +63,8 @@ std::vector<Vec3> PlaneBoxPolygon(const Vec4& plane, const Aabb& box) {
         Vec4 upper = Vec4::Zero();
         upper(axis) = -1.0;
         upper.w() = box.max(axis);
-        quad = ClipPolygon(quad, lower);
-        quad = ClipPolygon(quad, upper);
+        ClipPolygonInPlace(quad, lower);
+        ClipPolygonInPlace(quad, upper);
     }
     return quad;
 }

@@ -125,7 +125,7 @@ std::vector<std::vector<Vec3>> Subtract(const std::vector<Vec3>& polygon, const 
         if (inside.size() < 3) break;
         std::vector<Vec3> outside = ClipPolygon(inside, -plane);
         if (outside.size() >= 3 && TwiceArea(outside) > min_area) pieces.push_back(outside);
-        inside = ClipPolygon(inside, plane);
+        ClipPolygonInPlace(inside, plane);
     }
     return pieces;
 }

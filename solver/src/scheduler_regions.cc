@@ -128,10 +128,11 @@ void FindCandidates(Context& c) {
                 Vec4 upper = Vec4::Zero();
                 upper(axis) = -1.0;
                 upper.w() = c.bounds.max(axis) + c.thickness;
-                polygon = ClipPolygon(ClipPolygon(polygon, lower), upper);
+                ClipPolygonInPlace(polygon, lower);
+                ClipPolygonInPlace(polygon, upper);
             }
         }
-        for (const Vec4& f : c.frustum) polygon = ClipPolygon(polygon, f);
+        for (const Vec4& f : c.frustum) ClipPolygonInPlace(polygon, f);
         if (polygon.size() < 3) {
             c.plane_left_out.push_back(
                 {name, "not in view: it does not meet the view frustum inside the scene"});

@@ -11,6 +11,9 @@ namespace lixel {
 
 // Keeps the part of a convex polygon (finite vertices, in order) where plane . (x, 1) >= 0.
 std::vector<Vec3> ClipPolygon(const std::vector<Vec3>& polygon, const Vec4& plane);
+// The same in place: `polygon` becomes ClipPolygon(polygon, plane), without a new vector where
+// the plane keeps every vertex (most of a plan's clips by frustum and bounds planes).
+void ClipPolygonInPlace(std::vector<Vec3>& polygon, const Vec4& plane);
 
 // The convex polygon plane ∩ box, vertices in counter-clockwise order about the plane's
 // normal; empty when they do not meet.
