@@ -10,9 +10,14 @@ std::vector<Vec3> ClipPolygon(const std::vector<Vec3>& polygon, const Vec4& plan
     // Sutherland-Hodgman against one half-space.
     std::vector<Vec3> out;
     const size_t n = polygon.size();
-    if (n == 0) return out;
-    out.reserve(n + 1);
     auto side = [&](const Vec3& p) { return plane.head<3>().dot(p) + plane.w(); };
+    // No vertex kept, no edge crossing: nothing, without allocating (most of a set difference's
+    // outside parts, Subtract's).
+    if (std::none_of(polygon.begin(), polygon.end(),
+                     [&](const Vec3& p) { return side(p) >= 0.0; })) {
+        return out;
+    }
+    out.reserve(n + 1);
     for (size_t i = 0; i < n; ++i) {
         const Vec3& a = polygon[i];
         const Vec3& b = polygon[(i + 1) % n];
