@@ -399,6 +399,11 @@ TileProofs PrepareTileProofs(const PixelEstimate& e) {
     return t;
 }
 
+// The corners a proof reads: a row's tile, {a, b, a, b}, has two.
+int DistinctCorners(const RaySample* corner[4]) {
+    return corner[2] == corner[0] && corner[3] == corner[1] ? 2 : 4;
+}
+
 // TileUniform's first proof: the corner rays' origins lie strictly on one side of candidate
 // `i`'s plane (`side` gets which) and their end points inside its needed surface and in front of
 // the viewer's w, each with margin.
@@ -409,7 +414,8 @@ bool TileEndsOnItsPlane(const PixelEstimate& e, const RaySample* corner[4], int 
     const Vec3 normal = cand.plane.head<3>();
     // Origins strictly on one side of the plane.
     side = 0.0;
-    for (int k = 0; k < 4; ++k) {
+    const int corners = DistinctCorners(corner);
+    for (int k = 0; k < corners; ++k) {
         const double v = normal.dot(corner[k]->origin) + cand.plane.w();
         if (!(std::abs(v) > Slack(normal, cand.plane.w(), corner[k]->origin))) return false;
         const double sign = v > 0.0 ? 1.0 : -1.0;
@@ -419,7 +425,7 @@ bool TileEndsOnItsPlane(const PixelEstimate& e, const RaySample* corner[4], int 
     // End points inside the needed surface (thickened bounds, polygon) and in front of the
     // viewer's w, each with margin.
     const auto& poly = r.planes[cand.index].polygon;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < corners; ++k) {
         const Vec3& h = corner[k]->hit;
         const double m =
             kCullMargin * (h.cwiseAbs().maxCoeff() + c.bounds.min.cwiseAbs().maxCoeff() +
@@ -461,12 +467,15 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
         first_y = std::min(first_y, corner[k]->sy);
         last_y = std::max(last_y, corner[k]->sy);
     }
-    // The eight points whose hull holds every segment from a ray's origin to its end point.
+    // The eight points (four for a row) whose hull holds every segment from a ray's origin to its
+    // end point.
     Vec3 points[8];
-    for (int k = 0; k < 4; ++k) {
-        points[k] = corner[k]->origin;
-        points[4 + k] = corner[k]->hit;
+    const int corners = DistinctCorners(corner);
+    for (int k = 0; k < corners; ++k) {
+        points[2 * k] = corner[k]->origin;
+        points[2 * k + 1] = corner[k]->hit;
     }
+    const std::span<const Vec3> hull_points(points, 2 * corners);
     // No other candidate plane in front: its polygon off the tile's screen rectangle, or the
     // eight points strictly on one side of it.
     for (size_t k = 0; k < c.candidates.size(); ++k) {
@@ -476,7 +485,7 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
         const Vec3 nk = p.head<3>();
         double s = 0.0;
         bool separated = true;
-        for (const Vec3& x : points) {
+        for (const Vec3& x : hull_points) {
             const double v = nk.dot(x) + p.w();
             const double sign = v > 0.0 ? 1.0 : -1.0;
             if (!(std::abs(v) > Slack(nk, p.w(), x)) || (s != 0.0 && sign != s)) {
@@ -551,7 +560,7 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
 // Whether every corner's end point lies on the positive side of a lookup's world limit, by more
 // than rounding: then so does every end point of the tile (a linear form in the point).
 bool LimitHoldsOver(const Vec4& limit, const RaySample* corner[4]) {
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < DistinctCorners(corner); ++k) {
         const Vec3& h = corner[k]->hit;
         if (!(limit.head<3>().dot(h) + limit.w() > Slack(limit.head<3>(), limit.w(), h))) {
             return false;
@@ -567,6 +576,7 @@ bool TileLooksUpOneMap(const PixelEstimate& e, const TileProofs& proofs, const R
     // The lookup: map j accepts every end point, and each earlier map rejects all of them by one
     // of its tests. Each test is a linear form in (x, y, q) = rows 0, 1, 3 of the map applied to
     // the point, so margin at the corners is margin over the tile.
+    const int corners = DistinctCorners(corner);
     for (int m = 0; m <= j; ++m) {
         const PlannedMap& map = e.plan.maps[m];
         const Mat4& M = map.map.matrix;
@@ -593,7 +603,7 @@ bool TileLooksUpOneMap(const PixelEstimate& e, const TileProofs& proofs, const R
         // the rounding of u = x / q grows.
         Eigen::Vector3d pq[4];
         double size[4], lixels[4];
-        for (int k = 0; k < 4; ++k) {
+        for (int k = 0; k < corners; ++k) {
             const Vec4 x = Point(corner[k]->hit);
             const Vec4 p = M * x;
             pq[k] = Eigen::Vector3d(p.x(), p.y(), p.w());
@@ -606,7 +616,7 @@ bool TileLooksUpOneMap(const PixelEstimate& e, const TileProofs& proofs, const R
         for (size_t f = 0; f < forms && !rejected; ++f) {
             const Eigen::Vector3d alpha = coefficients(f);
             bool all_above = true, all_below = true;
-            for (int k = 0; k < 4; ++k) {
+            for (int k = 0; k < corners; ++k) {
                 const double slack =
                     kCullMargin * alpha.cwiseAbs().sum() * size[k] * (1.0 + lixels[k]);
                 const double v = alpha.dot(pq[k]);
