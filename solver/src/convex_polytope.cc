@@ -439,8 +439,8 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
                          static_cast<std::uint32_t>(kept.size()), Vec4(-p)});
         points.insert(points.end(), kept.begin(), kept.end());
     }
-    points_.assign(points.begin(), points.end());
-    faces_.assign(faces.begin(), faces.end());
+    points_.swap(points);  // the old storage becomes the next clip's scratch
+    faces_.swap(faces);
     merged_at_ = tol;
     if (empty()) {
         faces_.clear();
