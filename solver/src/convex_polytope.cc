@@ -363,7 +363,7 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
     thread_local std::vector<Vec2> sorted;  // the cap's points sorted, and their hull
     thread_local std::vector<Vec2> hull;
     thread_local std::vector<Vec3> points;     // the clipped polytope's polygons
-    thread_local std::vector<FaceRange> faces;  // and faces, copied back at the end
+    thread_local std::vector<FaceRange> faces;  // and faces, swapped in at the end
     cap_points.clear();
     points.clear();
     faces.clear();
