@@ -367,6 +367,15 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
     cap_points.clear();
     points.clear();
     faces.clear();
+    // Each cut edge gives its point twice, bit for bit (once from each face), and a vertex on
+    // the cut once from each of its faces: the cap takes each point once, where it first
+    // appears. Its hull is the same (ConvexHull2dInto drops equal points) and takes from each
+    // hull point the first cap point that projects onto it, the same.
+    const auto add_to_cap = [](const Vec3& x) {
+        if (std::find(cap_points.begin(), cap_points.end(), x) == cap_points.end()) {
+            cap_points.push_back(x);
+        }
+    };
     for (const FaceRange& face : faces_) {
         const Vec3* poly = points_.data() + face.begin;
         const size_t count = face.count;
@@ -390,7 +399,7 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
             all_on = all_on && sa == 0;
             cut = cut || sa < 0;
             if (sa >= 0) kept.push_back(a);
-            if (sa == 0) cap_points.push_back(a);
+            if (sa == 0) add_to_cap(a);
             if (sa * sb < 0) {
                 // Interpolate from the kept end so the face on the other side of this edge,
                 // which walks it the other way, computes the bitwise-same point.
@@ -401,7 +410,7 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
                 const double d_out = a_in ? db : da;
                 const Vec3 x = in + (d_in / (d_in - d_out)) * (outside - in);
                 kept.push_back(x);
-                cap_points.push_back(x);
+                add_to_cap(x);
             }
         }
         if (all_on) continue;  // lies in the cut: the cap replaces it
