@@ -2,7 +2,6 @@
 #include "rect_cover.h"
 
 #include <algorithm>
-#include <bit>
 
 namespace lixel {
 
@@ -14,27 +13,28 @@ std::uint64_t Span(int from, int to) {
     return high & (~std::uint64_t{0} << from);
 }
 
-}  // namespace
+// The bits set in a word, by shifts and masks. The counts below run once for each row of a
+// block a rectangle meets, and an x86-64 build without -mpopcnt makes std::popcount a call to
+// libgcc's software count (1 % of a 10 k-object plan). Not a POPCNT clone picked when the
+// library loads: ThreadSanitizer's builds crash in such a clone's resolver.
+int CountBits(std::uint64_t x) {
+    x -= (x >> 1) & 0x5555555555555555u;
+    x = (x & 0x3333333333333333u) + ((x >> 2) & 0x3333333333333333u);
+    x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fu;
+    return static_cast<int>((x * 0x0101010101010101u) >> 56);
+}
 
-// The bit counts below run once for each row of a block a rectangle meets. An x86-64 build
-// without -mpopcnt makes each a call to libgcc's software count (1 % of a 10 k-object plan):
-// these functions are also built for the POPCNT instruction, which the loader picks where the
-// processor has it.
-#if defined(__x86_64__)
-#define LIXEL_POPCOUNT_CLONES __attribute__((target_clones("popcnt", "default")))
-#else
-#define LIXEL_POPCOUNT_CLONES
-#endif
+}  // namespace
 
 void RectCover::Bits::Reset(int n) {
     words.assign(static_cast<std::size_t>((n + 63) / 64), 0);
     clear = n;
 }
 
-LIXEL_POPCOUNT_CLONES void RectCover::Bits::Set(int from, int to) {
+void RectCover::Bits::Set(int from, int to) {
     for (int w = from / 64; w * 64 < to; ++w) {
         const std::uint64_t mask = Span(std::max(from - w * 64, 0), std::min(to - w * 64, 64));
-        clear -= std::popcount(mask & ~words[w]);
+        clear -= CountBits(mask & ~words[w]);
         words[w] |= mask;
     }
 }
@@ -55,7 +55,7 @@ void RectCover::ReadEdges(const LixelRect& r) {
 }
 
 // Sets the lixels of `r` (inside the area) block by block, skipping full blocks.
-LIXEL_POPCOUNT_CLONES void RectCover::Set(const LixelRect& r) {
+void RectCover::Set(const LixelRect& r) {
     const int x0 = r.x0 - area_.x0, x1 = r.x1 - area_.x0;  // [x0, x1), x1 > x0
     const int y0 = r.y0 - area_.y0, y1 = r.y1 - area_.y0;
     for (int by = y0 / 64; by * 64 < y1; ++by) {
@@ -68,7 +68,7 @@ LIXEL_POPCOUNT_CLONES void RectCover::Set(const LixelRect& r) {
                 bits_.data() + static_cast<std::size_t>(by * blocks_across_ + bx) * 64;
             std::int32_t newly = 0;
             for (int row = row0; row < row1; ++row) {
-                newly += std::popcount(mask & ~rows[row]);
+                newly += CountBits(mask & ~rows[row]);
                 rows[row] |= mask;
             }
             bare -= newly;
