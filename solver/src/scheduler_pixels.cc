@@ -599,30 +599,33 @@ bool TileLooksUpOneMap(const PixelEstimate& e, const TileProofs& proofs, const R
                 default: return map.lookup.half_planes[f - 5];
             }
         };
-        // Per corner: (x, y, q), the size of the terms that make them, and |u| + |v|, by which
-        // the rounding of u = x / q grows.
+        // Per corner: (x, y, q), and a form's rounding allowance there per unit of its
+        // coefficients' sum: kCullMargin of the size of the terms that make (x, y, q), grown by
+        // |u| + |v|, by which the rounding of u = x / q grows.
         Eigen::Vector3d pq[4];
-        double size[4], lixels[4];
+        double unit_slack[4];
+        bool q_positive[4];
         for (int k = 0; k < corners; ++k) {
             const Vec4 x = Point(corner[k]->hit);
             const Vec4 p = M * x;
             pq[k] = Eigen::Vector3d(p.x(), p.y(), p.w());
-            size[k] = proofs.map_sizes[m].dot(x.cwiseAbs());
-            lixels[k] = (std::abs(p.x()) + std::abs(p.y())) /
-                        std::max(std::abs(p.w()), std::numeric_limits<double>::min());
+            const double size = proofs.map_sizes[m].dot(x.cwiseAbs());
+            const double lixels = (std::abs(p.x()) + std::abs(p.y())) /
+                                  std::max(std::abs(p.w()), std::numeric_limits<double>::min());
+            unit_slack[k] = kCullMargin * size * (1.0 + lixels);
+            q_positive[k] = p.w() > kCullMargin * size;
         }
         bool accepted = true;
         bool rejected = false;
         for (size_t f = 0; f < forms && !rejected; ++f) {
             const Eigen::Vector3d alpha = coefficients(f);
+            const double alpha_sum = alpha.cwiseAbs().sum();
             bool all_above = true, all_below = true;
             for (int k = 0; k < corners; ++k) {
-                const double slack =
-                    kCullMargin * alpha.cwiseAbs().sum() * size[k] * (1.0 + lixels[k]);
+                const double slack = alpha_sum * unit_slack[k];
                 const double v = alpha.dot(pq[k]);
-                const bool q_positive = pq[k].z() > kCullMargin * size[k];
-                all_above = all_above && v > slack && q_positive;
-                all_below = all_below && v < -slack && (f == 0 || q_positive);
+                all_above = all_above && v > slack && q_positive[k];
+                all_below = all_below && v < -slack && (f == 0 || q_positive[k]);
             }
             if (!all_above) accepted = false;
             if (all_below) rejected = true;
