@@ -615,23 +615,24 @@ bool TileLooksUpOneMap(const PixelEstimate& e, const TileProofs& proofs, const R
             unit_slack[k] = kCullMargin * size * (1.0 + lixels);
             q_positive[k] = p.w() > kCullMargin * size;
         }
-        bool accepted = true;
+        // Map j must accept every end point by every form; an earlier map must reject all of
+        // them by one form.
+        const bool accepting = m == j;
         bool rejected = false;
         for (size_t f = 0; f < forms && !rejected; ++f) {
             const Eigen::Vector3d alpha = coefficients(f);
             const double alpha_sum = alpha.cwiseAbs().sum();
-            bool all_above = true, all_below = true;
-            for (int k = 0; k < corners; ++k) {
+            bool all = true;
+            for (int k = 0; k < corners && all; ++k) {
                 const double slack = alpha_sum * unit_slack[k];
                 const double v = alpha.dot(pq[k]);
-                all_above = all_above && v > slack && q_positive[k];
-                all_below = all_below && v < -slack && (f == 0 || q_positive[k]);
+                all = accepting ? v > slack && q_positive[k]
+                                : v < -slack && (f == 0 || q_positive[k]);
             }
-            if (!all_above) accepted = false;
-            if (all_below) rejected = true;
-            if (m == j && !accepted) break;
+            if (accepting && !all) return false;
+            rejected = !accepting && all;
         }
-        if (m < j ? !rejected : !accepted) return false;
+        if (!accepting && !rejected) return false;
     }
     return true;
 }
