@@ -6,23 +6,30 @@
 
 namespace lixel {
 
+namespace {
+
+// plane . (x, 1): ClipPolygon keeps the vertices where it is >= 0.
+double Side(const Vec4& plane, const Vec3& p) { return plane.head<3>().dot(p) + plane.w(); }
+bool Kept(const Vec4& plane, const Vec3& p) { return Side(plane, p) >= 0.0; }
+
+}  // namespace
+
 std::vector<Vec3> ClipPolygon(const std::vector<Vec3>& polygon, const Vec4& plane) {
     // Sutherland-Hodgman against one half-space.
     std::vector<Vec3> out;
     const size_t n = polygon.size();
-    auto side = [&](const Vec3& p) { return plane.head<3>().dot(p) + plane.w(); };
     // No vertex kept, no edge crossing: nothing, without allocating (most of a set difference's
     // outside parts, Subtract's).
     if (std::none_of(polygon.begin(), polygon.end(),
-                     [&](const Vec3& p) { return side(p) >= 0.0; })) {
+                     [&](const Vec3& p) { return Kept(plane, p); })) {
         return out;
     }
     out.reserve(n + 1);
     for (size_t i = 0; i < n; ++i) {
         const Vec3& a = polygon[i];
         const Vec3& b = polygon[(i + 1) % n];
-        const double da = side(a);
-        const double db = side(b);
+        const double da = Side(plane, a);
+        const double db = Side(plane, b);
         if (da >= 0.0) out.push_back(a);
         if ((da >= 0.0) != (db >= 0.0)) {
             const double t = da / (da - db);
@@ -34,15 +41,15 @@ std::vector<Vec3> ClipPolygon(const std::vector<Vec3>& polygon, const Vec4& plan
 }
 
 void ClipPolygonInPlace(std::vector<Vec3>& polygon, const Vec4& plane) {
-    // ClipPolygon keeps a vertex where its side is >= 0 and adds a point only on an edge whose
-    // ends differ in that test: with every vertex kept it returns them as they are.
-    const bool all_kept = std::all_of(polygon.begin(), polygon.end(), [&](const Vec3& p) {
-        return plane.head<3>().dot(p) + plane.w() >= 0.0;
-    });
-    if (!all_kept) {
-        polygon = ClipPolygon(polygon, plane);
-    } else if (polygon.size() < 3) {
+    // ClipPolygon adds a point only on an edge whose ends differ in Kept: with every vertex kept
+    // it returns them as they are (none where fewer than three), with none kept nothing.
+    const auto kept = std::count_if(polygon.begin(), polygon.end(),
+                                    [&](const Vec3& p) { return Kept(plane, p); });
+    const auto n = static_cast<std::ptrdiff_t>(polygon.size());
+    if (kept == 0 || (kept == n && n < 3)) {
         polygon.clear();
+    } else if (kept < n) {
+        polygon = ClipPolygon(polygon, plane);
     }
 }
 
