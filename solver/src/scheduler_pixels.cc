@@ -531,19 +531,19 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
     }
     if (!proofs.cells.any_filed()) return true;
     const std::uint32_t tile = ++e.tile;
+    // A tile covers level 0's cells between its first and last samples; a tile one sample high
+    // (or wide) lies on the edge of the cell its samples' rays use (TraceSample), whose closed
+    // square holds it.
+    const int first_row = std::min(first_y, ScreenCells::kCells - 1);
+    const int last_row = std::max(first_row, last_y - 1);
+    const int first_column = std::min(first_x, ScreenCells::kCells - 1);
+    const int last_column = std::max(first_column, last_x - 1);
     for (int level = 0; level < ScreenCells::kLevels; ++level) {
         if (!proofs.cells.filed(level)) continue;
-        // A tile covers the cells between its first and last samples; a tile one sample high (or
-        // wide) lies on the edge of the cell its samples' rays use (TraceSample), whose closed
-        // square holds it.
-        const auto first_cell = [](int first) { return std::min(first, ScreenCells::kCells - 1); };
-        const auto last_cell = [&](int first, int last) {
-            return std::max(first_cell(first), last - 1);
-        };
-        const int row0 = ScreenCells::Coarse(first_cell(first_y), level);
-        const int row1 = ScreenCells::Coarse(last_cell(first_y, last_y), level);
-        const int column0 = ScreenCells::Coarse(first_cell(first_x), level);
-        const int column1 = ScreenCells::Coarse(last_cell(first_x, last_x), level);
+        const int row0 = ScreenCells::Coarse(first_row, level);
+        const int row1 = ScreenCells::Coarse(last_row, level);
+        const int column0 = ScreenCells::Coarse(first_column, level);
+        const int column1 = ScreenCells::Coarse(last_column, level);
         for (int cy = row0; cy <= row1; ++cy) {
             for (int cx = column0; cx <= column1; ++cx) {
                 for (const std::uint32_t b : proofs.cells.Cell(cx, cy, level)) {
@@ -557,10 +557,11 @@ bool TileSeesNothingNearer(const PixelEstimate& e, const TileProofs& proofs,
     return true;
 }
 
-// Whether every corner's end point lies on the positive side of a lookup's world limit, by more
-// than rounding: then so does every end point of the tile (a linear form in the point).
-bool LimitHoldsOver(const Vec4& limit, const RaySample* corner[4]) {
-    for (int k = 0; k < DistinctCorners(corner); ++k) {
+// Whether the end points of the first `corners` corners (DistinctCorners) lie on the positive
+// side of a lookup's world limit by more than rounding: then so does every end point of the tile
+// (a linear form in the point).
+bool LimitHoldsOver(const Vec4& limit, const RaySample* corner[4], int corners) {
+    for (int k = 0; k < corners; ++k) {
         const Vec3& h = corner[k]->hit;
         if (!(limit.head<3>().dot(h) + limit.w() > Slack(limit.head<3>(), limit.w(), h))) {
             return false;
@@ -583,7 +584,7 @@ bool TileLooksUpOneMap(const PixelEstimate& e, const TileProofs& proofs, const R
         // Map j's world limit (an unshadowed entry's) must hold at every end point; an earlier
         // map's is not needed to reject them.
         if (m == j && map.lookup.world_limit != Vec4::Zero() &&
-            !LimitHoldsOver(map.lookup.world_limit, corner)) {
+            !LimitHoldsOver(map.lookup.world_limit, corner, corners)) {
             return false;
         }
         const size_t forms = 5 + map.lookup.half_planes.size();
