@@ -54,29 +54,6 @@ void RectCover::ReadEdges(const LixelRect& r) {
     if (r.x1 == area_.x1) edges_[3].Set(r.y0 - area_.y0, r.y1 - area_.y0);
 }
 
-// Sets the lixels of `r` (inside the area) block by block, skipping full blocks.
-void RectCover::Set(const LixelRect& r) {
-    const int x0 = r.x0 - area_.x0, x1 = r.x1 - area_.x0;  // [x0, x1), x1 > x0
-    const int y0 = r.y0 - area_.y0, y1 = r.y1 - area_.y0;
-    for (int by = y0 / 64; by * 64 < y1; ++by) {
-        const int row0 = std::max(y0 - by * 64, 0), row1 = std::min(y1 - by * 64, 64);
-        for (int bx = x0 / 64; bx * 64 < x1; ++bx) {
-            std::int32_t& bare = block_bare_[by * blocks_across_ + bx];
-            if (bare == 0) continue;
-            const std::uint64_t mask = Span(std::max(x0 - bx * 64, 0), std::min(x1 - bx * 64, 64));
-            std::uint64_t* rows =
-                bits_.data() + static_cast<std::size_t>(by * blocks_across_ + bx) * 64;
-            std::int32_t newly = 0;
-            for (int row = row0; row < row1; ++row) {
-                newly += CountBits(mask & ~rows[row]);
-                rows[row] |= mask;
-            }
-            bare -= newly;
-            bare_ -= newly;
-        }
-    }
-}
-
 bool RectCover::CoversFrom(std::span<const LixelRect> rects) {
     if (bits_.empty()) {
         if (edges_[0].words.empty()) {  // the first call: nothing allocated before a rectangle
@@ -109,6 +86,29 @@ bool RectCover::CoversFrom(std::span<const LixelRect> rects) {
     for (; read_ < rects.size() && bare_ > 0; ++read_) Set(rects[read_]);
     read_ = rects.size();
     return bare_ == 0;
+}
+
+// Sets the lixels of `r` (inside the area) block by block, skipping full blocks.
+void RectCover::Set(const LixelRect& r) {
+    const int x0 = r.x0 - area_.x0, x1 = r.x1 - area_.x0;  // [x0, x1), x1 > x0
+    const int y0 = r.y0 - area_.y0, y1 = r.y1 - area_.y0;
+    for (int by = y0 / 64; by * 64 < y1; ++by) {
+        const int row0 = std::max(y0 - by * 64, 0), row1 = std::min(y1 - by * 64, 64);
+        for (int bx = x0 / 64; bx * 64 < x1; ++bx) {
+            std::int32_t& bare = block_bare_[by * blocks_across_ + bx];
+            if (bare == 0) continue;
+            const std::uint64_t mask = Span(std::max(x0 - bx * 64, 0), std::min(x1 - bx * 64, 64));
+            std::uint64_t* rows =
+                bits_.data() + static_cast<std::size_t>(by * blocks_across_ + bx) * 64;
+            std::int32_t newly = 0;
+            for (int row = row0; row < row1; ++row) {
+                newly += CountBits(mask & ~rows[row]);
+                rows[row] |= mask;
+            }
+            bare -= newly;
+            bare_ -= newly;
+        }
+    }
 }
 
 }  // namespace lixel
