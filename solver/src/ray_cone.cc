@@ -93,7 +93,8 @@ Subtracted SubtractInto(const ConvexPolytope& region, const RayConeTests& cone,
                 if (!outside.empty()) pieces.push_back(outside);
                 break;
         }
-        if (within == ClipEffect::kKeepsAll) continue;
+        // What lies inside the last plane is what the cone holds: nothing reads it.
+        if (within == ClipEffect::kKeepsAll || k + 1 == cone.inside.size()) continue;
         if (inside == &region) {
             cut = region;
             inside = &cut;
