@@ -742,29 +742,28 @@ std::vector<std::int64_t> CountSamples(const PixelEstimate& e) {
         self(self, a, middle);
         self(self, middle, b);
     };
-    if (proofs.enabled) {
-        for (int sy = 0; sy < n; ++sy) {
-            for (int sx = 0; sx < n; ++sx) {
-                if (maps[sy * n + sx] != kUntraced) continue;
-                e.c.poll.Now();  // a run of traced rays can take a millisecond at 100 k objects
-                int last = sx;
-                while (last + 1 < n && maps[sy * n + last + 1] == kUntraced) ++last;
-                const RaySample first = trace(sx, sy);
-                if (last > sx) fill_row(fill_row, first, trace(last, sy));
-                sx = last;
-            }
-        }
-    }
-    // Counted in runs of one map: adding one per sample to the same counter is a chain of
-    // dependent stores that costs more than the filled tiles' tracing saved.
+    // Counted in runs of one map, each row as soon as its runs are filled (a run writes only its
+    // own row): adding one per sample to the same counter is a chain of dependent stores that
+    // costs more than the filled tiles' tracing saved.
     std::vector<std::int64_t> counts(e.plan.maps.size(), 0);
     int run_map = -1;
     std::int64_t run = 0;
     for (int sy = 0; sy < n; ++sy) {
         e.c.poll.Now();  // a row of traced rays can take a millisecond at 100 k objects
+        int* const row = maps.data() + sy * n;
         for (int sx = 0; sx < n; ++sx) {
-            int index = maps[sy * n + sx];
-            if (index == kUntraced) index = TraceSample<kByDepth>(e, sx, sy).map;
+            if (row[sx] == kUntraced) {
+                if (proofs.enabled) {
+                    e.c.poll.Now();  // a run of traced rays can take a millisecond at 100 k
+                    int last = sx;
+                    while (last + 1 < n && row[last + 1] == kUntraced) ++last;
+                    const RaySample first = trace(sx, sy);
+                    if (last > sx) fill_row(fill_row, first, trace(last, sy));
+                } else {
+                    row[sx] = TraceSample<kByDepth>(e, sx, sy).map;
+                }
+            }
+            const int index = row[sx];
             if (index != run_map) {
                 if (run_map >= 0) counts[run_map] += run;
                 run_map = index;
