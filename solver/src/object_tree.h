@@ -65,6 +65,12 @@ class ObjectTree {
     };
     std::int32_t Build(std::uint32_t first, std::uint32_t count, std::vector<Centred>& items,
                        std::vector<Centred>& scratch, std::size_t level);
+    // The levels above Build's: items sorted by their centres' Morton codes (`codes`, alike
+    // ordered), each range split where its highest differing bit turns, down to ranges of one
+    // code or few enough boxes, which Build takes from there.
+    std::int32_t BuildSorted(std::uint32_t first, std::uint32_t count, std::vector<Centred>& items,
+                             std::vector<Centred>& scratch, const std::vector<std::uint32_t>& codes,
+                             std::size_t level);
     // The node's bounds from its boxes (a leaf) or its children's bounds (a branch), which must
     // be bounded first: what Build and Refit both merge.
     void Bound(Node& node);

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
 #include <random>
@@ -18,6 +19,10 @@ namespace lixel::scheduling {
 namespace {
 
 using testing::Uniform;
+
+// The Morton code's bits per axis (object_tree.cc): the curve adds at most three times as many
+// levels above the midpoint splits.
+constexpr int kMortonBitsForTest = 10;
 
 // The scan the tree must reproduce: a box is possible when no plane's group test rejects it,
 // among the first kKeepsNothingClips + 1 planes (the ones whose rejection the test's margin
@@ -270,6 +275,48 @@ TEST(ObjectTree, RefitNeedsOnlyTheBoxesItIsGiven) {
 // Centres over many scales (ten boxes at each power of two from 2^-1000 to 2^999), which a split
 // at the middle of the centres' extent peels one scale at a time, and a uniform field: the depth
 // stays within the median fallback's bound, log_{8/7} of the count.
+// Boxes whose centres the Morton curve cannot order alike (object_tree.cc): most of them in one
+// cell of a cube 1e300 across, centres whose extent overflows, and centres that coincide. The
+// marks are still what testing every box alone finds.
+TEST(ObjectTree, MarksExactlyWhereTheCentresHaveNoCubeToOrderThemIn) {
+    std::mt19937_64 rng(2983);
+    std::vector<std::vector<PolytopeBounds>> scenes(3);
+    int rejected = 0, kept = 0;
+    for (int k = 0; k < 400; ++k) {
+        const double far = k % 4 == 0 ? 1e300 * Uniform(rng, -1, 1) : 0.0;
+        const double tiny = k % 4 == 1 ? 1e-300 : 1.0;
+        const Vec3 at(far + tiny * Uniform(rng, -3, 3), tiny * Uniform(rng, 0, 2),
+                      tiny * Uniform(rng, -3, 3));
+        const Vec3 half = (far != 0.0 ? 1e298 : tiny) * Vec3::Constant(Uniform(rng, 0.01, 1));
+        scenes[0].push_back(PolytopeBounds::OfBox(Aabb{at - half, at + half}));
+        // Centres 3.4e308 apart: their extent is no finite double.
+        const Vec3 side(k % 2 ? 1.7e308 : -1.7e308, Uniform(rng, -3, 3), 0);
+        const Vec3 wide = Vec3::Constant(1e300 * Uniform(rng, 0.01, 1));
+        scenes[1].push_back(PolytopeBounds::OfBox(Aabb{side - wide, side + wide}));
+        scenes[2].push_back(PolytopeBounds::OfBox(Aabb{-(1.0 + k) * half, (1.0 + k) * half}));
+    }
+    for (std::size_t scene = 0; scene < scenes.size(); ++scene) {
+        const std::vector<PolytopeBounds>& boxes = scenes[scene];
+        EXPECT_EQ(std::count_if(boxes.begin(), boxes.end(),
+                                [](const PolytopeBounds& b) { return !b.empty(); }),
+                  400);
+        const ObjectTree tree(boxes);
+        EXPECT_LE(tree.depth(), 3 * kMortonBitsForTest + std::log(400.0) / std::log(8.0 / 7.0) + 2);
+        for (int set = 0; set < 40; ++set) {
+            const double scale = set % 2 ? 1.0 : 1e300;
+            const std::vector<PlaneTest> planes = SeededPlanes(rng, boxes, scale, set);
+            std::vector<char> possible;
+            tree.MarkPossible(planes, possible);
+            ASSERT_EQ(possible, EveryBoxAlone(boxes, planes))
+                << "scene " << scene << " set " << set;
+            for (const char p : possible) (p ? kept : rejected) += 1;
+        }
+    }
+    std::printf("[ measured ] %d boxes rejected, %d kept\n", rejected, kept);
+    EXPECT_GT(rejected, 5000);
+    EXPECT_GT(kept, 5000);
+}
+
 TEST(ObjectTree, StaysShallowOnCentresOverManyScales) {
     std::vector<PolytopeBounds> spread;
     for (int k = 0; k < 20000; ++k) {
