@@ -88,6 +88,12 @@ ObjectTree::ObjectTree(std::span<const PolytopeBounds> boxes)
     nodes_.reserve(2 * items.size());
     std::vector<Centred> scratch(items.size());
     const auto count = static_cast<std::uint32_t>(items.size());
+    Build(count, items, scratch);
+    BoundAll();
+}
+
+void ObjectTree::Build(std::uint32_t count, std::vector<Centred>& items,
+                       std::vector<Centred>& scratch) {
     if (count <= kLeafBoxes) {
         Build(0, count, items, scratch, 1);
         return;
@@ -137,7 +143,6 @@ std::int32_t ObjectTree::BuildSorted(std::uint32_t first, std::uint32_t count,
         BuildSorted(split, first + count - split, items, scratch, codes, level + 1);
     nodes_[index].left = left;
     nodes_[index].right = right;
-    Bound(nodes_[index]);
     return index;
 }
 
@@ -151,7 +156,6 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     nodes_[index].count = count;
     if (count <= kLeafBoxes) {
         for (std::uint32_t k = first; k < first + count; ++k) order_[k] = items[k].index;
-        Bound(nodes_[index]);
         return index;
     }
     Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
@@ -195,22 +199,36 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     const std::int32_t right = Build(first + half, count - half, items, scratch, level + 1);
     nodes_[index].left = left;
     nodes_[index].right = right;
-    Bound(nodes_[index]);
     return index;
 }
 
-void ObjectTree::Bound(Node& node) {
-    if (node.left < 0) {
+void ObjectTree::BoundAll() {
+    // The leaves' boxes in the order they lie in memory, each merged into its leaf: read in the
+    // tree's order, a large scene's boxes would be fetched one cache miss each. Min, max and the
+    // largest |coordinate| come out the same in any order, and the diagonal is taken anew after
+    // every merge, so each leaf's bounds are what merging its boxes in its own order gives.
+    std::vector<std::int32_t> leaf_of(total_, -1);
+    for (std::size_t at = 0; at < nodes_.size(); ++at) {
+        Node& node = nodes_[at];
+        if (node.left >= 0) continue;
         node.bounds = PolytopeBounds{};
         for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-            node.bounds.Merge(boxes_[order_[k]]);
+            leaf_of[order_[k]] = static_cast<std::int32_t>(at);
         }
-        return;
     }
-    // The children's bounds hold the same boxes: min, max and the diagonal over them come out
-    // as merging every box would give, with two merges where that took one a box.
-    node.bounds = nodes_[node.left].bounds;
-    node.bounds.Merge(nodes_[node.right].bounds);
+    for (std::size_t i = 0; i < total_; ++i) {
+        if (leaf_of[i] >= 0) nodes_[leaf_of[i]].bounds.Merge(boxes_[i]);
+    }
+    // Children come after their parent (the builds number nodes in pre-order), so a pass from
+    // the back bounds every child before its parent. The children's bounds hold the same boxes:
+    // min, max and the diagonal over them come out as merging every box would give, with two
+    // merges where that took one a box.
+    for (std::size_t at = nodes_.size(); at-- > 0;) {
+        Node& node = nodes_[at];
+        if (node.left < 0) continue;
+        node.bounds = nodes_[node.left].bounds;
+        node.bounds.Merge(nodes_[node.right].bounds);
+    }
 }
 
 bool ObjectTree::Refit(std::span<const PolytopeBounds> boxes) {
@@ -224,9 +242,7 @@ bool ObjectTree::Refit(std::span<const PolytopeBounds> boxes) {
         if (boxes[i].empty()) return false;
     }
     boxes_ = boxes;
-    // Children come after their parent (Build numbers nodes in pre-order), so a pass from the
-    // back bounds every child before its parent, as Build does.
-    for (std::size_t at = nodes_.size(); at-- > 0;) Bound(nodes_[at]);
+    BoundAll();
     return true;
 }
 

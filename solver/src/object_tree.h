@@ -63,6 +63,8 @@ class ObjectTree {
         Vec3 centre;
         std::uint32_t index = 0;
     };
+    // The nodes over all `count` items, numbered in pre-order, their bounds not yet taken.
+    void Build(std::uint32_t count, std::vector<Centred>& items, std::vector<Centred>& scratch);
     std::int32_t Build(std::uint32_t first, std::uint32_t count, std::vector<Centred>& items,
                        std::vector<Centred>& scratch, std::size_t level);
     // The levels above Build's: items sorted by their centres' Morton codes (`codes`, alike
@@ -71,9 +73,9 @@ class ObjectTree {
     std::int32_t BuildSorted(std::uint32_t first, std::uint32_t count, std::vector<Centred>& items,
                              std::vector<Centred>& scratch, const std::vector<std::uint32_t>& codes,
                              std::size_t level);
-    // The node's bounds from its boxes (a leaf) or its children's bounds (a branch), which must
-    // be bounded first: what Build and Refit both merge.
-    void Bound(Node& node);
+    // Every node's bounds from its boxes (a leaf) or its children's bounds (a branch): what the
+    // build and Refit both end with.
+    void BoundAll();
 
     std::vector<Node> nodes_;
     std::vector<std::uint32_t> order_;  // box indices, grouped by node
