@@ -204,7 +204,7 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
         beyond = w_normal.dot(at) + w_row.w() +
                  kCullMargin * (w_normal.cwiseAbs().sum() * size + std::abs(w_row.w()));
     };
-    const auto try_box = [&](std::size_t i) {
+    const auto try_box = [&](std::size_t i) __attribute__((always_inline)) {
         const SceneObject& o = r.objects[i];
         if (off_screen(e.proofs.boxes, i)) return;
         if (SegmentMisses(segment, o.bounds, e.box_magnitudes[i])) return;
