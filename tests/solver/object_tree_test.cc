@@ -275,14 +275,15 @@ TEST(ObjectTree, RefitNeedsOnlyTheBoxesItIsGiven) {
 // Centres over many scales (ten boxes at each power of two from 2^-1000 to 2^999), which a split
 // at the middle of the centres' extent peels one scale at a time, and a uniform field: the depth
 // stays within the median fallback's bound, log_{8/7} of the count.
-// Boxes whose centres the Morton curve cannot order alike (object_tree.cc): most of them in one
-// cell of a cube 1e300 across, centres whose extent overflows, and centres that coincide. The
-// marks are still what testing every box alone finds.
+// Boxes whose centres the Morton curve cannot order alike (object_tree.cc; 1 200 of them, past
+// the 1 024 from which it orders them): most of them in one cell of a cube 1e300 across, centres
+// whose extent overflows, and centres that coincide. The marks are still what testing every box
+// alone finds.
 TEST(ObjectTree, MarksExactlyWhereTheCentresHaveNoCubeToOrderThemIn) {
     std::mt19937_64 rng(2983);
     std::vector<std::vector<PolytopeBounds>> scenes(3);
     int rejected = 0, kept = 0;
-    for (int k = 0; k < 400; ++k) {
+    for (int k = 0; k < 1200; ++k) {
         const double far = k % 4 == 0 ? 1e300 * Uniform(rng, -1, 1) : 0.0;
         const double tiny = k % 4 == 1 ? 1e-300 : 1.0;
         const Vec3 at(far + tiny * Uniform(rng, -3, 3), tiny * Uniform(rng, 0, 2),
@@ -299,9 +300,10 @@ TEST(ObjectTree, MarksExactlyWhereTheCentresHaveNoCubeToOrderThemIn) {
         const std::vector<PolytopeBounds>& boxes = scenes[scene];
         EXPECT_EQ(std::count_if(boxes.begin(), boxes.end(),
                                 [](const PolytopeBounds& b) { return !b.empty(); }),
-                  400);
+                  1200);
         const ObjectTree tree(boxes);
-        EXPECT_LE(tree.depth(), 3 * kMortonBitsForTest + std::log(400.0) / std::log(8.0 / 7.0) + 2);
+        EXPECT_LE(tree.depth(),
+                  3 * kMortonBitsForTest + std::log(1200.0) / std::log(8.0 / 7.0) + 2);
         for (int set = 0; set < 40; ++set) {
             const double scale = set % 2 ? 1.0 : 1e300;
             const std::vector<PlaneTest> planes = SeededPlanes(rng, boxes, scale, set);
