@@ -1,13 +1,13 @@
 // fuzz_scheduler: PlanShadowMaps on structured random requests (FuzzedDataProvider): a viewer,
-// a light, up to 8 objects (some with a box mesh) and a seeded field of up to 64 boxes around one
-// point (the object tree's groups, the pixel estimate's screen cells), up to 4 planes (some
-// bounded), budgets, texture limits and passes. No crash; an ok() plan is finite, within its
-// budget, and its lookup answers an index into its maps. Cancelled at a fuzzed poll, the plan
-// ends there with the cancel error, or finishes before it. The same request's baselines (uniform,
-// PSM, LiSPSM, cascades with random settings) from the plan's hull keep the same promises, and so
-// does the next frame planned frame-coherently from this one's maps (sizes, twists and settings
-// perturbed). Given an object index kept from a plan of the objects elsewhere, the plan is the
-// same in every field.
+// a light, up to 8 objects (some with a box mesh) and a seeded field of up to 64 boxes, or 1 024
+// to 1 087, around one point (the object tree's groups, the pixel estimate's screen cells), up to
+// 4 planes (some bounded), budgets, texture limits and passes. No crash; an ok() plan is finite,
+// within its budget, and its lookup answers an index into its maps. Cancelled at a fuzzed poll, the
+// plan ends there with the cancel error, or finishes before it. The same request's baselines
+// (uniform, PSM, LiSPSM, cascades with random settings) from the plan's hull keep the same
+// promises, and so does the next frame planned frame-coherently from this one's maps (sizes, twists
+// and settings perturbed). Given an object index kept from a plan of the objects elsewhere, the
+// plan is the same in every field.
 #include <lixel/solver/baseline_plan.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/mesh.h>
@@ -66,7 +66,10 @@ PlanRequest PickRequest(FuzzedDataProvider& in) {
         r.objects.push_back(o);
     }
     if (in.ConsumeBool()) {
-        const int field = in.ConsumeIntegralInRange<int>(1, 64);
+        int field = in.ConsumeIntegralInRange<int>(1, 64);
+        // One field in four past the 1 024 boxes from which the object tree orders them along a
+        // Morton curve (a plan of so many costs the fuzzer about twenty of the others).
+        if (in.ConsumeIntegralInRange<int>(0, 3) == 0) field += 1023;
         const Vec3 centre = PickVec3(in);
         const double spread = PickDouble(in);
         std::mt19937_64 rng(in.ConsumeIntegral<std::uint32_t>());
