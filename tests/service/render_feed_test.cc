@@ -1,4 +1,8 @@
 // render_feed.h: Render's streaming hand-off between the GPU worker and the call's writer.
+#include <grpc/grpc.h>
+#include <grpcpp/create_channel.h>
+#include <grpcpp/security/credentials.h>
+#include <grpcpp/support/channel_arguments.h>
 #include <gtest/gtest.h>
 #include <lixel/service/render_feed.h>
 
@@ -178,6 +182,18 @@ TEST(RenderFeed, ChunksReuseTheMessagesBufferAndTheWrittenImageIsHandedBack) {
     EXPECT_TRUE(w.feed.TakeSpare().empty());  // handed back once
 }
 
+// A stub whose channel grants each stream a fixed 64 KiB window: without probing the link's
+// bandwidth-delay product, a client that stops reading stops the server's writes there. With
+// it, on a loaded loopback the window grew past the whole of a Render's stream (5.6 MiB), which
+// then ended OK before the client read past its header (3 runs in 20 with both cores busy).
+std::unique_ptr<v1::Shadow::Stub> FixedWindowStub(const std::string& target) {
+    grpc::ChannelArguments args;
+    args.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
+    args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, 64 << 10);
+    return v1::Shadow::NewStub(
+        grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), args));
+}
+
 // Through the server: a client that reads the header and then nothing frees the only render
 // worker after stream_idle_seconds, another client's View is served meanwhile, and the stalled
 // stream ends RESOURCE_EXHAUSTED naming the limit once it is read again.
@@ -191,7 +207,7 @@ TEST(RenderStreaming, AStalledReaderDoesNotHoldTheWorker) {
     auto uploaded = client->UploadScene(testing::SmallScene());
     ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
 
-    auto stub = testing::RawStub(testing::Target(*server));
+    auto stub = FixedWindowStub(testing::Target(*server));
     grpc::ClientContext held;
     testing::WithDeadline(held);
     auto reader = stub->Render(&held, testing::BigRender(uploaded->scene_id()));
