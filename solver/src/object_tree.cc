@@ -179,7 +179,7 @@ std::int32_t ObjectTree::Build(std::uint32_t first, std::uint32_t count,
     // along the axis, or spread over many scales, as a hostile request may send them: the middle
     // then peels off one scale a level), at the median instead, so that the depth stays within
     // log_{8/7} of the count (under 170 levels at 2^32 boxes) and the build within that many
-    // passes.
+    // passes; the Morton curve adds at most 3 kMortonBits levels above them.
     const double middle = 0.5 * (lo(axis) + hi(axis));
     // Without branches (which side a box falls on is a coin toss to the predictor): the lower
     // side moves down in place, the upper side into `scratch` and back after it.

@@ -35,7 +35,7 @@ class ObjectTree {
                       bool mark_inside = false) const;
 
     // The same hierarchy over `boxes` (a scene's objects moved since the build): each node's
-    // bounds merged anew from its members, one pass, no split. MarkPossible answers for the new
+    // bounds merged anew from its members (BoundAll), no split. MarkPossible answers for the new
     // boxes exactly as a tree built over them would; only the number of boxes a query visits
     // may grow as the groups spread. False, and the tree unchanged, where the boxes are not as
     // many or not empty where they were: their hierarchy is not this one. The boxes it read

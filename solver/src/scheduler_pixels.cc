@@ -204,6 +204,8 @@ RaySample TraceSample(const PixelEstimate& e, int sx, int sy) {
         beyond = w_normal.dot(at) + w_row.w() +
                  kCullMargin * (w_normal.cwiseAbs().sum() * size + std::abs(w_row.w()));
     };
+    // Always inlined: GCC stopped inlining it once the rows were counted in one pass, and called
+    // it once a box (GNU syntax: [[gnu::always_inline]] there would name the lambda's type).
     const auto try_box = [&](std::size_t i) __attribute__((always_inline)) {
         const SceneObject& o = r.objects[i];
         if (off_screen(e.proofs.boxes, i)) return;
@@ -754,7 +756,7 @@ std::vector<std::int64_t> CountSamples(const PixelEstimate& e) {
         for (int sx = 0; sx < n; ++sx) {
             if (row[sx] == kUntraced) {
                 if (proofs.enabled) {
-                    e.c.poll.Now();  // a run of traced rays can take a millisecond at 100 k
+                    e.c.poll.Now();  // a run's rays can take a millisecond at 100 k objects
                     int last = sx;
                     while (last + 1 < n && row[last + 1] == kUntraced) ++last;
                     const RaySample first = trace(sx, sy);

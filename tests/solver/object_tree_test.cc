@@ -272,16 +272,14 @@ TEST(ObjectTree, RefitNeedsOnlyTheBoxesItIsGiven) {
     }
 }
 
-// Centres over many scales (ten boxes at each power of two from 2^-1000 to 2^999), which a split
-// at the middle of the centres' extent peels one scale at a time, and a uniform field: the depth
-// stays within the median fallback's bound, log_{8/7} of the count.
 // Boxes whose centres the Morton curve cannot order alike (object_tree.cc; 1 200 of them, past
 // the 1 024 from which it orders them): most of them in one cell of a cube 1e300 across, centres
-// whose extent overflows, and centres that coincide. The marks are still what testing every box
-// alone finds.
+// that overflow to infinity, centres that coincide, and centres too close together for the cube
+// to have a finite number of cells a unit. The marks are still what testing every box alone
+// finds.
 TEST(ObjectTree, MarksExactlyWhereTheCentresHaveNoCubeToOrderThemIn) {
     std::mt19937_64 rng(2983);
-    std::vector<std::vector<PolytopeBounds>> scenes(3);
+    std::vector<std::vector<PolytopeBounds>> scenes(4);
     int rejected = 0, kept = 0;
     for (int k = 0; k < 1200; ++k) {
         const double far = k % 4 == 0 ? 1e300 * Uniform(rng, -1, 1) : 0.0;
@@ -290,11 +288,15 @@ TEST(ObjectTree, MarksExactlyWhereTheCentresHaveNoCubeToOrderThemIn) {
                       tiny * Uniform(rng, -3, 3));
         const Vec3 half = (far != 0.0 ? 1e298 : tiny) * Vec3::Constant(Uniform(rng, 0.01, 1));
         scenes[0].push_back(PolytopeBounds::OfBox(Aabb{at - half, at + half}));
-        // Centres 3.4e308 apart: their extent is no finite double.
+        // Corners at +-1.7e308: the centres' sums overflow.
         const Vec3 side(k % 2 ? 1.7e308 : -1.7e308, Uniform(rng, -3, 3), 0);
         const Vec3 wide = Vec3::Constant(1e300 * Uniform(rng, 0.01, 1));
         scenes[1].push_back(PolytopeBounds::OfBox(Aabb{side - wide, side + wide}));
         scenes[2].push_back(PolytopeBounds::OfBox(Aabb{-(1.0 + k) * half, (1.0 + k) * half}));
+        // Centres 1e-309 apart, 1.2e-306 across in all: 1 024 cells over that overflow.
+        const Vec3 close(1e-309 * k, 0, 0);
+        const Vec3 around = Vec3::Constant(1e-300 * (1.0 + k));
+        scenes[3].push_back(PolytopeBounds::OfBox(Aabb{close - around, close + around}));
     }
     for (std::size_t scene = 0; scene < scenes.size(); ++scene) {
         const std::vector<PolytopeBounds>& boxes = scenes[scene];
@@ -319,6 +321,10 @@ TEST(ObjectTree, MarksExactlyWhereTheCentresHaveNoCubeToOrderThemIn) {
     EXPECT_GT(kept, 5000);
 }
 
+// Centres over many scales (ten boxes at each power of two from 2^-1000 to 2^999), which a split
+// at the middle of the centres' extent peels one scale at a time, and a uniform field: the depth
+// stays within the Morton curve's levels (three a bit of its codes) over the median fallback's
+// bound, log_{8/7} of the count.
 TEST(ObjectTree, StaysShallowOnCentresOverManyScales) {
     std::vector<PolytopeBounds> spread;
     for (int k = 0; k < 20000; ++k) {
@@ -326,7 +332,7 @@ TEST(ObjectTree, StaysShallowOnCentresOverManyScales) {
         spread.push_back(
             PolytopeBounds::OfBox(Aabb{Vec3(x, 0, k % 10), Vec3(1.5 * x, 1, k % 10 + 1)}));
     }
-    const double bound = std::log(20000.0) / std::log(8.0 / 7.0) + 2.0;
+    const double bound = 3 * kMortonBitsForTest + std::log(20000.0) / std::log(8.0 / 7.0) + 2.0;
     EXPECT_LE(ObjectTree(spread).depth(), bound);
 
     std::mt19937_64 rng(2978);
