@@ -97,6 +97,14 @@ ObjectTree::ObjectTree(std::span<const PolytopeBounds> boxes)
     std::vector<Centred> scratch(items.size());
     const auto count = static_cast<std::uint32_t>(items.size());
     Build(count, items, scratch);
+    leaf_of_.assign(total_, -1);
+    for (std::size_t at = 0; at < nodes_.size(); ++at) {
+        const Node& node = nodes_[at];
+        if (node.left >= 0) continue;
+        for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+            leaf_of_[order_[k]] = static_cast<std::int32_t>(at);
+        }
+    }
     BoundAll();
 }
 
@@ -215,17 +223,12 @@ void ObjectTree::BoundAll() {
     // tree's order, a large scene's boxes would be fetched one cache miss each. Min, max and the
     // largest |coordinate| come out the same in any order, and the diagonal is taken anew after
     // every merge, so each leaf's bounds are what merging its boxes in its own order gives.
-    std::vector<std::int32_t> leaf_of(total_, -1);
-    for (std::size_t at = 0; at < nodes_.size(); ++at) {
-        Node& node = nodes_[at];
-        if (node.left >= 0) continue;
-        node.bounds = PolytopeBounds{};
-        for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-            leaf_of[order_[k]] = static_cast<std::int32_t>(at);
-        }
+    if (nodes_.empty()) return;  // no boxes, or none but empty ones: no leaf to find them in
+    for (Node& node : nodes_) {
+        if (node.left < 0) node.bounds = PolytopeBounds{};
     }
     for (std::size_t i = 0; i < total_; ++i) {
-        if (leaf_of[i] >= 0) nodes_[leaf_of[i]].bounds.Merge(boxes_[i]);
+        if (leaf_of_[i] >= 0) nodes_[leaf_of_[i]].bounds.Merge(boxes_[i]);
     }
     // Children come after their parent (the builds number nodes in pre-order), so a pass from
     // the back bounds every child before its parent. The children's bounds hold the same boxes:

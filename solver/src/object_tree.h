@@ -79,6 +79,9 @@ class ObjectTree {
 
     std::vector<Node> nodes_;
     std::vector<std::uint32_t> order_;  // box indices, grouped by node
+    // Per box, the leaf that holds it (-1: none, an empty box): the build fixes it, so each
+    // Refit's BoundAll reads it rather than finding it again.
+    std::vector<std::int32_t> leaf_of_;
     std::span<const PolytopeBounds> boxes_;
     std::size_t total_ = 0;
     std::size_t depth_ = 0;
