@@ -86,8 +86,9 @@ Result<ExtentHull> ComputeExtentHull(const Mat4& viewer, const Vec4& light,
         // Faces of V that keep l on their inner side bound the hull (pi . l <= 0, which for
         // w = 0 says the face does not look toward the light, so the sweep never crosses it).
         const double face_tol = directional ? kDirectionTolerance : tol;
-        for (const PolytopeFace& f : v.faces()) {
-            if (f.outward_plane.dot(out.light) <= face_tol) h.Clip(-f.outward_plane);
+        for (std::size_t f = 0; f < v.face_count(); ++f) {
+            const Vec4& outward = v.face_plane(f);
+            if (outward.dot(out.light) <= face_tol) h.Clip(Vec4(-outward));
         }
         // Supporting planes through l and two vertices of V (silhouette edges among them).
         const std::vector<Vec3> corners = v.vertices();

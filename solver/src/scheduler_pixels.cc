@@ -746,14 +746,14 @@ std::vector<std::int64_t> CountSamples(const PixelEstimate& e) {
     };
     // Counted in runs of one map, each row as soon as its runs are filled (a run writes only its
     // own row): adding one per sample to the same counter is a chain of dependent stores that
-    // costs more than the filled tiles' tracing saved.
+    // costs more than the filled tiles' tracing saved, and a run's end is found four samples a
+    // step.
     std::vector<std::int64_t> counts(e.plan.maps.size(), 0);
-    int run_map = -1;
-    std::int64_t run = 0;
     for (int sy = 0; sy < n; ++sy) {
         e.c.poll.Now();  // a row of traced rays can take a millisecond at 100 k objects
         int* const row = maps.data() + sy * n;
-        for (int sx = 0; sx < n; ++sx) {
+        int sx = 0;
+        while (sx < n) {
             if (row[sx] == kUntraced) {
                 if (proofs.enabled) {
                     e.c.poll.Now();  // a run's rays can take a millisecond at 100 k objects
@@ -765,16 +765,19 @@ std::vector<std::int64_t> CountSamples(const PixelEstimate& e) {
                     row[sx] = TraceSample<kByDepth>(e, sx, sy).map;
                 }
             }
+            // The run of this sample's map, four samples a step where they all match (an
+            // untraced sample never does: kUntraced is no map's index), then one at a time.
             const int index = row[sx];
-            if (index != run_map) {
-                if (run_map >= 0) counts[run_map] += run;
-                run_map = index;
-                run = 0;
+            const int start = sx;
+            ++sx;
+            while (sx + 4 <= n && row[sx] == index && row[sx + 1] == index &&
+                   row[sx + 2] == index && row[sx + 3] == index) {
+                sx += 4;
             }
-            ++run;
+            while (sx < n && row[sx] == index) ++sx;
+            if (index >= 0) counts[index] += sx - start;
         }
     }
-    if (run_map >= 0) counts[run_map] += run;
     return counts;
 }
 
