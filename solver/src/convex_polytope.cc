@@ -47,9 +47,8 @@ bool WithinTolerance(const Vec3& a, const Vec3& b, double tol) {
 // Drops consecutive vertices closer than `tol` (cyclically); a polygon left with fewer than
 // three vertices is cleared. In place: every kept vertex is compared with the last one kept,
 // which lies at or before the read position. The first vertex is always kept.
-void MergeCloseVertices(std::vector<Vec3>& polygon, double tol) {
-    const std::size_t count = polygon.size();
-    Vec3* const p = polygon.data();
+// The polygon is p[0, count); returns how many vertices it keeps at its front.
+std::size_t MergeCloseVertices(Vec3* const p, const std::size_t count, double tol) {
     std::size_t kept = count > 0 ? 1 : 0;
     for (std::size_t i = 1; i < count; ++i) {
         if (FartherThan(p[i], p[kept - 1], tol)) {
@@ -58,8 +57,10 @@ void MergeCloseVertices(std::vector<Vec3>& polygon, double tol) {
         }
     }
     while (kept > 1 && WithinTolerance(p[0], p[kept - 1], tol)) --kept;
-    if (kept < 3) kept = 0;
-    polygon.resize(kept);
+    return kept < 3 ? 0 : kept;
+}
+void MergeCloseVertices(std::vector<Vec3>& polygon, double tol) {
+    polygon.resize(MergeCloseVertices(polygon.data(), polygon.size(), tol));
 }
 
 // Orthonormal u, v with u x v = n (n unit).
@@ -356,7 +357,7 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
     // Per-thread scratch: the scheduler clips thousands of times per plan, and fresh vectors
     // each time cost more in malloc than the clip itself.
     thread_local std::vector<Vec3> cap_points;
-    thread_local std::vector<Vec3> kept;  // the current face's kept polygon
+    thread_local std::vector<Vec3> kept;  // the cap's polygon
     thread_local std::vector<double> d;   // signed distances of the current face's vertices
     thread_local std::vector<int> sides;  // their sides: 1 inside, -1 outside, 0 on the plane
     thread_local std::vector<Vec2> flat;
@@ -381,13 +382,33 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
         const size_t count = face.count;
         d.resize(count);
         sides.resize(count);
+        bool all_in = true;   // every vertex inside, none on the cut
+        bool all_out = true;  // every vertex outside
         for (size_t i = 0; i < count; ++i) {
             d[i] = distance(poly[i]);
             sides[i] = d[i] > tol ? 1 : (d[i] < -tol ? -1 : 0);
+            all_in = all_in && sides[i] > 0;
+            all_out = all_out && sides[i] < 0;
         }
-        kept.clear();
+        // Wholly outside: nothing kept, no edge crosses the cut, no vertex lies on it.
+        if (all_out) continue;
+        if (all_in) {
+            // Kept as it is, adding nothing to the cap, merged as the walk below would merge it.
+            const std::size_t begin = points.size();
+            points.insert(points.end(), poly, poly + count);
+            const std::size_t left =
+                tol <= merged_at_ ? count : MergeCloseVertices(points.data() + begin, count, tol);
+            points.resize(begin + left);
+            if (left > 0) {
+                faces.push_back({static_cast<std::uint32_t>(begin),
+                                 static_cast<std::uint32_t>(left), face.outward_plane});
+            }
+            continue;
+        }
+        // The kept polygon is written where it will stay, at the end of `points`.
+        const std::size_t begin = points.size();
         bool all_on = true;
-        bool cut = false;  // some vertex dropped: otherwise `kept` is the face as it was
+        bool cut = false;  // some vertex dropped: otherwise the kept polygon is the face as it was
         for (size_t i = 0; i < count; ++i) {
             const size_t next = i + 1 == count ? 0 : i + 1;
             const Vec3& a = poly[i];
@@ -398,7 +419,7 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
             const int sb = sides[next];
             all_on = all_on && sa == 0;
             cut = cut || sa < 0;
-            if (sa >= 0) kept.push_back(a);
+            if (sa >= 0) points.push_back(a);
             if (sa == 0) add_to_cap(a);
             if (sa * sb < 0) {
                 // Interpolate from the kept end so the face on the other side of this edge,
@@ -409,18 +430,20 @@ void ConvexPolytope::Clip(const PlaneTest& t, ClipEffect effect) {
                 const double d_in = a_in ? da : db;
                 const double d_out = a_in ? db : da;
                 const Vec3 x = in + (d_in / (d_in - d_out)) * (outside - in);
-                kept.push_back(x);
+                points.push_back(x);
                 add_to_cap(x);
             }
         }
-        if (all_on) continue;  // lies in the cut: the cap replaces it
+        std::size_t left = all_on ? 0 : points.size() - begin;  // in the cut: the cap replaces it
         // A face merged at a tolerance at least this one's stays as it is (FartherThan holds
         // at every smaller tolerance where it held).
-        if (cut || !(tol <= merged_at_)) MergeCloseVertices(kept, tol);
-        if (kept.empty()) continue;
-        faces.push_back({static_cast<std::uint32_t>(points.size()),
-                         static_cast<std::uint32_t>(kept.size()), face.outward_plane});
-        points.insert(points.end(), kept.begin(), kept.end());
+        if (cut || !(tol <= merged_at_)) {
+            left = MergeCloseVertices(points.data() + begin, left, tol);
+        }
+        points.resize(begin + left);
+        if (left == 0) continue;
+        faces.push_back({static_cast<std::uint32_t>(begin), static_cast<std::uint32_t>(left),
+                         face.outward_plane});
     }
 
     // The cap: the polytope's section by the plane, counter-clockwise about its outward
