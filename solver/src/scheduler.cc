@@ -2,11 +2,12 @@
 // then a conventional fallback over the rays they leave uncovered (or the cube faces that hold
 // them), within one lixel budget, with a reason for everything left out. The steps live beside
 // this file (scheduler_context.h lists them); PlanChecked runs them in order.
-#include "scheduler_context.h"
-
 #include <cmath>
 #include <new>
 #include <string>
+#include <utility>
+
+#include "scheduler_context.h"
 
 namespace lixel {
 
@@ -45,7 +46,6 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     if (!planes) return planes.error();
 
     Plan plan;
-    plan.hull = *hull;
     plan.plane_scale = planes->scale;
     plan.maps = std::move(planes->maps);
     plan.left_out = c.plane_left_out;
@@ -66,6 +66,7 @@ Result<Plan> PlanChecked(const PlanRequest& r) {
     PlanPasses(c, plan);
     EstimatePixels(c, plan);
     if (auto finite = CheckFinite(r, plan); !finite) return finite.error();
+    plan.hull = std::move(*hull);  // `c` refers to it: moved once nothing reads it
     return plan;
 }
 

@@ -83,7 +83,7 @@ class CancelPoll {
 struct Context {
     const PlanRequest& request;
     Aabb bounds;
-    ExtentHull hull;
+    const ExtentHull& hull;  // MakeContext's: the caller keeps it while the context lives
     Vec4 light;
     std::vector<Vec4> frustum;
     double thickness = 0.0;
@@ -137,7 +137,8 @@ bool MeetingLine(const Vec4& a, const Vec4& b, Vec4& p0, Vec4& p1);
 Eigen::Vector3d ImageLine(const Mat4& m, const Vec4& a, const Vec4& b, const Vec3& inside);
 std::vector<Vec2> ImageHull(const Mat4& m, const std::vector<Vec4>& points);
 std::vector<Vec4> Points(const std::vector<Vec3>& vertices);
-// The context of a validated request: candidates, object boxes, held and visible regions.
+// The context of a validated request: candidates, object boxes, held and visible regions. The
+// context refers to `r` and `hull`, which must outlive it.
 Context MakeContext(const PlanRequest& r, const Aabb& bounds, const ExtentHull& hull);
 
 // --- scheduler_depth_points.cc
