@@ -2,12 +2,12 @@
 // then a conventional fallback over the rays they leave uncovered (or the cube faces that hold
 // them), within one lixel budget, with a reason for everything left out. The steps live beside
 // this file (scheduler_context.h lists them); PlanChecked runs them in order.
+#include "scheduler_context.h"
+
 #include <cmath>
 #include <new>
 #include <string>
 #include <utility>
-
-#include "scheduler_context.h"
 
 namespace lixel {
 
