@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 
 #include "rect_cover.h"
 
@@ -70,13 +71,19 @@ void GrowAxis(int& a, int& b, int size, int lo, int hi) {
 
 }  // namespace
 
-std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& plane,
-                                          const Vec4& light, const Casters& casters,
+std::vector<PlannedMap> SplitByFootprints(PlannedMap whole, const Vec4& plane, const Vec4& light,
+                                          const Casters& casters,
                                           const std::vector<Vec3>& needed_polygon, double thickness,
                                           int max_rects, double size_ratio,
                                           const std::function<void()>& poll) {
     const int g = whole.lookup.guard;
     const LixelRect interior{g, g, whole.map.width - g, whole.map.height - g};
+    // `whole` as the plane's one map, moved (a braced list would copy it).
+    const auto unsplit = [&whole] {
+        std::vector<PlannedMap> only;
+        only.push_back(std::move(whole));
+        return only;
+    };
     // Footprints over all the unshadowed entry will accept, its lookup rectangle, not just the
     // needed image inside it: a caster point whose light ray meets the plane out of view is
     // accepted there too, and must find its shadow test in a rectangle.
@@ -117,7 +124,7 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
              std::min(r.x1, interior.x1), std::min(r.y1, interior.y1)};
         if (r.x1 > r.x0 && r.y1 > r.y0) {
             rects.push_back(r);
-            if (cover.Covers(rects)) return {whole};
+            if (cover.Covers(rects)) return unsplit();
         }
     }
     rects = MergeRects(std::move(rects), g, max_rects);
@@ -131,14 +138,15 @@ std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& p
     }
     std::int64_t lixels = 0;
     for (const LixelRect& r : rects) lixels += r.Area(g);
-    if (lixels >= whole.lixels) return {whole};
+    if (lixels >= whole.lixels) return unsplit();
 
     std::vector<PlannedMap> out;
     for (size_t k = 0; k < rects.size(); ++k) {
         out.push_back(CropTo(whole, rects[k], static_cast<int>(k), needed_polygon));
     }
-    PlannedMap lit = whole;
-    lit.name = whole.name + " unshadowed";
+    std::string name = whole.name + " unshadowed";
+    PlannedMap lit = std::move(whole);  // its last use: the crops above copied what they need
+    lit.name = std::move(name);
     lit.lookup.unshadowed = true;
     lit.lixels = 0;
     lit.passes.clear();

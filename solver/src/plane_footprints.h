@@ -30,8 +30,8 @@ struct Casters {
 // Frame coherence (size_ratio > 1): each rectangle, guard band included, grows to the next size
 // of the geometric series size_ratio^k on each axis, centred and kept inside the plane's
 // rectangle, so a shadow that moves a little keeps its map's size (and an engine its atlas).
-std::vector<PlannedMap> SplitByFootprints(const PlannedMap& whole, const Vec4& plane,
-                                          const Vec4& light, const Casters& casters,
+std::vector<PlannedMap> SplitByFootprints(PlannedMap whole, const Vec4& plane, const Vec4& light,
+                                          const Casters& casters,
                                           const std::vector<Vec3>& needed_polygon, double thickness,
                                           int max_rects, double size_ratio = 0.0,
                                           const std::function<void()>& poll = {});

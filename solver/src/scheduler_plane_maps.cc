@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "plane_footprints.h"
 #include "scheduler_context.h"
@@ -219,7 +220,7 @@ Result<std::vector<PlannedMap>> SolvePlaneMaps(const Context& c, const std::vect
             casters, c.object_boxes.bounds(),
             [&c](std::size_t i) -> const ConvexPolytope& { return c.object_boxes[i]; }};
         for (PlannedMap& piece :
-             SplitByFootprints(m, cand.plane, c.light, by_box, cand.polygon, c.thickness,
+             SplitByFootprints(std::move(m), cand.plane, c.light, by_box, cand.polygon, c.thickness,
                                std::min(r.footprints.max_per_plane, rects_left),
                                r.coherence ? 1.0 / std::sqrt(1.0 - r.coherence->waste_bound) : 0.0,
                                [&c] { c.poll(); })) {
