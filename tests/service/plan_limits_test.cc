@@ -65,8 +65,9 @@ TEST(PlanObjectLimit, FollowsTheMemoryCapUnlessSetItself) {
     EXPECT_EQ(service::PlanObjectLimit(options), 5000u);
 }
 
-// One object over the limit is refused naming the field and the limit, in a request's objects
-// and in an uploaded scene's meshes (at upload); at the limit the plan is served.
+// One object over the limit is refused naming the field and the limit, in a request's objects,
+// sent one by one or packed, and in an uploaded scene's meshes (at upload); at the limit the
+// plan is served.
 TEST(PlanObjectLimit, ObjectsOrMeshesOverTheLimitAreRefusedNamingIt) {
     service::ServerOptions options = SmallServerOptions("test-objects");
     options.service.memory_cap_bytes = 1 << 20;  // 128 objects
@@ -85,6 +86,30 @@ TEST(PlanObjectLimit, ObjectsOrMeshesOverTheLimitAreRefusedNamingIt) {
         EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
         EXPECT_EQ(status.error_message(),
                   "plan.objects: 129 objects, over the limit max_plan_objects = 128 "
+                  "(memory_cap_bytes / 8 KiB)");
+    }
+    // The same boxes packed, counted before they are decoded; a partial box counts as one more.
+    const auto packed = [](int count, int extra_values) {
+        v1::PlanRequest plan = PlanOverBoxes(count);
+        auto decoded = service::DecodePlanRequest(plan, nullptr, "plan");
+        EXPECT_TRUE(decoded.ok()) << decoded.error().Message();
+        plan.clear_objects();
+        service::EncodePackedObjects(decoded->objects, plan.mutable_packed_objects());
+        for (int k = 0; k < extra_values; ++k) plan.mutable_packed_objects()->add_bounds(0.0);
+        return plan;
+    };
+    for (const auto& [count, extra] : {std::pair{128, 0}, std::pair{129, 0}, std::pair{128, 1}}) {
+        grpc::ClientContext context;
+        WithDeadline(context);
+        v1::PlanResponse response;
+        const grpc::Status status = stub->Plan(&context, packed(count, extra), &response);
+        if (count == 128 && extra == 0) {
+            EXPECT_TRUE(status.ok()) << status.error_message();
+            continue;
+        }
+        EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+        EXPECT_EQ(status.error_message(),
+                  "plan.packed_objects: 129 objects, over the limit max_plan_objects = 128 "
                   "(memory_cap_bytes / 8 KiB)");
     }
 

@@ -41,6 +41,19 @@ protected:
         EXPECT_TRUE(Solve(testing::SmallSolve()).ok());  // still serving
     }
 
+    // `bad` refused with `message`, by the decoder and through the server.
+    static void ExpectPlanRefused(const v1::PlanRequest& bad, const std::string& message) {
+        const auto refusal = service::DecodePlanRequest(bad, nullptr, "plan");
+        ASSERT_FALSE(refusal.ok());
+        EXPECT_EQ(refusal.error().Message(), message);
+        grpc::ClientContext context;
+        WithDeadline(context, 30.0);
+        v1::PlanResponse response;
+        const grpc::Status status = stub_->Plan(&context, bad, &response);
+        EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+        EXPECT_EQ(status.error_message(), message);
+    }
+
     static service::Server* server_;
     static v1::Shadow::Stub* stub_;
 };
@@ -219,15 +232,7 @@ TEST_F(WireValidation, ObjectBoundsAreDecodedAsSentOrRefusedByName) {
     const auto refused = [&](auto change, const std::string& message) {
         v1::PlanRequest bad = plan;
         change(*bad.mutable_objects(137));
-        const auto refusal = service::DecodePlanRequest(bad, nullptr, "plan");
-        ASSERT_FALSE(refusal.ok());
-        EXPECT_EQ(refusal.error().Message(), message);
-        grpc::ClientContext context;
-        WithDeadline(context, 30.0);
-        v1::PlanResponse response;
-        const grpc::Status status = stub_->Plan(&context, bad, &response);
-        EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-        EXPECT_EQ(status.error_message(), message);
+        ExpectPlanRefused(bad, message);
     };
     refused([](v1::ObjectBounds& o) { o.clear_bounds(); }, "plan.objects[137].bounds: is required");
     refused([&](v1::ObjectBounds& o) { o.mutable_bounds()->mutable_min()->set_y(nan); },
@@ -248,6 +253,122 @@ TEST_F(WireValidation, ObjectBoundsAreDecodedAsSentOrRefusedByName) {
     const grpc::Status status = stub_->Plan(&context, plan, &response);
     EXPECT_TRUE(status.ok()) << status.error_message();
     EXPECT_GT(response.maps_size(), 0);
+}
+
+// The same objects sent packed (PlanRequest.packed_objects) decode to the same boxes, names and
+// flags as sent one message each, and plan the same maps; EncodePackedObjects gives them back.
+// Each bad array, and each bad value named by its index, is refused the same way in the decoder
+// and through the server, which plans the good request after them.
+TEST_F(WireValidation, PackedObjectsPlanAsSentOneByOneOrAreRefusedByName) {
+    v1::PlanRequest nested;
+    *nested.mutable_camera() = testing::SmallSolve().views(0);
+    nested.add_planes()->mutable_plane()->set_y(1.0);
+    service::EncodeVec4(Vec4(4, 9, 3, 1), nested.mutable_light()->mutable_position());
+    v1::PlanRequest packed = nested;
+    v1::PackedObjects* boxes = packed.mutable_packed_objects();
+    std::mt19937_64 rng(2906);
+    std::uniform_real_distribution<double> coordinate(-9.0, 9.0), side(0.0, 2.0);
+    constexpr int kCount = 200;
+    for (int i = 0; i < kCount; ++i) {
+        const Vec3 min(coordinate(rng), coordinate(rng) / 9.0, coordinate(rng));
+        const Vec3 max = min + Vec3(side(rng), side(rng), i % 7 == 0 ? 0.0 : side(rng));
+        const std::string name = i % 3 != 0 ? "box" + std::to_string(i) : "";
+        v1::ObjectBounds* o = nested.add_objects();
+        o->set_name(name);
+        o->set_closed(i % 2 == 0);
+        service::EncodeVec3(min, o->mutable_bounds()->mutable_min());
+        service::EncodeVec3(max, o->mutable_bounds()->mutable_max());
+        for (const Vec3& corner : {min, max}) {
+            for (int a = 0; a < 3; ++a) boxes->add_bounds(corner(a));
+        }
+        boxes->add_names(name);
+        boxes->add_closed(i % 2 == 0);
+    }
+    const auto expect_same = [](const std::vector<SceneObject>& a,
+                                const std::vector<SceneObject>& b) {
+        ASSERT_EQ(a.size(), b.size());
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            EXPECT_EQ(a[i].bounds.min, b[i].bounds.min) << i;
+            EXPECT_EQ(a[i].bounds.max, b[i].bounds.max) << i;
+            EXPECT_EQ(a[i].name, b[i].name) << i;
+            EXPECT_EQ(a[i].closed, b[i].closed) << i;
+        }
+    };
+    const auto one_by_one = service::DecodePlanRequest(nested, nullptr, "plan");
+    ASSERT_TRUE(one_by_one.ok()) << one_by_one.error().Message();
+    const auto decoded = service::DecodePlanRequest(packed, nullptr, "plan");
+    ASSERT_TRUE(decoded.ok()) << decoded.error().Message();
+    expect_same(decoded->objects, one_by_one->objects);
+    EXPECT_EQ(decoded->objects[3].name, "object 3");
+    EXPECT_EQ(decoded->objects[4].name, "box4");
+
+    // Encoded back: the same objects; without names or flags, the arrays stay empty.
+    v1::PlanRequest encoded = nested;
+    encoded.clear_objects();
+    service::EncodePackedObjects(one_by_one->objects, encoded.mutable_packed_objects());
+    EXPECT_EQ(encoded.packed_objects().bounds_size(), 6 * kCount);
+    const auto again = service::DecodePlanRequest(encoded, nullptr, "plan");
+    ASSERT_TRUE(again.ok()) << again.error().Message();
+    expect_same(again->objects, one_by_one->objects);
+    std::vector<SceneObject> plain = one_by_one->objects;
+    for (SceneObject& o : plain) {
+        o.name.clear();
+        o.closed = false;
+    }
+    service::EncodePackedObjects(plain, encoded.mutable_packed_objects());
+    EXPECT_EQ(encoded.packed_objects().names_size(), 0);
+    EXPECT_EQ(encoded.packed_objects().closed_size(), 0);
+    const auto unnamed = service::DecodePlanRequest(encoded, nullptr, "plan");
+    ASSERT_TRUE(unnamed.ok()) << unnamed.error().Message();
+    EXPECT_EQ(unnamed->objects[5].name, "object 5");
+
+    // Through the server: the same maps, bit for bit.
+    const auto plan = [&](const v1::PlanRequest& request) {
+        grpc::ClientContext context;
+        WithDeadline(context, 30.0);
+        v1::PlanResponse response;
+        const grpc::Status status = stub_->Plan(&context, request, &response);
+        EXPECT_TRUE(status.ok()) << status.error_message();
+        return response;
+    };
+    const v1::PlanResponse from_nested = plan(nested);
+    const v1::PlanResponse from_packed = plan(packed);
+    ASSERT_GT(from_nested.maps_size(), 0);
+    EXPECT_EQ(from_packed.SerializeAsString(), from_nested.SerializeAsString());
+
+    const double inf = std::numeric_limits<double>::infinity();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const auto refused = [&](auto change, const std::string& message) {
+        v1::PlanRequest bad = packed;
+        change(bad);
+        ExpectPlanRefused(bad, message);
+    };
+    // Object 137's values are bounds[822, 828).
+    refused([&](v1::PlanRequest& r) { r.mutable_packed_objects()->set_bounds(823, nan); },
+            "plan.packed_objects.bounds[823]: is not finite (object 137's min y)");
+    refused([&](v1::PlanRequest& r) { r.mutable_packed_objects()->set_bounds(827, -inf); },
+            "plan.packed_objects.bounds[827]: is not finite (object 137's max z)");
+    refused(
+        [&](v1::PlanRequest& r) {
+            v1::PackedObjects* p = r.mutable_packed_objects();
+            p->set_bounds(822, p->bounds(825) + 1e-9);
+        },
+        "plan.packed_objects.bounds[825]: is below its min (object 137's max x)");
+    refused([](v1::PlanRequest& r) { r.mutable_packed_objects()->add_bounds(1.0); },
+            "plan.packed_objects.bounds: has 1201 values: six an object (min x, y, z, max x, y, "
+            "z)");
+    refused([](v1::PlanRequest& r) { r.mutable_packed_objects()->mutable_names()->RemoveLast(); },
+            "plan.packed_objects.names: has 199 entries for 200 objects: give none or one an "
+            "object");
+    refused([](v1::PlanRequest& r) { r.mutable_packed_objects()->add_closed(true); },
+            "plan.packed_objects.closed: has 201 entries for 200 objects: give none or one an "
+            "object");
+    refused([&](v1::PlanRequest& r) { *r.add_objects() = nested.objects(0); },
+            "plan.packed_objects: given with objects: give one of the two");
+    refused([](v1::PlanRequest& r) { r.mutable_packed_objects()->Clear(); },
+            "plan.packed_objects: holds no object and no scene_id: nothing bounds the scene");
+    // The server still plans the good request.
+    EXPECT_GT(plan(packed).maps_size(), 0);
 }
 
 // Frame coherence on the wire: each bad field of PlanRequest.coherence is refused by its name

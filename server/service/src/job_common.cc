@@ -97,15 +97,20 @@ grpc::Status CheckPlanObjects(const ServiceState& state, const v1::PlanRequest& 
     // Checked before anything is decoded: a scene's objects are its instances when the request
     // places them, else its meshes.
     const bool placed = scene != nullptr && plan.instances_size() > 0;
+    // Packed objects count by their values, six a box (a partial box as one more): the array
+    // is refused whole if it is not whole boxes.
+    const std::uint64_t sent =
+        static_cast<std::uint64_t>(plan.objects_size()) +
+        (static_cast<std::uint64_t>(plan.packed_objects().bounds_size()) + 5) / 6;
     const std::uint64_t count = placed ? static_cast<std::uint64_t>(plan.instances_size())
-                                : scene != nullptr
-                                    ? scene->scene.meshes.size()
-                                    : static_cast<std::uint64_t>(plan.objects_size());
+                                : scene != nullptr ? scene->scene.meshes.size()
+                                                   : sent;
     if (count <= limit) return grpc::Status::OK;
-    const std::string what = placed ? ".instances: " + std::to_string(count) + " instances"
-                             : scene != nullptr
-                                 ? ".scene_id: the scene's " + std::to_string(count) + " meshes"
-                                 : ".objects: " + std::to_string(count) + " objects";
+    const std::string what =
+        placed                    ? ".instances: " + std::to_string(count) + " instances"
+        : scene != nullptr        ? ".scene_id: the scene's " + std::to_string(count) + " meshes"
+        : plan.objects_size() > 0 ? ".objects: " + std::to_string(count) + " objects"
+                                  : ".packed_objects: " + std::to_string(count) + " objects";
     return Exhausted(
         field + what + ", over the limit max_plan_objects = " + std::to_string(limit) +
         (state.options.max_plan_objects == 0

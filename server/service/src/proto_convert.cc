@@ -1,11 +1,13 @@
 // Messages <-> solver types, with validation that names the field.
 #include <lixel/service/proto_convert.h>
 
+#include <charconv>
 #include <cmath>
 #include <numbers>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace lixel::service {
 
@@ -13,6 +15,14 @@ namespace {
 
 std::string Index(const std::string& field, std::size_t i) {
     return field + "[" + std::to_string(i) + "]";
+}
+
+// The name of an object the request leaves unnamed: "object i". Formatted in place, as a plan of
+// many unnamed objects builds one for each.
+std::string DefaultObjectName(std::size_t i) {
+    char text[32] = "object ";
+    const auto end = std::to_chars(text + 7, text + sizeof text, i).ptr;
+    return std::string(text, end);
 }
 
 Result<bool> Finite(double value, const std::string& field) {
@@ -29,6 +39,56 @@ std::optional<Aabb> AcceptedAabb(const v1::Aabb& box, bool present) {
     if (!present || !out.min.allFinite() || !out.max.allFinite() ||
         !(out.min.array() <= out.max.array()).all()) {
         return std::nullopt;
+    }
+    return out;
+}
+
+// PlanRequest.packed_objects: six values a box, and names and closed flags that are empty or
+// one an object. Refusals name the value (bounds[k]) or the array.
+Result<std::vector<SceneObject>> DecodePackedObjects(const v1::PackedObjects& packed,
+                                                     const std::string& field) {
+    const auto values = static_cast<std::size_t>(packed.bounds_size());
+    if (values % 6 != 0) {
+        return Error{field + ".bounds", "has " + std::to_string(values) +
+                                            " values: six an object (min x, y, z, max x, y, z)"};
+    }
+    const std::size_t count = values / 6;
+    const auto names = static_cast<std::size_t>(packed.names_size());
+    const auto closed = static_cast<std::size_t>(packed.closed_size());
+    for (const auto& [given, what] : {std::pair{names, ".names"}, std::pair{closed, ".closed"}}) {
+        if (given != 0 && given != count) {
+            return Error{field + what, "has " + std::to_string(given) + " entries for " +
+                                           std::to_string(count) +
+                                           " objects: give none or one an object"};
+        }
+    }
+    static constexpr const char* kAxes[3] = {"x", "y", "z"};
+    std::vector<SceneObject> out(count);
+    const double* v = packed.bounds().data();
+    for (std::size_t i = 0; i < count; ++i, v += 6) {
+        SceneObject& o = out[i];
+        o.bounds = Aabb{Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5])};
+        if (!o.bounds.min.allFinite() || !o.bounds.max.allFinite() ||
+            !(o.bounds.min.array() <= o.bounds.max.array()).all()) {
+            // Refused: which value, named (the names are built only here).
+            for (int k = 0; k < 6; ++k) {
+                if (!std::isfinite(v[k])) {
+                    return Error{Index(field + ".bounds", 6 * i + k),
+                                 std::string("is not finite (object ") + std::to_string(i) + "'s " +
+                                     (k < 3 ? "min " : "max ") + kAxes[k % 3] + ")"};
+                }
+            }
+            for (int a = 0; a < 3; ++a) {
+                if (!(v[a] <= v[3 + a])) {
+                    return Error{Index(field + ".bounds", 6 * i + 3 + a),
+                                 "is below its min (object " + std::to_string(i) + "'s max " +
+                                     kAxes[a] + ")"};
+                }
+            }
+        }
+        const std::string* name = names == 0 ? nullptr : &packed.names(static_cast<int>(i));
+        o.name = name == nullptr || name->empty() ? DefaultObjectName(i) : *name;
+        o.closed = closed != 0 && packed.closed(static_cast<int>(i));
     }
     return out;
 }
@@ -329,6 +389,17 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
     } else if (scene != nullptr) {
         if (instances != nullptr) instances->clear();
         out.objects = scene->Objects();
+    } else if (message.has_packed_objects()) {
+        if (message.objects_size() > 0) {
+            return Error{field + ".packed_objects", "given with objects: give one of the two"};
+        }
+        auto packed = DecodePackedObjects(message.packed_objects(), field + ".packed_objects");
+        if (!packed) return packed.error();
+        out.objects = std::move(packed).value();
+        if (out.objects.empty()) {
+            return Error{field + ".packed_objects",
+                         "holds no object and no scene_id: nothing bounds the scene"};
+        }
     } else {
         out.objects.reserve(static_cast<std::size_t>(message.objects_size()));
         for (int i = 0; i < message.objects_size(); ++i) {
@@ -342,7 +413,7 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
             }
             SceneObject& object = out.objects.emplace_back();
             object.bounds = *bounds;
-            object.name = o.name().empty() ? "object " + std::to_string(i) : o.name();
+            object.name = o.name().empty() ? DefaultObjectName(i) : o.name();
             object.closed = o.closed();
         }
         if (out.objects.empty()) {
@@ -487,6 +558,23 @@ Result<SceneRecord> DecodeScene(const v1::Scene& message, const std::string& fie
         record.scene.camera.viewport = camera->viewport;
     }
     return record;
+}
+
+void EncodePackedObjects(std::span<const SceneObject> objects, v1::PackedObjects* out) {
+    out->Clear();
+    out->mutable_bounds()->Reserve(static_cast<int>(6 * objects.size()));
+    bool named = false, closed = false;
+    for (const SceneObject& o : objects) {
+        for (const Vec3& corner : {o.bounds.min, o.bounds.max}) {
+            for (int a = 0; a < 3; ++a) out->add_bounds(corner(a));
+        }
+        named = named || !o.name.empty();
+        closed = closed || o.closed;
+    }
+    for (const SceneObject& o : objects) {
+        if (named) out->add_names(o.name);
+        if (closed) out->add_closed(o.closed);
+    }
 }
 
 void EncodeMat4(const Mat4& m, v1::Mat4* out) {

@@ -17,6 +17,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -106,6 +107,9 @@ Result<std::vector<MeshInstance>> DecodeInstances(
     const std::string& field);
 // `scene`'s instances as a request carries them, each naming its mesh.
 void EncodeInstances(const scene::Scene& scene, v1::PlanRequest* out);
+// Objects as PlanRequest.packed_objects carries them: six values a box, names only when some
+// object has one (an empty name decodes as "object i"), closed flags only when some is closed.
+void EncodePackedObjects(std::span<const SceneObject> objects, v1::PackedObjects* out);
 
 // A lixel.v1.Scene into meshes, planes, camera and light; checks sizes, indices and finiteness.
 Result<SceneRecord> DecodeScene(const v1::Scene& message, const std::string& field);
