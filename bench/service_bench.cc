@@ -3,6 +3,7 @@
 // 2 and 3 instances, each against a bare gRPC echo of the same bytes in the same process; and
 // Plan calls over 10 to 100 k objects, each against the 10-object call.
 #include <benchmark/benchmark.h>
+#include <google/protobuf/arena.h>
 #include <grpcpp/grpcpp.h>
 #include <lixel/client/client.h>
 #include <lixel/scene/builtin_scenes.h>
@@ -190,7 +191,8 @@ BENCHMARK(BM_EchoUnary)->Arg(1)->Arg(8)->Arg(64)->UseManualTime()->Unit(benchmar
 
 // The solver's PlanRequest as a client sends it: camera, light, planes, objects and budget. The
 // RPC has no scene bounds, so the server takes the union of the objects' boxes.
-v1::PlanRequest PlanMessage(const PlanRequest& r) {
+// `packed`: the objects as PlanRequest.packed_objects, else one ObjectBounds each.
+v1::PlanRequest PlanMessage(const PlanRequest& r, bool packed = false) {
     v1::PlanRequest m;
     service::EncodeMat4(r.viewer, m.mutable_camera()->mutable_viewer());
     m.mutable_camera()->set_width(r.viewport.width);
@@ -202,7 +204,8 @@ v1::PlanRequest PlanMessage(const PlanRequest& r) {
         service::EncodeVec4(p.plane, plane->mutable_plane());
         for (const Vec3& v : p.polygon) service::EncodeVec3(v, plane->add_polygon());
     }
-    for (const SceneObject& o : r.objects) {
+    if (packed) service::EncodePackedObjects(r.objects, m.mutable_packed_objects());
+    for (const SceneObject& o : packed ? std::span<const SceneObject>() : r.objects) {
         v1::ObjectBounds* object = m.add_objects();
         object->set_name(o.name);
         service::EncodeVec3(o.bounds.min, object->mutable_bounds()->mutable_min());
@@ -216,10 +219,10 @@ v1::PlanRequest PlanMessage(const PlanRequest& r) {
 // request's bytes over loopback, decoding and validation, the plan and its response. Each count
 // against the 10-object call in the same run (issue 29's own measurement: 280 ms at 10 k objects
 // of its room, 430 times its 3-object call).
-void RunPlanRpc(benchmark::State& state, const PlanRequest& r) {
+void RunPlanRpc(benchmark::State& state, const PlanRequest& r, bool packed = false) {
     auto stub = v1::Shadow::NewStub(
         grpc::CreateChannel(Target(Lixel()), grpc::InsecureChannelCredentials()));
-    const v1::PlanRequest request = PlanMessage(r);
+    const v1::PlanRequest request = PlanMessage(r, packed);
     std::int64_t maps = 0;
     for (auto _ : state) {
         grpc::ClientContext context;
@@ -248,6 +251,61 @@ void BM_PlanRpcWorld(benchmark::State& state) {
     RunPlanRpc(state, bench::WorldWithObjects(static_cast<int>(state.range(0))));
 }
 BENCHMARK(BM_PlanRpcWorld)->RangeMultiplier(10)->Range(10, 100'000)->Unit(benchmark::kMillisecond);
+
+// The same calls with the objects packed (PlanRequest.packed_objects), each against the call
+// that sends the same objects one message each (BM_PlanRpcRoom, BM_PlanRpcWorld at the same
+// count): what the request's form costs a client planning every frame.
+void BM_PlanRpcRoomPacked(benchmark::State& state) {
+    RunPlanRpc(state, bench::RoomWithObjects(static_cast<int>(state.range(0))), true);
+}
+BENCHMARK(BM_PlanRpcRoomPacked)
+    ->RangeMultiplier(10)
+    ->Range(10, 100'000)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_PlanRpcWorldPacked(benchmark::State& state) {
+    RunPlanRpc(state, bench::WorldWithObjects(static_cast<int>(state.range(0))), true);
+}
+BENCHMARK(BM_PlanRpcWorldPacked)
+    ->RangeMultiplier(10)
+    ->Range(10, 100'000)
+    ->Unit(benchmark::kMillisecond);
+
+// A Plan request's own cost, in process: the client serializes it, the server parses it into an
+// arena (as the service's unary calls do) and decodes it for the solver. The room's objects one
+// ObjectBounds each, packed with their names, and packed unnamed (named "object i" by the
+// decoder): what each form of the same boxes costs before planning starts.
+void RunPlanRequest(benchmark::State& state, bool packed, bool named) {
+    PlanRequest r = bench::RoomWithObjects(static_cast<int>(state.range(0)));
+    if (!named) {
+        for (SceneObject& o : r.objects) o.name.clear();
+    }
+    const v1::PlanRequest message = PlanMessage(r, packed);
+    std::size_t bytes = 0;
+    for (auto _ : state) {
+        const std::string wire = message.SerializeAsString();
+        google::protobuf::Arena arena;
+        auto* parsed = google::protobuf::Arena::CreateMessage<v1::PlanRequest>(&arena);
+        if (!parsed->ParseFromString(wire)) {
+            state.SkipWithError("the request does not parse");
+            break;
+        }
+        auto decoded = service::DecodePlanRequest(*parsed, nullptr, "plan");
+        if (!decoded) {
+            state.SkipWithError(decoded.error().Message().c_str());
+            break;
+        }
+        benchmark::DoNotOptimize(decoded->objects.data());
+        bytes = wire.size();
+    }
+    state.counters["request_kib"] = static_cast<double>(bytes) / 1024.0;
+}
+void BM_PlanRequestNested(benchmark::State& state) { RunPlanRequest(state, false, true); }
+void BM_PlanRequestPacked(benchmark::State& state) { RunPlanRequest(state, true, true); }
+void BM_PlanRequestPackedUnnamed(benchmark::State& state) { RunPlanRequest(state, true, false); }
+BENCHMARK(BM_PlanRequestNested)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlanRequestPacked)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlanRequestPackedUnnamed)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 
 struct RenderScene {
     std::string id;
@@ -431,6 +489,10 @@ int main(int argc, char** argv) {
         argc, argv,
         {{"BM_SolveRpc", "BM_EchoUnary"},
          {"BM_RenderStream", "BM_EchoStream"},
+         {"BM_PlanRequestPacked", "BM_PlanRequestNested"},
+         {"BM_PlanRequestPackedUnnamed", "BM_PlanRequestNested"},
+         {"BM_PlanRpcRoomPacked", "BM_PlanRpcRoom"},
+         {"BM_PlanRpcWorldPacked", "BM_PlanRpcWorld"},
          {"BM_PlanRpcRoom", "BM_PlanRpcRoom/10"},
          {"BM_PlanRpcWorld", "BM_PlanRpcWorld/10"},
          {"BM_InstancesThroughput", "BM_InstancesThroughput/1/manual_time"}});
