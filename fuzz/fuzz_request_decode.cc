@@ -127,6 +127,15 @@ void FuzzPlan(const std::uint8_t* data, std::size_t size) {
             Fail("a decoded instance's matrix fails its own check");
         }
     }
+    // Objects decode only as finite boxes with min <= max; a request's own, one message each or
+    // packed, each with a name.
+    for (const SceneObject& o : decoded->objects) {
+        if (!o.bounds.min.allFinite() || !o.bounds.max.allFinite() ||
+            !(o.bounds.min.array() <= o.bounds.max.array()).all()) {
+            Fail("a decoded object's box is not finite or has min above max");
+        }
+        if (scene == nullptr && o.name.empty()) Fail("a request's object has no name");
+    }
     if (decoded->objects.size() > kMaxPlannedObjects ||
         decoded->planes.size() > kMaxPlannedPlanes) {
         return;

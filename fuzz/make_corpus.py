@@ -52,6 +52,12 @@ lixel_budget: 65536 fallback_floor: 1024 max_texture_size: 2048
 passes {{ second_depth: true silhouette_map: true volumes: true }}
 """
 put("fuzz_request_decode", "plan", b"\x01" + encode("PlanRequest", plan))
+# The same plan with its objects packed: two boxes, six values each, one named.
+plan_packed = plan.replace(
+    f'objects {{ name: "box" bounds {bounds} closed: true }}',
+    'packed_objects { bounds: [-2, -2, -2, 2, 2, 2, -1, 0, -1, 0, 1, 0] '
+    'names: ["box", ""] closed: [true, false] }')
+put("fuzz_request_decode", "plan_packed", b"\x01" + encode("PlanRequest", plan_packed))
 put("fuzz_request_decode", "plan_scene",
     b"\x01" + encode("PlanRequest", 'scene_id: "abc" light { position { y: 1 } }'))
 cube_positions = ", ".join(str(float(c)) for i in range(8)
