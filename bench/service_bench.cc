@@ -204,12 +204,15 @@ v1::PlanRequest PlanMessage(const PlanRequest& r, bool packed = false) {
         service::EncodeVec4(p.plane, plane->mutable_plane());
         for (const Vec3& v : p.polygon) service::EncodeVec3(v, plane->add_polygon());
     }
-    if (packed) service::EncodePackedObjects(r.objects, m.mutable_packed_objects());
-    for (const SceneObject& o : packed ? std::span<const SceneObject>() : r.objects) {
-        v1::ObjectBounds* object = m.add_objects();
-        object->set_name(o.name);
-        service::EncodeVec3(o.bounds.min, object->mutable_bounds()->mutable_min());
-        service::EncodeVec3(o.bounds.max, object->mutable_bounds()->mutable_max());
+    if (packed) {
+        service::EncodePackedObjects(r.objects, m.mutable_packed_objects());
+    } else {
+        for (const SceneObject& o : r.objects) {
+            v1::ObjectBounds* object = m.add_objects();
+            object->set_name(o.name);
+            service::EncodeVec3(o.bounds.min, object->mutable_bounds()->mutable_min());
+            service::EncodeVec3(o.bounds.max, object->mutable_bounds()->mutable_max());
+        }
     }
     m.set_lixel_budget(static_cast<std::uint64_t>(r.lixel_budget));
     return m;
@@ -272,9 +275,9 @@ BENCHMARK(BM_PlanRpcWorldPacked)
     ->Unit(benchmark::kMillisecond);
 
 // A Plan request's own cost, in process: the client serializes it, the server parses it into an
-// arena (as the service's unary calls do) and decodes it for the solver. The room's objects one
-// ObjectBounds each, packed with their names, and packed unnamed (named "object i" by the
-// decoder): what each form of the same boxes costs before planning starts.
+// arena (as the service's unary calls do) and decodes it for the solver. The room's boxes one
+// ObjectBounds each or packed, with their names or unnamed (named "object i" by the decoder):
+// what each form of the same boxes costs before planning starts.
 void RunPlanRequest(benchmark::State& state, bool packed, bool named) {
     PlanRequest r = bench::RoomWithObjects(static_cast<int>(state.range(0)));
     if (!named) {
@@ -299,12 +302,16 @@ void RunPlanRequest(benchmark::State& state, bool packed, bool named) {
         bytes = wire.size();
     }
     state.counters["request_kib"] = static_cast<double>(bytes) / 1024.0;
+    state.SetItemsProcessed(state.iterations() * state.range(0));  // objects
+    state.SetBytesProcessed(state.iterations() * static_cast<std::int64_t>(bytes));
 }
 void BM_PlanRequestNested(benchmark::State& state) { RunPlanRequest(state, false, true); }
 void BM_PlanRequestPacked(benchmark::State& state) { RunPlanRequest(state, true, true); }
+void BM_PlanRequestNestedUnnamed(benchmark::State& state) { RunPlanRequest(state, false, false); }
 void BM_PlanRequestPackedUnnamed(benchmark::State& state) { RunPlanRequest(state, true, false); }
 BENCHMARK(BM_PlanRequestNested)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PlanRequestPacked)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlanRequestNestedUnnamed)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PlanRequestPackedUnnamed)->Arg(10'000)->Arg(100'000)->Unit(benchmark::kMillisecond);
 
 struct RenderScene {
@@ -490,7 +497,7 @@ int main(int argc, char** argv) {
         {{"BM_SolveRpc", "BM_EchoUnary"},
          {"BM_RenderStream", "BM_EchoStream"},
          {"BM_PlanRequestPacked", "BM_PlanRequestNested"},
-         {"BM_PlanRequestPackedUnnamed", "BM_PlanRequestNested"},
+         {"BM_PlanRequestPackedUnnamed", "BM_PlanRequestNestedUnnamed"},
          {"BM_PlanRpcRoomPacked", "BM_PlanRpcRoom"},
          {"BM_PlanRpcWorldPacked", "BM_PlanRpcWorld"},
          {"BM_PlanRpcRoom", "BM_PlanRpcRoom/10"},

@@ -4,8 +4,6 @@
 // planes are planned (PlanShadowMaps), and small SolveRequests solved (SolvePlaneMap), the way
 // the service's jobs do; PlanRequests naming a scene plan against a small cached scene, placing
 // its mesh by their instances.
-#include "fuzz_input.h"
-
 #include <lixel/service/proto_convert.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/plane_map.h>
@@ -15,8 +13,11 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
+
+#include "fuzz_input.h"
 
 namespace lixel::fuzz {
 namespace {
@@ -135,6 +136,38 @@ void FuzzPlan(const std::uint8_t* data, std::size_t size) {
             Fail("a decoded object's box is not finite or has min above max");
         }
         if (scene == nullptr && o.name.empty()) Fail("a request's object has no name");
+    }
+    // Packed objects decode as the same boxes sent one ObjectBounds each would.
+    if (scene == nullptr && request.has_packed_objects()) {
+        const v1::PackedObjects& packed = request.packed_objects();
+        v1::PlanRequest nested = request;
+        nested.clear_packed_objects();
+        for (std::size_t i = 0; i < decoded->objects.size(); ++i) {
+            const int at = static_cast<int>(i);
+            v1::ObjectBounds* o = nested.add_objects();
+            if (packed.names_size() > 0) o->set_name(packed.names(at));
+            if (packed.closed_size() > 0) o->set_closed(packed.closed(at));
+            v1::Vec3* min = o->mutable_bounds()->mutable_min();
+            v1::Vec3* max = o->mutable_bounds()->mutable_max();
+            min->set_x(packed.bounds(6 * at));
+            min->set_y(packed.bounds(6 * at + 1));
+            min->set_z(packed.bounds(6 * at + 2));
+            max->set_x(packed.bounds(6 * at + 3));
+            max->set_y(packed.bounds(6 * at + 4));
+            max->set_z(packed.bounds(6 * at + 5));
+        }
+        const auto one_by_one = DecodePlanRequest(nested, nullptr, "plan");
+        if (!one_by_one || one_by_one->objects.size() != decoded->objects.size()) {
+            Fail("packed objects decode where the same boxes one by one do not");
+        }
+        for (std::size_t i = 0; i < decoded->objects.size(); ++i) {
+            const SceneObject& a = decoded->objects[i];
+            const SceneObject& b = one_by_one->objects[i];
+            if (std::memcmp(&a.bounds, &b.bounds, sizeof(Aabb)) != 0 || a.name != b.name ||
+                a.closed != b.closed) {
+                Fail("packed objects decode unlike the same boxes one by one");
+            }
+        }
     }
     if (decoded->objects.size() > kMaxPlannedObjects ||
         decoded->planes.size() > kMaxPlannedPlanes) {

@@ -57,6 +57,7 @@ plan_packed = plan.replace(
     f'objects {{ name: "box" bounds {bounds} closed: true }}',
     'packed_objects { bounds: [-2, -2, -2, 2, 2, 2, -1, 0, -1, 0, 1, 0] '
     'names: ["box", ""] closed: [true, false] }')
+assert plan_packed != plan, "the seed plan's objects changed: packed_objects not substituted"
 put("fuzz_request_decode", "plan_packed", b"\x01" + encode("PlanRequest", plan_packed))
 put("fuzz_request_decode", "plan_scene",
     b"\x01" + encode("PlanRequest", 'scene_id: "abc" light { position { y: 1 } }'))

@@ -92,7 +92,10 @@ TEST(PlanObjectLimit, ObjectsOrMeshesOverTheLimitAreRefusedNamingIt) {
     const auto packed = [](int count, int extra_values) {
         v1::PlanRequest plan = PlanOverBoxes(count);
         auto decoded = service::DecodePlanRequest(plan, nullptr, "plan");
-        EXPECT_TRUE(decoded.ok()) << decoded.error().Message();
+        if (!decoded) {
+            ADD_FAILURE() << decoded.error().Message();
+            return plan;
+        }
         plan.clear_objects();
         service::EncodePackedObjects(decoded->objects, plan.mutable_packed_objects());
         for (int k = 0; k < extra_values; ++k) plan.mutable_packed_objects()->add_bounds(0.0);

@@ -4,6 +4,10 @@
 // root. Each refusal is INVALID_ARGUMENT naming the field; the server keeps serving.
 #include <lixel/client/coherence.h>
 
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <string>
@@ -270,7 +274,8 @@ TEST_F(WireValidation, PackedObjectsPlanAsSentOneByOneOrAreRefusedByName) {
     std::uniform_real_distribution<double> coordinate(-9.0, 9.0), side(0.0, 2.0);
     constexpr int kCount = 200;
     for (int i = 0; i < kCount; ++i) {
-        const Vec3 min(coordinate(rng), coordinate(rng) / 9.0, coordinate(rng));
+        Vec3 min(coordinate(rng), coordinate(rng) / 9.0, coordinate(rng));
+        if (i % 11 == 0) min.x() = -0.0;  // kept as sent, sign and all
         const Vec3 max = min + Vec3(side(rng), side(rng), i % 7 == 0 ? 0.0 : side(rng));
         const std::string name = i % 3 != 0 ? "box" + std::to_string(i) : "";
         v1::ObjectBounds* o = nested.add_objects();
@@ -284,12 +289,18 @@ TEST_F(WireValidation, PackedObjectsPlanAsSentOneByOneOrAreRefusedByName) {
         boxes->add_names(name);
         boxes->add_closed(i % 2 == 0);
     }
-    const auto expect_same = [](const std::vector<SceneObject>& a,
-                                const std::vector<SceneObject>& b) {
+    // Bit for bit: -0.0 and 0.0 compare equal as doubles.
+    const auto bits = [](const Vec3& v) {
+        return std::array<std::uint64_t, 3>{std::bit_cast<std::uint64_t>(v.x()),
+                                            std::bit_cast<std::uint64_t>(v.y()),
+                                            std::bit_cast<std::uint64_t>(v.z())};
+    };
+    const auto expect_same = [&](const std::vector<SceneObject>& a,
+                                 const std::vector<SceneObject>& b) {
         ASSERT_EQ(a.size(), b.size());
         for (std::size_t i = 0; i < a.size(); ++i) {
-            EXPECT_EQ(a[i].bounds.min, b[i].bounds.min) << i;
-            EXPECT_EQ(a[i].bounds.max, b[i].bounds.max) << i;
+            EXPECT_EQ(bits(a[i].bounds.min), bits(b[i].bounds.min)) << i;
+            EXPECT_EQ(bits(a[i].bounds.max), bits(b[i].bounds.max)) << i;
             EXPECT_EQ(a[i].name, b[i].name) << i;
             EXPECT_EQ(a[i].closed, b[i].closed) << i;
         }
@@ -301,6 +312,17 @@ TEST_F(WireValidation, PackedObjectsPlanAsSentOneByOneOrAreRefusedByName) {
     expect_same(decoded->objects, one_by_one->objects);
     EXPECT_EQ(decoded->objects[3].name, "object 3");
     EXPECT_EQ(decoded->objects[4].name, "box4");
+    EXPECT_TRUE(std::signbit(decoded->objects[11].bounds.min.x()));
+
+    // Names without flags: every object open, each named as sent.
+    v1::PlanRequest named_only = packed;
+    named_only.mutable_packed_objects()->clear_closed();
+    const auto open = service::DecodePlanRequest(named_only, nullptr, "plan");
+    ASSERT_TRUE(open.ok()) << open.error().Message();
+    for (std::size_t i = 0; i < open->objects.size(); ++i) {
+        EXPECT_FALSE(open->objects[i].closed) << i;
+        EXPECT_EQ(open->objects[i].name, one_by_one->objects[i].name) << i;
+    }
 
     // Encoded back: the same objects; without names or flags, the arrays stay empty.
     v1::PlanRequest encoded = nested;
@@ -367,6 +389,26 @@ TEST_F(WireValidation, PackedObjectsPlanAsSentOneByOneOrAreRefusedByName) {
             "plan.packed_objects: given with objects: give one of the two");
     refused([](v1::PlanRequest& r) { r.mutable_packed_objects()->Clear(); },
             "plan.packed_objects: holds no object and no scene_id: nothing bounds the scene");
+    // With a scene: its meshes are the objects, so packed ones are refused, not ignored.
+    const std::string with_scene =
+        "plan.packed_objects: given with scene_id: the scene's meshes are the objects "
+        "(instances place them)";
+    const auto record = service::DecodeScene(testing::SmallScene(), "scene");
+    ASSERT_TRUE(record.ok()) << record.error().Message();
+    const auto in_scene = service::DecodePlanRequest(packed, &*record, "plan");
+    ASSERT_FALSE(in_scene.ok());
+    EXPECT_EQ(in_scene.error().Message(), with_scene);
+    auto client = Connect(Target(*server_));
+    auto uploaded = client->UploadScene(testing::SmallScene());
+    ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
+    v1::PlanRequest scened = packed;
+    scened.set_scene_id(uploaded->scene_id());
+    grpc::ClientContext context;
+    WithDeadline(context, 30.0);
+    v1::PlanResponse response;
+    const grpc::Status status = stub_->Plan(&context, scened, &response);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_EQ(status.error_message(), with_scene);
     // The server still plans the good request.
     EXPECT_GT(plan(packed).maps_size(), 0);
 }

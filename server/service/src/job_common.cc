@@ -97,11 +97,17 @@ grpc::Status CheckPlanObjects(const ServiceState& state, const v1::PlanRequest& 
     // Checked before anything is decoded: a scene's objects are its instances when the request
     // places them, else its meshes.
     const bool placed = scene != nullptr && plan.instances_size() > 0;
+    // Both forms of a request's objects: DecodePlanRequest refuses the two together before it
+    // allocates anything for either, naming the field, rather than this count blaming one.
+    if (scene == nullptr && plan.objects_size() > 0 && plan.has_packed_objects()) {
+        return grpc::Status::OK;
+    }
     // Packed objects count by their values, six a box (a partial box as one more): the array
     // is refused whole if it is not whole boxes.
     const std::uint64_t sent =
-        static_cast<std::uint64_t>(plan.objects_size()) +
-        (static_cast<std::uint64_t>(plan.packed_objects().bounds_size()) + 5) / 6;
+        plan.objects_size() > 0
+            ? static_cast<std::uint64_t>(plan.objects_size())
+            : (static_cast<std::uint64_t>(plan.packed_objects().bounds_size()) + 5) / 6;
     const std::uint64_t count = placed ? static_cast<std::uint64_t>(plan.instances_size())
                                 : scene != nullptr ? scene->scene.meshes.size()
                                                    : sent;

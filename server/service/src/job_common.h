@@ -41,7 +41,8 @@ grpc::Status FindScene(ServiceState& state, const v1::PlanRequest& plan, bool re
                        const std::string& field, std::shared_ptr<const SceneRecord>* out);
 
 // RESOURCE_EXHAUSTED when the plan would hold more objects than PlanObjectLimit: the request's
-// objects, or the scene's meshes, named by field.
+// objects or packed_objects (six values a box), or the scene's meshes or instances, named by
+// field.
 grpc::Status CheckPlanObjects(const ServiceState& state, const v1::PlanRequest& plan,
                               const SceneRecord* scene, const std::string& field);
 

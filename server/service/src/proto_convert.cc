@@ -2,6 +2,7 @@
 #include <lixel/service/proto_convert.h>
 
 #include <charconv>
+#include <climits>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -381,6 +382,12 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
                                                ? "need a scene_id: instances place its meshes"
                                                : "not taken by this call"};
     }
+    if (scene != nullptr && message.has_packed_objects()) {
+        // A new field, so nothing relies on it being ignored the way `objects` is with a scene.
+        return Error{field + ".packed_objects",
+                     "given with scene_id: the scene's meshes are the objects (instances place "
+                     "them)"};
+    }
     if (scene != nullptr && message.instances_size() > 0) {
         auto placed = DecodeInstances(message.instances(), *record, field + ".instances");
         if (!placed) return placed.error();
@@ -562,7 +569,10 @@ Result<SceneRecord> DecodeScene(const v1::Scene& message, const std::string& fie
 
 void EncodePackedObjects(std::span<const SceneObject> objects, v1::PackedObjects* out) {
     out->Clear();
-    out->mutable_bounds()->Reserve(static_cast<int>(6 * objects.size()));
+    // A message holds at most 2 GiB, far fewer than INT_MAX / 6 boxes: the reserve is a hint.
+    if (objects.size() <= static_cast<std::size_t>(INT_MAX / 6)) {
+        out->mutable_bounds()->Reserve(static_cast<int>(6 * objects.size()));
+    }
     bool named = false, closed = false;
     for (const SceneObject& o : objects) {
         for (const Vec3& corner : {o.bounds.min, o.bounds.max}) {
