@@ -4,6 +4,8 @@
 // planes are planned (PlanShadowMaps), and small SolveRequests solved (SolvePlaneMap), the way
 // the service's jobs do; PlanRequests naming a scene plan against a small cached scene, placing
 // its mesh by their instances.
+#include "fuzz_input.h"
+
 #include <lixel/service/proto_convert.h>
 #include <lixel/solver/homogeneous.h>
 #include <lixel/solver/plane_map.h>
@@ -16,8 +18,6 @@
 #include <cstring>
 #include <string>
 #include <vector>
-
-#include "fuzz_input.h"
 
 namespace lixel::fuzz {
 namespace {

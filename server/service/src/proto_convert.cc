@@ -31,16 +31,18 @@ Result<bool> Finite(double value, const std::string& field) {
     return true;
 }
 
-// The box DecodeAabb accepts (present, finite, min <= max on every axis), or none: the one
-// test, which builds no field names, so a loop over many boxes names a field only for a box it
+// Whether a box is one a request may carry: finite, min <= max on every axis. The one test,
+// which builds no field names, so a loop over many boxes names a field only for a box it
 // refuses.
+bool AcceptedBox(const Aabb& box) {
+    return box.min.allFinite() && box.max.allFinite() && (box.min.array() <= box.max.array()).all();
+}
+
+// The box DecodeAabb accepts (present, AcceptedBox), or none.
 std::optional<Aabb> AcceptedAabb(const v1::Aabb& box, bool present) {
     const Aabb out{Vec3(box.min().x(), box.min().y(), box.min().z()),
                    Vec3(box.max().x(), box.max().y(), box.max().z())};
-    if (!present || !out.min.allFinite() || !out.max.allFinite() ||
-        !(out.min.array() <= out.max.array()).all()) {
-        return std::nullopt;
-    }
+    if (!present || !AcceptedBox(out)) return std::nullopt;
     return out;
 }
 
@@ -69,8 +71,7 @@ Result<std::vector<SceneObject>> DecodePackedObjects(const v1::PackedObjects& pa
     for (std::size_t i = 0; i < count; ++i, v += 6) {
         SceneObject& o = out[i];
         o.bounds = Aabb{Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5])};
-        if (!o.bounds.min.allFinite() || !o.bounds.max.allFinite() ||
-            !(o.bounds.min.array() <= o.bounds.max.array()).all()) {
+        if (!AcceptedBox(o.bounds)) {
             // Refused: which value, named (the names are built only here).
             for (int k = 0; k < 6; ++k) {
                 if (!std::isfinite(v[k])) {
