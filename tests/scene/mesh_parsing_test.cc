@@ -66,6 +66,119 @@ TEST(ParseObj, BadIndicesAreNamedUnderTheSourceField) {
     EXPECT_NE(none.error().reason.find("no faces"), std::string::npos);
 }
 
+// tinyobjloader reads what it can of a number and keeps that: `nan`, `0x1p3` or `abc` would be
+// 0, `1.2.3` 1.2, and atoi wraps `4294967300` to vertex 4. Each is refused naming its line.
+TEST(ParseObj, NumbersTheParserWouldMisreadAreRefusedByLine) {
+    const std::string three = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    struct Bad {
+        std::string text;
+        std::string reason;
+    };
+    const std::vector<Bad> bad = {
+        {"v 0 0 0\nv 1 0 0\nv nan 0 1\nf 1 2 3\n",
+         "line 3: vertex coordinate \"nan\" is not a finite decimal number"},
+        {three + "v 0 inf 0\nf 1 2 4\n", "line 4: vertex coordinate \"inf\" is not a finite"},
+        {three + "v 0 0 -inf\nf 1 2 4\n", "line 4: vertex coordinate \"-inf\" is not a finite"},
+        {three + "v 0x1p3 0 0\nf 1 2 4\n", "line 4: vertex coordinate \"0x1p3\" is not a finite"},
+        {three + "v 1.2.3 0 0\nf 1 2 4\n", "line 4: vertex coordinate \"1.2.3\" is not a finite"},
+        {three + "v 0 abc 0\nf 1 2 4\n", "line 4: vertex coordinate \"abc\" is not a finite"},
+        {three + "v 0 1e 0\nf 1 2 4\n", "line 4: vertex coordinate \"1e\" is not a finite"},
+        {three + "v +-1 0 0\nf 1 2 4\n", "line 4: vertex coordinate \"+-1\" is not a finite"},
+        {three + "v 1e39 0 0\nf 1 2 4\n",
+         "line 4: vertex coordinate \"1e39\" is out of a 32-bit float's range"},
+        {three + "v 1e99999999999 0 0\n", "line 4: vertex coordinate \"1e99999999999\" is out"},
+        {three + "v 0 1\nf 1 2 4\n", "line 4: vertex needs 3 coordinates, the line has 2"},
+        {three + "vn 0 nan 1\nf 1//1 2//1 3//1\n",
+         "line 4: normal coordinate \"nan\" is not a finite decimal number"},
+        {three + "v 0 0 1\nv 0 1 1\nf 4294967297 2 3\n",
+         "line 6: face index \"4294967297\" is out of range"},
+        {three + "v 0 0 1\nv 0 1 1\nf 4294967300 2 3\n",
+         "line 6: face index \"4294967300\" is out of range"},
+        {three + "f -4294967295 2 3\n", "line 4: face index \"-4294967295\" is out of range"},
+        {three + "f 1 2 99999999999999999999\n",
+         "line 4: face index \"99999999999999999999\" is out of range"},
+        {three + "vn 0 0 1\nf 1//1 2//4294967297 3//1\n",
+         "line 5: face index \"4294967297\" is out of range"},
+        {three + "f 1 2/0 3\n", "line 4: face index \"0\" is out of range"},
+        {three + "f 1 2 3.5\n", "line 4: face index \"3.5\" is not an integer"},
+        {three + "f 1 2 3x\n", "line 4: face index \"3x\" is not an integer"},
+        {three + "f 1 2 3/1/1/1\n", "line 4: face corner \"3/1/1/1\" is not i, i/j, i//k or i/j/k"},
+        {three + "f 1 2 3/\n", "line 4: face corner \"3/\" is not i, i/j, i//k or i/j/k"},
+        // Lines are counted as the parser splits them: CRLF, a lone CR, blank lines, comments.
+        {"# a comment\r\nv 0 0 0\r\n\r\nv 1 0 0\rv 0 1 0\n\tv  2 nan 0\r\nf 1 2 3\n",
+         "line 6: vertex coordinate \"nan\" is not a finite"},
+    };
+    for (const Bad& b : bad) {
+        DecodeBudget budget;
+        auto meshes = ParseObj(b.text, kUpload, budget);
+        EXPECT_FALSE(meshes.ok()) << b.reason;
+        if (meshes.ok()) continue;
+        EXPECT_EQ(meshes.error().field, "content") << meshes.error().Message();
+        EXPECT_NE(meshes.error().reason.find(b.reason), std::string::npos)
+            << meshes.error().reason << "\nwanted: " << b.reason;
+        EXPECT_FALSE(budget.stopped());
+    }
+}
+
+// The token is the attacker's: shown cut short, its bytes outside printable ASCII escaped.
+TEST(ParseObj, MisreadTokensAreQuotedSafely) {
+    DecodeBudget budget;
+    auto meshes =
+        ParseObj(std::string("v 0 0 \"\x1b[2J") + std::string(100, '9') + "x\n", kUpload, budget);
+    ASSERT_FALSE(meshes.ok());
+    EXPECT_NE(meshes.error().reason.find("line 1: vertex coordinate \"\\x22\\x1b[2J999"),
+              std::string::npos)
+        << meshes.error().reason;
+    EXPECT_NE(meshes.error().reason.find("...\" is not a finite"), std::string::npos)
+        << meshes.error().reason;
+    EXPECT_LT(meshes.error().reason.size(), 120u);
+}
+
+// Finite decimals whose value tinyobjloader's own arithmetic overflows (0 times 5^500) are
+// refused by the builder, naming the vertex or normal.
+TEST(ParseObj, ValuesTheParserOverflowsAreRefused) {
+    DecodeBudget budget;
+    auto normal =
+        ParseObj("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0e500 0 1\nf 1//1 2//1 3//1\n", kUpload, budget);
+    ASSERT_FALSE(normal.ok());
+    EXPECT_NE(normal.error().reason.find("normal 1 is not finite"), std::string::npos)
+        << normal.error().reason;
+    DecodeBudget unused;
+    auto vertex = ParseObj(std::string("v 0e500 0 0\n") + kTwoTriangles, kUpload, unused);
+    ASSERT_FALSE(vertex.ok());
+    EXPECT_NE(vertex.error().reason.find("vertex 1 is not finite"), std::string::npos)
+        << vertex.error().reason;
+}
+
+// What the parser reads exactly keeps parsing, to the same values: CRLF and lone CR line ends,
+// comments, tabs, a leading '+', scientific notation, w and vertex colours after z, all four
+// corner forms, relative indices, a last line without its newline.
+TEST(ParseObj, EverySpellingTheParserReadsExactlyStillParses) {
+    DecodeBudget budget;
+    auto meshes = ParseObj(
+        "# exported\r\n"
+        "  v\t+1.5 -0 1e-3  \r\n"
+        "v 2.5E+1 .5 5. 1.0\r"
+        "v -1 +2e0 0.25 0.5 0.5 0.5\n"
+        "vt 0.5 nan\n"  // texture coordinates are never read
+        "vn 0 0 +1\n"
+        "\n"
+        "o part \t\n"
+        "f 1/1/1 2//1 3/1\n"
+        "f -3 -2 +3",
+        kUpload, budget);
+    ASSERT_TRUE(meshes.ok()) << meshes.error().Message();
+    ASSERT_EQ(meshes->size(), 1u);
+    const Mesh& mesh = (*meshes)[0];
+    EXPECT_EQ(mesh.name, "part");
+    ASSERT_EQ(mesh.positions.size(), 3u);
+    EXPECT_EQ(mesh.positions[0], Eigen::Vector3f(1.5f, 0, 1e-3f));
+    EXPECT_EQ(mesh.positions[1], Eigen::Vector3f(25, 0.5f, 5));
+    EXPECT_EQ(mesh.positions[2], Eigen::Vector3f(-1, 2, 0.25f));
+    EXPECT_EQ(mesh.indices, (std::vector<std::uint32_t>{0, 1, 2, 0, 1, 2}));
+    EXPECT_EQ(budget.triangles(), 2u);
+}
+
 // `mtllib` names a file: an upload that carries one is refused before anything is read, while
 // an operator's local file keeps loading with its materials ignored.
 TEST(ParseObj, MaterialLibrariesAreNeverRead) {

@@ -1,19 +1,186 @@
 // OBJ meshes from bytes in memory (mesh_parsing.h), through tinyobjloader's callback parser:
 // the parser hands over each line's numbers and this file keeps only what the budget allows,
-// so no file, however it is written, makes the parser itself hold the scene.
+// so no file, however it is written, makes the parser itself hold the scene. The numbers are
+// read strictly once before the parser runs, since it keeps whatever it could read of a token.
 #include <lixel/scene/mesh_builders.h>
 #include <lixel/scene/mesh_parsing.h>
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <istream>
 #include <map>
+#include <optional>
 #include <streambuf>
 #include <utility>
 
 namespace lixel::scene {
 namespace {
 
+// tinyobjloader reads each number as far as it can and keeps what it read: `nan`, `inf`, `0x1p3`
+// and `abc` become 0, `1.2.3` becomes 1.2, a missing coordinate takes a default, and face
+// indices go through atoi, so `4294967300` wraps to vertex 4. The numbers the builder keeps are
+// therefore read first, strictly, by the functions below; a token they pass is one tinyobjloader
+// reads whole, to the same value.
+
+bool IsObjSpace(char c) { return c == ' ' || c == '\t'; }
+
+// The next token of `rest` as tinyobjloader delimits one: spaces and tabs skipped, then up to
+// the next space or tab (a line holds no '\r' or '\n' by then).
+std::string_view NextToken(std::string_view& rest) {
+    std::size_t begin = 0;
+    while (begin < rest.size() && IsObjSpace(rest[begin])) ++begin;
+    std::size_t end = begin;
+    while (end < rest.size() && !IsObjSpace(rest[end])) ++end;
+    const std::string_view token = rest.substr(begin, end - begin);
+    rest.remove_prefix(end);
+    return token;
+}
+
+// A token for an error message: its first 32 bytes, those outside printable ASCII (and quotes
+// and backslashes) written \xNN, since the bytes are an attacker's.
+std::string Quoted(std::string_view token) {
+    constexpr std::size_t kShown = 32;
+    std::string out = "\"";
+    for (const char c : token.substr(0, kShown)) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (byte >= 0x20 && byte < 0x7f && c != '"' && c != '\\') {
+            out += c;
+        } else {
+            char hex[5];
+            std::snprintf(hex, sizeof hex, "\\x%02x", byte);
+            out += hex;
+        }
+    }
+    out += token.size() > kShown ? "...\"" : "\"";
+    return out;
+}
+
+// tinyobjloader allows one leading '+', std::from_chars none: drop it, unless another sign
+// follows (`+-1`, which tinyobjloader reads as 0), so that from_chars refuses the token.
+std::string_view WithoutPlus(std::string_view token) {
+    if (token.size() > 1 && token[0] == '+' && token[1] != '-') token.remove_prefix(1);
+    return token;
+}
+
+// Why `token` is not a coordinate tinyobjloader reads exactly, or nullptr. from_chars' general
+// format is the decimal grammar tinyobjloader reads in full (sign, digits, point, exponent),
+// never hex, plus `nan` and `inf`, which the finiteness test refuses. tinyobjloader keeps a
+// float, so a double past a float's range is refused as well.
+const char* CoordinateProblem(std::string_view token) {
+    token = WithoutPlus(token);
+    const char* const end = token.data() + token.size();
+    double value = 0;
+    const auto [stop, ec] = std::from_chars(token.data(), end, value);
+    if (ec == std::errc::result_out_of_range) return "is out of a 32-bit float's range";
+    if (ec != std::errc{} || stop != end || !std::isfinite(value)) {
+        return "is not a finite decimal number";
+    }
+    if (!std::isfinite(static_cast<float>(value))) return "is out of a 32-bit float's range";
+    return nullptr;
+}
+
+// Why one number of a face corner is not an index tinyobjloader's atoi reads exactly, or
+// nullptr: an integer that fits an int, and not 0, which OBJ never writes and tinyobjloader
+// hands over as "no index".
+const char* IndexProblem(std::string_view part) {
+    part = WithoutPlus(part);
+    const char* const end = part.data() + part.size();
+    int value = 0;
+    const auto [stop, ec] = std::from_chars(part.data(), end, value);
+    if (ec == std::errc::result_out_of_range) return "is out of range";
+    if (ec != std::errc{} || stop != end) return "is not an integer";
+    if (value == 0) return "is out of range (OBJ counts from 1, or back from -1)";
+    return nullptr;
+}
+
+// Why a face corner is not i, i/j, i//k or i/j/k with exact indices, or empty.
+std::string CornerProblem(std::string_view corner) {
+    const auto malformed = [corner] {
+        return "face corner " + Quoted(corner) + " is not i, i/j, i//k or i/j/k";
+    };
+    std::string_view parts[3];
+    std::size_t last = 0;
+    std::string_view rest = corner;
+    for (std::size_t slash = rest.find('/'); slash != rest.npos; slash = rest.find('/')) {
+        if (last == 2) return malformed();
+        parts[last++] = rest.substr(0, slash);
+        rest.remove_prefix(slash + 1);
+    }
+    parts[last] = rest;
+    for (std::size_t k = 0; k <= last; ++k) {
+        const bool skipped_texture = k == 1 && last == 2;  // i//k
+        if (parts[k].empty() && skipped_texture) continue;
+        if (parts[k].empty()) return malformed();
+        if (const char* why = IndexProblem(parts[k])) {
+            return "face index " + Quoted(parts[k]) + " " + why;
+        }
+    }
+    return {};
+}
+
+// Why a `v` or `vn` line's x, y and z are not read exactly, or empty. What follows z (a `v`
+// line's w, or the colour extension's r g b) is read into values the builder never uses.
+std::string CoordinatesProblem(std::string_view rest, const char* what) {
+    for (int axis = 0; axis < 3; ++axis) {
+        const std::string_view token = NextToken(rest);
+        if (token.empty()) {
+            return std::string(what) + " needs 3 coordinates, the line has " + std::to_string(axis);
+        }
+        if (const char* why = CoordinateProblem(token)) {
+            return std::string(what) + " coordinate " + Quoted(token) + " " + why;
+        }
+    }
+    return {};
+}
+
+// Why a line's numbers would be misread, or empty. The keywords are matched as tinyobjloader's
+// LoadObjWithCallback matches them (leading spaces skipped, the keyword, a space or tab); only
+// the lines whose numbers the builder keeps are read: `vt` has no callback here, and names and
+// statements tinyobjloader skips hold no numbers it converts.
+std::string LineProblem(std::string_view line) {
+    while (!line.empty() && IsObjSpace(line.front())) line.remove_prefix(1);
+    const auto starts = [line](std::string_view keyword) {
+        return line.size() > keyword.size() && line.starts_with(keyword) &&
+               IsObjSpace(line[keyword.size()]);
+    };
+    if (starts("v")) return CoordinatesProblem(line.substr(2), "vertex");
+    if (starts("vn")) return CoordinatesProblem(line.substr(3), "normal");
+    if (!starts("f")) return {};
+    std::string_view rest = line.substr(2);
+    for (std::string_view corner = NextToken(rest); !corner.empty(); corner = NextToken(rest)) {
+        if (std::string why = CornerProblem(corner); !why.empty()) return why;
+    }
+    return {};
+}
+
+// The budget's own error (a limit, a cancel) under the source's field.
+Error StoppedError(const MeshSource& source, const DecodeBudget& budget) {
+    return Error{source.field + ": " + budget.error().field, budget.error().reason};
+}
+
+// The first line tinyobjloader would misread, named by its 1-based number, or nothing. Lines
+// are split as tinyobjloader's safeGetline splits them ("\n", "\r\n" or a lone "\r") and end
+// at their first NUL, where its C-string readers stop. One pass, nothing copied; the budget's
+// cancellation is polled once a line.
+std::optional<Error> FirstMisreadLine(std::string_view text, const MeshSource& source,
+                                      DecodeBudget& budget) {
+    for (std::size_t number = 1; !text.empty(); ++number) {
+        std::size_t end = 0;
+        while (end < text.size() && text[end] != '\n' && text[end] != '\r') ++end;
+        std::string_view line = text.substr(0, end);
+        line = line.substr(0, line.find('\0'));
+        const bool crlf = end + 1 < text.size() && text[end] == '\r' && text[end + 1] == '\n';
+        text.remove_prefix(std::min(text.size(), end + (crlf ? 2 : 1)));
+        if (budget.Cancelled()) return StoppedError(source, budget);
+        if (std::string why = LineProblem(line); !why.empty()) {
+            return Error{source.field, "line " + std::to_string(number) + ": " + why};
+        }
+    }
+    return std::nullopt;
+}
 
 // An istream over bytes that stay where they are (no copy of the upload).
 class ViewBuffer final : public std::streambuf {
@@ -59,6 +226,7 @@ public:
         b.Tick();
         if (!b.budget_.AddVertices(1)) throw StopParsing{};
         b.positions_.emplace_back(x, y, z);
+        b.RefuseNonFinite(b.positions_, "vertex");
     }
 
     static void OnNormal(void* self, tinyobj::real_t x, tinyobj::real_t y, tinyobj::real_t z) {
@@ -66,6 +234,7 @@ public:
         b.Tick();
         if (!b.budget_.AddVertices(1)) throw StopParsing{};
         b.normals_.emplace_back(x, y, z);
+        b.RefuseNonFinite(b.normals_, "normal");
     }
 
     static void OnFace(void* self, tinyobj::index_t* indices, int count) {
@@ -109,6 +278,15 @@ private:
     void Fail(std::string reason) {
         error_ = Error{source_.field, std::move(reason)};
         throw StopParsing{};
+    }
+
+    // The text's numbers are all finite decimals (FirstMisreadLine), but tinyobjloader's own
+    // arithmetic can still overflow: `0e500` is 0 times 5^500, NaN.
+    void RefuseNonFinite(const std::vector<Eigen::Vector3f>& values, const char* what) {
+        if (values.back().allFinite()) return;
+        Fail(std::string(what) + " " + std::to_string(values.size()) +
+             " is not finite as tinyobjloader computes it; write its numbers with fewer digits "
+             "or a smaller exponent");
     }
 
     std::string MeshName() const {
@@ -190,12 +368,7 @@ private:
             auto [it, added] =
                 shared.emplace(key, static_cast<std::uint32_t>(mesh.positions.size()));
             if (added) {
-                const Eigen::Vector3f& p = positions_[c.position];
-                if (!p.allFinite()) {
-                    Fail("object '" + mesh.name + "': vertex " + std::to_string(c.position + 1) +
-                         " is not finite");
-                }
-                mesh.positions.push_back(p);
+                mesh.positions.push_back(positions_[c.position]);
                 if (all_normals) {
                     const Eigen::Vector3f& n = normals_[static_cast<std::size_t>(c.normal)];
                     mesh.normals.push_back(n.norm() > 0 ? n.normalized() : n);
@@ -234,6 +407,7 @@ bool RefuseMaterials::operator()(const std::string& name, std::vector<tinyobj::m
 
 Result<std::vector<Mesh>> ParseObj(std::string_view text, const MeshSource& source,
                                    DecodeBudget& budget) {
+    if (std::optional<Error> misread = FirstMisreadLine(text, source, budget)) return *misread;
     ObjBuilder builder(source, budget);
     tinyobj::callback_t callbacks;
     callbacks.vertex_cb = &ObjBuilder::OnVertex;
@@ -252,9 +426,7 @@ Result<std::vector<Mesh>> ParseObj(std::string_view text, const MeshSource& sour
         }
         return builder.Finish();
     } catch (const StopParsing&) {
-        if (budget.stopped()) {
-            return Error{source.field + ": " + budget.error().field, budget.error().reason};
-        }
+        if (budget.stopped()) return StoppedError(source, budget);
         return builder.error();
     }
 }
