@@ -1,17 +1,23 @@
 // The Session stream (docs/service.md, "Sessions"): frames in order with the plan and maps a
 // Render call of the same frame gives, the previous plan kept by the server, pipelining with
 // superseded frames skipped and said, coded maps against the session's own references, every
-// bad message refused naming its field while the session goes on where the protocol allows, an
-// evicted scene ending it with NOT_FOUND, a client that stops reading ended, and a 600-frame
-// session's memory flat.
+// bad message refused naming its field while the session goes on where the protocol allows, a
+// frame refused by its plan undone so the frames after it start from the last good values
+// (SessionState's undo rules, alone), an evicted scene ending it with NOT_FOUND, a client that
+// stops reading ended, and a 600-frame session's memory flat.
 #include <lixel/client/coherence.h>
 #include <lixel/client/session.h>
 #include <lixel/scene/frame_sequence.h>
+#include <lixel/service/session_state.h>
 
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
+#include <optional>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "sanitizer_build.h"
 #include "service_fixture.h"
@@ -318,6 +324,140 @@ TEST(Session, BadMessagesAreRefusedNamingTheFieldAndTheSessionGoesOnWhereItCan) 
     EXPECT_TRUE(raw.stream->Finish().ok());
 }
 
+// A camera at the room's height that looks away from it into empty space: it decodes, and the
+// frame's plan then refuses it, its view frustum meeting none of the scene.
+v1::Camera CameraLookingAway() {
+    scene::Camera camera;
+    camera.eye = Vec3(0.0, 6.0, 12.0);
+    camera.target = Vec3(0.0, 6.0, 40.0);
+    camera.viewport = {kSide, kSide};
+    v1::Camera out;
+    service::EncodeMat4(camera.Viewer(), out.mutable_viewer());
+    out.set_width(kSide);
+    out.set_height(kSide);
+    return out;
+}
+
+// The frame as the session must draw it: `open` with the camera, light and instances given.
+v1::SessionFrame Drawn(const v1::SessionFrame& camera, const v1::SessionFrame& light,
+                       const v1::SessionFrame& instances) {
+    v1::SessionFrame frame;
+    *frame.mutable_camera() = camera.camera();
+    *frame.mutable_light() = light.light();
+    *frame.mutable_instances() = instances.instances();
+    return frame;
+}
+
+// A served frame's maps are a Render's of `drawn`: bit for bit, plan and images.
+void ExpectServedAs(client::Client& client, const v1::SessionOpen& open,
+                    const Result<client::SessionFrame>& got, std::uint64_t number,
+                    const v1::SessionFrame& drawn) {
+    ASSERT_TRUE(got.ok()) << got.error().Message();
+    EXPECT_EQ(got->number, number);
+    ASSERT_FALSE(got->refused) << "frame " << number << ": " << got->refused->Message();
+    auto rendered = client.Render(RenderOf(open, drawn, nullptr));
+    ASSERT_TRUE(rendered.ok()) << rendered.error().Message();
+    EXPECT_EQ(got->maps.header.plan().SerializeAsString(),
+              rendered->header.plan().SerializeAsString())
+        << "frame " << number;
+    EXPECT_TRUE(got->maps.images == rendered->images) << "frame " << number;
+}
+
+// Before, a frame refused by its plan (not by the decode when it came) had already become what
+// the next frames started from: each frame after it that left the field out was refused the same
+// way until the client sent the field again.
+TEST(Session, AFrameItsPlanRefusesIsUndoneAndTheFramesAfterItStartFromTheLastGoodValues) {
+    Room r = StartRoom("session-undo");
+    ASSERT_FALSE(r.scene_id.empty());
+    v1::SessionOpen open = OpenFor(r.scene_id, false);  // no previous plan to send back
+    open.set_max_frames_ahead(4);                       // none of the frames below skipped
+    auto session = client::Session::Open(*r.client, open);
+    ASSERT_TRUE(session.ok()) << session.error().Message();
+    // Frame 1, a camera looking away, a frame of a new light only and one of nothing but its
+    // number, sent together: frames 3 and 4 come while frame 1 renders, so they were merged with
+    // frame 2's camera before its plan refused it, and still start from frame 1's.
+    const v1::SessionFrame first = FrameOf(1, 1);
+    v1::SessionFrame away;
+    away.set_number(2);
+    *away.mutable_camera() = CameraLookingAway();
+    v1::SessionFrame light_only;
+    light_only.set_number(3);
+    *light_only.mutable_light() = first.light();
+    light_only.mutable_light()->mutable_position()->set_x(first.light().position().x() + 0.5);
+    v1::SessionFrame nothing;
+    nothing.set_number(4);
+    for (const v1::SessionFrame& f : {first, away, light_only, nothing}) {
+        ASSERT_TRUE((*session)->Send(f).ok());
+    }
+    ExpectServedAs(*r.client, open, (*session)->Next(), 1, first);
+    auto refused = (*session)->Next();
+    ASSERT_TRUE(refused.ok()) << refused.error().Message();
+    EXPECT_EQ(refused->number, 2u);
+    ASSERT_TRUE(refused->refused);
+    EXPECT_EQ(refused->refused->field, "INVALID_ARGUMENT");
+    EXPECT_NE(refused->refused->reason.find("view frustum does not meet scene bounds"),
+              std::string::npos)
+        << refused->refused->reason;
+    ExpectServedAs(*r.client, open, (*session)->Next(), 3, Drawn(first, light_only, first));
+    ExpectServedAs(*r.client, open, (*session)->Next(), 4, Drawn(first, light_only, first));
+
+    // Instances none of which casts or receives leave nothing to bound the scene: refused
+    // (when it comes or when it is planned), and a frame giving only its camera is drawn with
+    // frame 1's instances.
+    v1::SessionFrame hidden;
+    hidden.set_number(5);
+    *hidden.mutable_instances() = first.instances();
+    for (v1::Instance& instance : *hidden.mutable_instances()->mutable_instances()) {
+        instance.set_casts(false);
+        instance.set_receives(false);
+    }
+    ASSERT_TRUE((*session)->Send(hidden).ok());
+    refused = (*session)->Next();
+    ASSERT_TRUE(refused.ok()) << refused.error().Message();
+    EXPECT_EQ(refused->number, 5u);
+    ASSERT_TRUE(refused->refused);
+    EXPECT_EQ(refused->refused->field, "INVALID_ARGUMENT") << refused->refused->reason;
+    v1::SessionFrame camera_only;
+    camera_only.set_number(6);
+    *camera_only.mutable_camera() = FrameOf(4, 0).camera();
+    ASSERT_TRUE((*session)->Send(camera_only).ok());
+    ExpectServedAs(*r.client, open, (*session)->Next(), 6, Drawn(camera_only, light_only, first));
+    EXPECT_TRUE((*session)->Close().ok());
+}
+
+// The attack that found the fault, as it sent its frames: together, two allowed ahead, so the
+// camera looking away (frame 2) and frame 3 are skipped while frame 1 renders, and frame 4
+// carries the camera to its plan. Its refusal takes the skipped camera back too, and frame 5 is
+// drawn with frame 1's camera (before, frame 5 and every frame after it were refused).
+TEST(Session, ASkippedFramesRefusedCameraGoesBackWithTheFrameThatCarriedIt) {
+    Room r = StartRoom("session-undo-skipped");
+    ASSERT_FALSE(r.scene_id.empty());
+    const v1::SessionOpen open = OpenFor(r.scene_id, false);  // max_frames_ahead 2
+    auto session = client::Session::Open(*r.client, open);
+    ASSERT_TRUE(session.ok()) << session.error().Message();
+    const v1::SessionFrame first = FrameOf(1, 1);
+    std::vector<v1::SessionFrame> frames = {first};
+    for (std::uint64_t n = 2; n <= 5; ++n) frames.emplace_back().set_number(n);
+    *frames[1].mutable_camera() = CameraLookingAway();
+    for (const v1::SessionFrame& f : frames) ASSERT_TRUE((*session)->Send(f).ok());
+    std::vector<std::uint64_t> skipped;
+    for (;;) {
+        auto got = (*session)->Next();
+        ASSERT_TRUE(got.ok()) << got.error().Message();
+        skipped.insert(skipped.end(), got->skipped.begin(), got->skipped.end());
+        if (got->number == 1 || got->number == 5) {
+            ExpectServedAs(*r.client, open, got, got->number, first);
+        } else if (!got->refused) {  // had frame 2 run, and been refused, before they came
+            ExpectServedAs(*r.client, open, got, got->number, first);
+        }
+        if (got->number == 5) break;
+    }
+    std::printf("frames skipped:");
+    for (std::uint64_t n : skipped) std::printf(" %llu", static_cast<unsigned long long>(n));
+    std::printf("\n");
+    EXPECT_TRUE((*session)->Close().ok());
+}
+
 TEST(Session, AnEvictedSceneEndsTheSessionWithNotFoundNamingIt) {
     service::ServerOptions options = SmallServerOptions("session-evicted");
     scene::Scene room = scene::FloorWallAnimated(0.0);
@@ -562,6 +702,206 @@ TEST(Session, WaitingFramesPastTheirByteBoundAreSkippedOldestFirst) {
     EXPECT_TRUE(raw.stream->Finish().ok());
     EXPECT_GT(notices, 0);
     EXPECT_EQ(last_done, 20u);
+}
+
+// SessionState alone: what a refused frame's undo does to the frames after it, whatever their
+// order. Cameras are told apart by their width, lights by their x, instance lists by their mesh.
+v1::Camera CameraTagged(std::uint32_t tag) {
+    v1::Camera camera;
+    camera.set_width(tag);
+    camera.set_height(1);
+    return camera;
+}
+
+v1::Light LightTagged(double tag) {
+    v1::Light light;
+    light.mutable_position()->set_x(tag);
+    light.mutable_position()->set_w(1.0);
+    return light;
+}
+
+v1::SessionFrame Changes(std::uint64_t number, std::optional<std::uint32_t> camera,
+                         std::optional<double> light = std::nullopt,
+                         std::optional<std::string> mesh = std::nullopt) {
+    v1::SessionFrame frame;
+    frame.set_number(number);
+    if (camera) *frame.mutable_camera() = CameraTagged(*camera);
+    if (light) *frame.mutable_light() = LightTagged(*light);
+    if (mesh) frame.mutable_instances()->add_instances()->set_mesh(*mesh);
+    return frame;
+}
+
+// A session whose open gives camera 100 and light 1.0 and no instances; each frame's request,
+// merged without a scene to check against.
+struct Undo {
+    service::SessionState session;
+    std::map<std::uint64_t, v1::RenderRequest> requests;
+    Undo() {
+        v1::SessionOpen open;
+        open.mutable_plan()->set_scene_id("sha256:undo");
+        *open.mutable_plan()->mutable_camera() = CameraTagged(100);
+        *open.mutable_plan()->mutable_light() = LightTagged(1.0);
+        EXPECT_TRUE(session.Open(open).ok());
+    }
+    const v1::PlanRequest& Merge(const v1::SessionFrame& frame) {
+        const grpc::Status s = session.Frame(frame, nullptr, &requests[frame.number()]);
+        EXPECT_TRUE(s.ok()) << s.error_message();
+        return requests[frame.number()].plan();
+    }
+    // Frame `number` refused, the frames in `waiting` merged and not started.
+    void Refuse(std::uint64_t number, std::vector<std::uint64_t> waiting = {}) {
+        std::vector<service::SessionState::Waiting> w;
+        for (std::uint64_t n : waiting) w.push_back({n, &requests.at(n)});
+        session.Refused(number, w);
+    }
+    // What a frame giving nothing starts from.
+    v1::PlanRequest Next(std::uint64_t number) { return Merge(Changes(number, std::nullopt)); }
+};
+
+std::uint32_t CameraOf(const v1::PlanRequest& plan) { return plan.camera().width(); }
+double LightOf(const v1::PlanRequest& plan) { return plan.light().position().x(); }
+
+TEST(SessionState, ARefusedFramesFieldsGoBackToWhatTheyReplacedAndItsOtherFieldsStay) {
+    Undo u;
+    u.Merge(Changes(1, 101, std::nullopt, "box"));
+    u.session.Kept(1);
+    // Frame 2 sets the camera and the light and is refused; frame 3 sets the light and is served.
+    EXPECT_EQ(CameraOf(u.Merge(Changes(2, 102, 2.0))), 102u);
+    u.Refuse(2);
+    EXPECT_EQ(CameraOf(u.Next(3)), 101u);
+    EXPECT_EQ(LightOf(u.requests[3].plan()), 1.0);
+    EXPECT_EQ(u.requests[3].plan().instances(0).mesh(), "box");
+    // Refused or kept again, or a number never merged: nothing changes.
+    u.Refuse(2);
+    u.Refuse(1);
+    u.session.Kept(2);
+    u.Refuse(99);
+    EXPECT_EQ(CameraOf(u.Next(4)), 101u);
+    // An instance list refused: the one it replaced.
+    u.Merge(Changes(5, std::nullopt, std::nullopt, "sphere"));
+    u.Refuse(5);
+    EXPECT_EQ(u.Next(6).instances(0).mesh(), "box");
+}
+
+TEST(SessionState, AFieldTheOpenLeftUnsetGoesBackToUnset) {
+    service::SessionState session;
+    v1::SessionOpen open;
+    open.mutable_plan()->set_scene_id("sha256:undo");
+    ASSERT_TRUE(session.Open(open).ok());
+    v1::RenderRequest request;
+    ASSERT_TRUE(session.Frame(Changes(1, 7, 2.0), nullptr, &request).ok());
+    EXPECT_TRUE(request.plan().has_camera() && request.plan().has_light());
+    session.Refused(1, {});
+    ASSERT_TRUE(session.Frame(Changes(2, std::nullopt), nullptr, &request).ok());
+    EXPECT_FALSE(request.plan().has_camera());
+    EXPECT_FALSE(request.plan().has_light());
+}
+
+// Frames merged before the refusal came back: those that took the refused value (they set no
+// value of their own for it since) take the one it replaced; one that set the field keeps its own,
+// and its own refusal later goes back past both.
+TEST(SessionState, FramesMergedBeforeTheRefusalCameBackTakeTheValueItReplaced) {
+    Undo u;
+    u.Merge(Changes(1, 101));
+    u.session.Kept(1);
+    u.Merge(Changes(2, 102));                // running, refused below
+    u.Merge(Changes(3, std::nullopt, 3.0));  // waiting: took camera 102
+    u.Merge(Changes(4, 104));                // waiting: its own camera
+    u.Merge(Changes(5, std::nullopt));       // waiting: took camera 104
+    u.Refuse(2, {3, 4, 5});
+    EXPECT_EQ(CameraOf(u.requests[3].plan()), 101u);
+    EXPECT_EQ(LightOf(u.requests[3].plan()), 3.0);
+    EXPECT_EQ(CameraOf(u.requests[4].plan()), 104u);
+    EXPECT_EQ(CameraOf(u.requests[5].plan()), 104u);
+    EXPECT_EQ(CameraOf(u.Next(6)), 104u);
+    // Frame 4, refused in turn, goes back past frame 2 to frame 1's camera; frame 3's light stays.
+    u.session.Kept(3);
+    u.Refuse(4, {5, 6});
+    EXPECT_EQ(CameraOf(u.requests[5].plan()), 101u);
+    EXPECT_EQ(CameraOf(u.requests[6].plan()), 101u);
+    EXPECT_EQ(CameraOf(u.Next(7)), 101u);
+    EXPECT_EQ(LightOf(u.requests[7].plan()), 3.0);
+}
+
+// The same two frames refused the other way round: the later first, then the earlier.
+TEST(SessionState, TwoRefusedFramesOfTheSameFieldGoBackPastBothInEitherOrder) {
+    for (const bool later_first : {false, true}) {
+        Undo u;
+        u.Merge(Changes(1, 101));
+        u.Merge(Changes(2, 102));
+        u.Merge(Changes(3, std::nullopt));
+        if (later_first) {
+            u.Refuse(2, {3});
+            EXPECT_EQ(CameraOf(u.requests[3].plan()), 101u);
+            u.Refuse(1, {3});
+        } else {
+            u.Refuse(1, {3});
+            EXPECT_EQ(CameraOf(u.requests[3].plan()), 102u);
+            u.Refuse(2, {3});
+        }
+        EXPECT_EQ(CameraOf(u.requests[3].plan()), 100u) << later_first;
+        EXPECT_EQ(CameraOf(u.Next(4)), 100u) << later_first;
+    }
+}
+
+// A skipped frame's changes reach the next frame, and go with it: undone if it is refused (here
+// the attack that found the fault: frames sent together, the one looking away skipped and its
+// camera refused in the frame after it), standing if it is served.
+TEST(SessionState, ASkippedFramesChangesShareTheOutcomeOfTheFrameThatCarriesThem) {
+    for (const bool carrier_served : {false, true}) {
+        Undo u;
+        u.Merge(Changes(1, 101, 2.0));      // running
+        u.Merge(Changes(2, 102));           // waiting, then skipped
+        u.Merge(Changes(3, std::nullopt));  // waiting: carries camera 102
+        u.Merge(Changes(4, std::nullopt, 4.0));
+        u.session.Skipped(2);
+        // Frame 1 refused: its light goes back; frame 2's camera, carried by frame 3, stays.
+        u.Refuse(1, {3, 4});
+        EXPECT_EQ(CameraOf(u.requests[3].plan()), 102u);
+        EXPECT_EQ(LightOf(u.requests[3].plan()), 1.0);
+        EXPECT_EQ(LightOf(u.requests[4].plan()), 4.0);
+        if (carrier_served) {
+            u.session.Kept(3);
+            EXPECT_EQ(CameraOf(u.Next(5)), 102u);
+        } else {  // back past frames 2 and 1
+            u.Refuse(3, {4});
+            EXPECT_EQ(CameraOf(u.requests[4].plan()), 100u);
+            EXPECT_EQ(CameraOf(u.Next(5)), 100u);
+        }
+        EXPECT_EQ(LightOf(u.requests[5].plan()), 4.0) << carrier_served;
+    }
+}
+
+// A frame the queue turned away, the newest merged: its changes go with the next frame to come.
+TEST(SessionState, AFrameTurnedAwayWithNoneAfterItGoesWithTheNextFrameMerged) {
+    for (const bool next_served : {false, true}) {
+        Undo u;
+        u.Merge(Changes(1, 101));
+        u.session.Skipped(1);
+        EXPECT_EQ(CameraOf(u.Next(2)), 101u);
+        if (next_served) {
+            u.session.Kept(2);
+        } else {
+            u.Refuse(2);
+        }
+        EXPECT_EQ(CameraOf(u.Next(3)), next_served ? 101u : 100u);
+    }
+}
+
+// A frame served while an earlier one's outcome is not known (not an order the session's
+// reactor gives, but the rule holds in any): its value stands for the fields it set, and the
+// earlier refusal undoes only the rest.
+TEST(SessionState, AFrameServedBeforeAnEarlierOneIsRefusedKeepsTheFieldsItSet) {
+    Undo u;
+    u.Merge(Changes(1, 101, 2.0));
+    u.Merge(Changes(2, 102));
+    u.session.Kept(2);
+    u.Merge(Changes(3, std::nullopt));  // waiting
+    u.Refuse(1, {3});
+    EXPECT_EQ(CameraOf(u.requests[3].plan()), 102u);
+    EXPECT_EQ(LightOf(u.requests[3].plan()), 1.0);
+    EXPECT_EQ(CameraOf(u.Next(4)), 102u);
+    EXPECT_EQ(LightOf(u.requests[4].plan()), 1.0);
 }
 
 }  // namespace

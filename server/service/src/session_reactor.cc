@@ -12,6 +12,7 @@
 #include <mutex>
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "job_common.h"
 
@@ -203,6 +204,7 @@ class SessionReactor final
                 const std::uint64_t skipped = item.frame;
                 bytes -= item.request_bytes;
                 item.request.reset();
+                session_.Skipped(skipped);
                 v1::SessionNotice* notice = item.message.emplace().mutable_notice();
                 notice->add_skipped(skipped);
                 notice->set_message(
@@ -291,6 +293,9 @@ class SessionReactor final
                     if (s.ok()) {
                         service_.state().coded_references.Forget(
                             session_.Served(item.report.plan, item.report.coded_frame_ids));
+                        session_.Kept(item.frame);
+                    } else if (!EndsSession(s)) {
+                        UndoLocked(item.frame);
                     }
                     deferred = std::exchange(deferred_, std::nullopt);
                 }
@@ -305,7 +310,10 @@ class SessionReactor final
                 Release();
             });
         if (!queued) {
-            // The frame is refused, the session goes on: its done is written in its place.
+            // The frame is refused, the session goes on: its done is written in its place. Its
+            // changes go on as a skipped frame's: it was turned away for the server's load, not
+            // for what it holds.
+            session_.Skipped(item.frame);
             owners_.fetch_sub(1);
             job_running_ = false;
             item.feed.reset();
@@ -316,6 +324,24 @@ class SessionReactor final
             done->set_message("server: work queue full (" +
                               std::to_string(service_.state().options.queue_capacity) +
                               " waiting); retry the frame later");
+        }
+    }
+
+    // A frame its job refused for what it holds (its plan or its render): its changes undone in
+    // what the next frame starts from and in the frames waiting after it, which took them when
+    // they were merged.
+    void UndoLocked(std::uint64_t frame) {
+        std::vector<SessionState::Waiting> waiting;
+        for (Item& item : items_) {
+            if (!item.request || item.feed != nullptr) continue;
+            waiting.push_back({item.frame, &*item.request});
+        }
+        session_.Refused(frame, waiting);
+        // Their plans may have changed size: session_waiting_bytes counts them anew.
+        for (Item& item : items_) {
+            if (item.request && item.feed == nullptr) {
+                item.request_bytes = item.request->ByteSizeLong();
+            }
         }
     }
 
