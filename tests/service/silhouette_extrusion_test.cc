@@ -236,6 +236,69 @@ class SilhouetteExtrusion : public ::testing::Test {
     std::unique_ptr<client::Client> client_;
 };
 
+// An epsilon far below the casters' scale splits every loop segment 2^max_depth times. View's
+// smooth volumes and Silhouettes refuse it, RESOURCE_EXHAUSTED naming the epsilon, before the
+// silhouettes hold more points than the memory cap allows them (kSmoothBytesPerPoint a point),
+// and serve the default epsilon after it.
+TEST(SmoothSilhouetteBudget, ATinyEpsilonIsRefusedWithinTheMemoryCap) {
+    service::ServerOptions options = testing::SmallServerOptions("smooth-budget");
+    options.service.memory_cap_bytes = 1u << 20;  // 4 096 points
+    auto server = testing::StartServer(options);
+    ASSERT_NE(server, nullptr);
+    auto client = testing::Connect(testing::Target(*server));
+    scene::Scene scene = scene::SphereTorusScene();
+    scene.camera.viewport = {64, 64};
+    v1::Scene message;
+    EncodeScene(MakeSceneRecord(scene), &message);
+    auto uploaded = client->UploadScene(message);
+    ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
+    const auto stub = testing::RawStub(testing::Target(*server));
+
+    v1::ViewRequest view;
+    view.mutable_plan()->set_scene_id(uploaded->scene_id());
+    view.set_filter(v1::FILTER_SMOOTH_VOLUMES);
+    const auto viewed = [&] {
+        grpc::ClientContext context;
+        testing::WithDeadline(context, 120.0);
+        v1::ViewResponse response;
+        return stub->View(&context, view, &response);
+    };
+    v1::SilhouettesRequest silhouettes;
+    silhouettes.set_scene_id(uploaded->scene_id());
+    silhouettes.set_smooth(true);
+    silhouettes.set_caps(true);
+    const auto traced = [&] {
+        grpc::ClientContext context;
+        testing::WithDeadline(context, 120.0);
+        v1::SilhouettesResponse response;
+        return stub->Silhouettes(&context, silhouettes, &response);
+    };
+
+    view.mutable_smooth()->set_epsilon(1e-300);
+    grpc::Status status = viewed();
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+    EXPECT_EQ(status.error_message().rfind("smooth.epsilon: subdividing to epsilon = 1e-300 makes "
+                                           "more than ",
+                                           0),
+              0u)
+        << status.error_message();
+    silhouettes.set_epsilon(1e-300);
+    status = traced();
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+    EXPECT_EQ(status.error_message().rfind("epsilon: subdividing to epsilon = 1e-300 makes more "
+                                           "than ",
+                                           0),
+              0u)
+        << status.error_message();
+
+    view.mutable_smooth()->set_epsilon(0.0);  // the default, 1e-3
+    status = viewed();
+    EXPECT_TRUE(status.ok()) << status.error_message();
+    silhouettes.set_epsilon(0.0);
+    status = traced();
+    EXPECT_TRUE(status.ok()) << status.error_message();
+}
+
 TEST_F(SilhouetteExtrusion, EdgesAndFacingsGiveViewsVolumesOnFloorWall) {
     const scene::Scene scene = scene::FloorWallScene();
     ExpectClientVolumesMatchView(scene, false, "floor_wall, paper 001");

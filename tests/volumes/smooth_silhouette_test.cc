@@ -107,6 +107,45 @@ TEST(SmoothSilhouette, EverySegmentMeetsEpsilon) {
     }
 }
 
+// max_points bounds the loops' points: a bound at the count the loops make changes nothing,
+// one point fewer refuses naming it, and an epsilon far below the mesh's scale (every segment
+// split 2^max_depth times) is refused before the loops hold more than the bound.
+TEST(SmoothSilhouette, MaxPointsBoundsTheLoopsOrRefusesNamingIt) {
+    const Mesh mesh = CoarseSphere();
+    auto adj = BuildEdgeAdjacency(mesh);
+    ASSERT_TRUE(adj.ok());
+    SmoothOptions options;
+    options.epsilon = 0.001;
+    const SmoothSilhouette free = Compute(mesh, kLight, options);
+    const std::size_t made = free.stats.output_points;
+    ASSERT_GT(made, 100u);
+
+    options.max_points = made;
+    const SmoothSilhouette bounded = Compute(mesh, kLight, options);
+    ASSERT_EQ(bounded.loops.size(), free.loops.size());
+    for (std::size_t l = 0; l < free.loops.size(); ++l) {
+        ASSERT_EQ(bounded.loops[l].vertices.size(), free.loops[l].vertices.size());
+        for (std::size_t i = 0; i < free.loops[l].vertices.size(); ++i) {
+            EXPECT_EQ(bounded.loops[l].vertices[i].position, free.loops[l].vertices[i].position);
+        }
+    }
+
+    options.max_points = made - 1;
+    const auto short_by_one = ComputeSmoothSilhouette(mesh, *adj, kLight, options);
+    ASSERT_FALSE(short_by_one.ok());
+    EXPECT_EQ(short_by_one.error().Message(),
+              "options.max_points: subdividing to epsilon = 0.001 makes more than " +
+                  std::to_string(made - 1) + " points");
+
+    options.epsilon = 1e-300;
+    options.max_depth = 30;  // unbounded, a segment alone could make 2^30 points
+    options.max_points = 4096;
+    const auto tiny = ComputeSmoothSilhouette(mesh, *adj, kLight, options);
+    ASSERT_FALSE(tiny.ok());
+    EXPECT_EQ(tiny.error().field, "options.max_points");
+    EXPECT_EQ(tiny.error().reason, "subdividing to epsilon = 1e-300 makes more than 4096 points");
+}
+
 TEST(SmoothSilhouette, ErrorAgainstTheAnalyticShadowFallsWithEpsilon) {
     const Mesh mesh = CoarseSphere();
     SmoothOptions hz;

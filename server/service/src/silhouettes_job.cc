@@ -5,6 +5,7 @@
 #include <lixel/volumes/scene_volume.h>
 #include <lixel/volumes/smooth_silhouette.h>
 
+#include <algorithm>
 #include <string>
 #include <utility>
 #include <vector>
@@ -12,6 +13,20 @@
 #include "job_common.h"
 
 namespace lixel::service {
+
+namespace {
+
+// Smooth silhouettes past what the memory cap allows them (kSmoothBytesPerPoint a point).
+grpc::Status SmoothOverCap(const ServiceState& state, const std::string& why = "") {
+    return grpc::Status(
+        grpc::StatusCode::RESOURCE_EXHAUSTED,
+        "epsilon: " + (why.empty() ? std::string("the meshes' smooth silhouettes") : why) +
+            ", over what memory_cap_bytes = " + std::to_string(state.options.memory_cap_bytes) +
+            " allows at " + std::to_string(kSmoothBytesPerPoint) +
+            " bytes a point: take a larger epsilon");
+}
+
+}  // namespace
 
 using namespace jobs;
 
@@ -68,12 +83,21 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
         if (cancelled && cancelled()) return CancelledStatus();  // between meshes
         // Each mesh's geometry on its own coordinates, against the light carried there.
         const Mat4& m = instance.object_to_world;
-        const volumes::ObjectSpace object = volumes::InObjectSpace(m, light, *smooth);
+        volumes::ObjectSpace object = volumes::InObjectSpace(m, light, *smooth);
         const SilhouetteMarks marks = MarksOf(*response);
         // The meshes FILTER_SMOOTH_VOLUMES draws smooth (scene_volume.h), and only those.
         if (request.smooth() && volumes::IsSmoothCaster(mesh)) {
+            // What the memory cap leaves after the meshes before, at kSmoothBytesPerPoint: no
+            // epsilon sizes a silhouette past it.
+            const std::uint64_t cap = state.options.memory_cap_bytes;
+            object.options.max_points =
+                static_cast<std::size_t>((cap - std::min(bytes, cap)) / kSmoothBytesPerPoint);
+            if (object.options.max_points == 0) return SmoothOverCap(state);
             auto added = EncodeSmoothSilhouette(index, mesh, edges, object.light, object.options,
                                                 request.caps(), response);
+            if (!added && added.error().field == "options.max_points") {
+                return SmoothOverCap(state, added.error().reason);
+            }
             if (!added) {
                 return InvalidArgument(Error{"scene.meshes[" + std::to_string(i) + "]." +
                                                  added.error().field,

@@ -32,6 +32,7 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
                           : std::vector<MeshInstance>(instances.begin(), instances.end());
     std::vector<MeshInstance> held_instances;
     std::vector<std::shared_ptr<const volumes::VolumeMesh>> held_parts;
+    std::vector<std::size_t> held_points;
     {
         const std::lock_guard lock(mutex_);
         if (volume_ != nullptr && light_ == light && SameSettings(options_, options)) {
@@ -41,6 +42,7 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
             // Another pose under the same light: the parts of instances still in place hold.
             held_instances = instances_;
             held_parts = parts_;
+            held_points = points_;
         }
     }
     // Built outside the lock: a hit never waits for a build, and two requests for a new light
@@ -51,6 +53,8 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
                                       std::to_string(meshes.size()) + " meshes"};
     }
     std::vector<std::shared_ptr<const volumes::VolumeMesh>> parts(placed.size());
+    std::vector<std::size_t> points(placed.size(), 0);
+    std::size_t used = 0;  // smooth points of the parts so far, against options.max_points
     auto whole = std::make_shared<volumes::VolumeMesh>();
     for (std::size_t i = 0; i < placed.size(); ++i) {
         const MeshInstance& instance = placed[i];
@@ -58,14 +62,28 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
         if (i < held_instances.size() && held_parts[i] != nullptr &&
             SamePlace(held_instances[i], instance)) {
             parts[i] = held_parts[i];
+            points[i] = held_points[i];
         } else {
             if (cancelled && cancelled()) return Error{"request", "cancelled"};
-            auto part = volumes::ExtrudeInstanceVolume(meshes[instance.mesh], instance.mesh,
-                                                       adjacency[instance.mesh],
-                                                       instance.object_to_world, light, options);
+            // What is left of the budget is this instance's (0 would mean no bound).
+            volumes::SmoothOptions budgeted = options;
+            if (options.max_points != 0) {
+                if (used >= options.max_points && volumes::IsSmoothCaster(meshes[instance.mesh])) {
+                    return Error{"options.max_points",
+                                 "the instances' smooth silhouettes make more than " +
+                                     std::to_string(options.max_points) + " points"};
+                }
+                budgeted.max_points = options.max_points - std::min(used, options.max_points);
+            }
+            volumes::SceneVolumeInfo info;
+            auto part = volumes::ExtrudeInstanceVolume(
+                meshes[instance.mesh], instance.mesh, adjacency[instance.mesh],
+                instance.object_to_world, light, budgeted, &info);
             if (!part) return part.error();
             parts[i] = std::make_shared<const volumes::VolumeMesh>(std::move(part).value());
+            points[i] = info.smooth_points;
         }
+        used += points[i];
         volumes::AppendVolume(*whole, *parts[i]);
     }
     std::shared_ptr<const volumes::VolumeMesh> volume = std::move(whole);
@@ -75,6 +93,7 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
     light_ = light;
     instances_ = placed;
     parts_ = std::move(parts);
+    points_ = std::move(points);
     options_ = options;
     volume_ = volume;
     return Lookup{std::move(volume), true, seconds};

@@ -327,6 +327,8 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
     if (auto s = MapsForMethod(request, *decoded, *plan, method, volumes, job, used); !s.ok()) {
         return s;
     }
+    // No epsilon sizes the smooth silhouettes past the memory cap (kSmoothBytesPerPoint).
+    if (job.smooth) job.smooth->max_points = SmoothPointLimit(state.options);
     times.emplace_back("plan", Since(start));
     if (scheduled != nullptr) {
         EncodePlan(*plan, scheduled);
@@ -353,6 +355,14 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         // The maps together larger than the view pass takes (more than it holds, or more than
         // one atlas texture): the request's size, not a fault.
         if (mask.error().field == "maps") return Exhausted("plan: " + mask.error().Message());
+        // Smooth silhouettes past their share of the memory cap: the epsilon asked for.
+        if (mask.error().field.ends_with("options.max_points")) {
+            return Exhausted("smooth.epsilon: " + mask.error().reason + ", over the " +
+                             std::to_string(SmoothPointLimit(state.options)) +
+                             " the memory cap allows (memory_cap_bytes / " +
+                             std::to_string(kSmoothBytesPerPoint) +
+                             " bytes a point): take a larger epsilon");
+        }
         // A mesh the smooth path refuses (not orientable, a zero normal): the upload's fault.
         if (mask.error().field.starts_with("scene.meshes[")) return InvalidArgument(mask.error());
         return grpc::Status(grpc::StatusCode::INTERNAL, mask.error().Message());

@@ -78,6 +78,7 @@ Result<VolumeMesh> ExtrudeInstanceVolume(const Mesh& mesh, std::size_t mesh_inde
         }
         if (info != nullptr) {
             info->loops += silhouette->loops.size();
+            info->smooth_points += silhouette->stats.output_points;
             ++info->smooth_meshes;
         }
         part = ExtrudeSmoothVolume(mesh, adjacency, *silhouette, object_light, Caps::kLightAndDark);

@@ -4,6 +4,7 @@
 #include <lixel/volumes/orientation.h>
 #include <lixel/volumes/smooth_silhouette.h>
 
+#include <charconv>
 #include <cmath>
 #include <string>
 
@@ -42,6 +43,20 @@ std::vector<LoopPoint> LoopPoints(const detail::TracedLoop& loop) {
     return points;
 }
 
+// A double as the shortest text that reads back as it (1e-300, not 0.000000).
+std::string ShortestText(double value) {
+    char text[32];
+    const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+    return std::string(text, end);
+}
+
+// The points emitted so far over all loops, against SmoothOptions::max_points.
+struct PointCount {
+    std::size_t limit = 0;  // 0: no bound
+    std::size_t emitted = 0;
+    bool over = false;  // a point past the limit was asked for: the silhouette is refused
+};
+
 struct Subdivider {
     const SmoothOptions& options;
     const HermiteSegment& curve;
@@ -50,8 +65,14 @@ struct Subdivider {
     std::uint32_t segment;
     SmoothLoop& loop;
     SmoothStats& stats;
+    PointCount& count;
 
     void Emit(double u, bool corner) const {
+        if (count.limit != 0 && count.emitted == count.limit) {
+            count.over = true;
+            return;
+        }
+        ++count.emitted;
         SmoothVertex v;
         const Vec3 n = (1.0 - u) * from.point.normal + u * to.point.normal;
         v.normal = n.norm() > 0.0 ? Vec3(n.normalized()) : from.point.normal;
@@ -67,6 +88,7 @@ struct Subdivider {
     // the end tangents for the halves; evaluating the parent cubic instead keeps every inserted
     // vertex on the segment's Hermite curve, so the epsilon test is that curve's own flatness.
     void Subdivide(double u0, double u1, const Vec3& p0, const Vec3& p1, int depth) const {
+        if (count.over) return;  // refused: nothing more is kept
         const double um = 0.5 * (u0 + u1);
         const Vec3 p = curve.At(um);
         if ((0.5 * (p0 + p1) - p).norm() > options.epsilon) {
@@ -147,6 +169,12 @@ Result<SmoothSilhouette> ComputeSmoothSilhouette(const Mesh& mesh, const EdgeAdj
 
     SmoothSilhouette out;
     out.orientation = std::move(orientation.value());
+    PointCount emitted{options.max_points};
+    const auto refused = [&] {
+        return Error{"options.max_points",
+                     "subdividing to epsilon = " + ShortestText(options.epsilon) +
+                         " makes more than " + std::to_string(options.max_points) + " points"};
+    };
     for (const detail::TracedLoop& traced : loops) {
         const std::vector<LoopPoint> points = LoopPoints(traced);
         SmoothLoop loop;
@@ -162,7 +190,9 @@ Result<SmoothSilhouette> ComputeSmoothSilhouette(const Mesh& mesh, const EdgeAdj
                                           Vec3::Zero()};
                 const auto segment = static_cast<std::uint32_t>(out.segments.size());
                 out.segments.push_back({none.p0, none.p1, none.t0, none.t1});
-                Subdivider{options, none, from, from, segment, loop, out.stats}.Emit(0.0, false);
+                Subdivider{options, none, from, from, segment, loop, out.stats, emitted}.Emit(
+                    0.0, false);
+                if (emitted.over) return refused();
                 continue;
             }
             const LoopPoint& to = points[(i + 1) % count];
@@ -174,7 +204,7 @@ Result<SmoothSilhouette> ComputeSmoothSilhouette(const Mesh& mesh, const EdgeAdj
                                                     to.point.displaced, to.point.normal);
             }
             out.segments.push_back({curve.p0, curve.p1, curve.t0, curve.t1});
-            const Subdivider sub{options, curve, from, to, segment, loop, out.stats};
+            const Subdivider sub{options, curve, from, to, segment, loop, out.stats, emitted};
             if (from.corner) {
                 ++out.stats.crease_corners;
                 sub.Emit(0.0, true);
@@ -183,6 +213,7 @@ Result<SmoothSilhouette> ComputeSmoothSilhouette(const Mesh& mesh, const EdgeAdj
             } else {
                 sub.Emit(0.0, false);
             }
+            if (emitted.over) return refused();
         }
         out.stats.output_points += loop.vertices.size();
         out.loops.push_back(std::move(loop));

@@ -62,6 +62,19 @@ struct ServiceOptions {
 // allocations grow with them.
 inline constexpr std::uint64_t kPlanBytesPerObject = 8ull << 10;
 
+// What one smooth-silhouette point may hold, bytes, from its loop vertex (96) to the volume's
+// side vertices and indices (about 90) and its caps: the budget memory_cap_bytes gives one
+// request's smooth silhouettes (SmoothPointLimit), so that no epsilon, however small, sizes
+// them past the cap.
+inline constexpr std::uint64_t kSmoothBytesPerPoint = 256;
+
+// Points one request's smooth silhouettes may make together, all instances: memory_cap_bytes
+// at kSmoothBytesPerPoint (8 Mi at the default 2 GiB).
+inline std::size_t SmoothPointLimit(const ServiceOptions& options) {
+    return static_cast<std::size_t>(
+        std::max<std::uint64_t>(1, options.memory_cap_bytes / kSmoothBytesPerPoint));
+}
+
 // Objects one plan may hold: max_plan_objects when set, else memory_cap_bytes at
 // kPlanBytesPerObject (262 144 at the default 2 GiB).
 inline std::uint64_t PlanObjectLimit(const ServiceOptions& options) {

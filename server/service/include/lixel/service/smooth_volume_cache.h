@@ -36,6 +36,9 @@ class SmoothVolumeCache {
     // whose mesh and matrix are those at the same place of the last pose. Errors are its own;
     // `built` is false only for a whole hit. `cancelled` is polled between the instances it
     // builds: true ends the build with Error{"request", "cancelled"}, keeping nothing of it.
+    // options.max_points, when set, bounds the points of all the instances' silhouettes
+    // together, the parts kept from the last pose included: past it the build ends with
+    // Error{"options.max_points", ...} (or the instance's "meshes[i].options.max_points").
     Result<Lookup> Get(std::span<const Mesh> meshes,
                        std::span<const volumes::EdgeAdjacency> adjacency,
                        std::span<const MeshInstance> instances, const Vec4& light,
@@ -47,6 +50,7 @@ class SmoothVolumeCache {
     mutable Vec4 light_ = Vec4::Zero();
     mutable std::vector<MeshInstance> instances_;  // the last pose, each mesh placed
     mutable std::vector<std::shared_ptr<const volumes::VolumeMesh>> parts_;  // null: no caster
+    mutable std::vector<std::size_t> points_;  // each part's smooth-silhouette points
     mutable volumes::SmoothOptions options_;
     mutable std::shared_ptr<const volumes::VolumeMesh> volume_;
 };

@@ -25,6 +25,7 @@ struct SceneVolumeInfo {
     int smooth_meshes = 0;  // meshes with normals: smooth silhouettes
     int robust_meshes = 0;  // the others: robust silhouettes
     std::size_t loops = 0;  // smooth silhouette loops over all meshes
+    std::size_t smooth_points = 0;  // their points (SmoothStats::output_points)
 };
 
 // `adjacency[i]` = BuildEdgeAdjacency(meshes[i]). Caps::kLightAndDark closes every volume (z-fail

@@ -44,6 +44,11 @@ struct SmoothOptions {
     bool subdivide = true;
     // Recursion depth limit per segment (2^depth pieces at most), in [0, 30].
     int max_depth = 12;
+    // The most points step (c) may emit over all loops; 0: no bound. An epsilon far below the
+    // mesh's scale splits every segment into 2^max_depth pieces, so a caller with a memory budget
+    // sets this: the silhouette is refused ("options.max_points") when it would pass it, before
+    // the loops hold more.
+    std::size_t max_points = 0;
 };
 
 struct SmoothVertex {
@@ -106,6 +111,7 @@ inline double CrossingParameter(double fa, double fb) {
 // consistently from its geometry first (OrientTriangles).
 // Errors: "mesh.normals" (missing or wrong count, or a zero / non-finite normal), "light",
 // "options.epsilon" (not > 0), "options.normal_offset" (< 0), "options.max_depth",
+// "options.max_points" (the loops would pass it),
 // "adjacency" (not built from this mesh), "mesh" (not orientable).
 Result<SmoothSilhouette> ComputeSmoothSilhouette(const Mesh& mesh, const EdgeAdjacency& adjacency,
                                                  const Vec4& light, const SmoothOptions& options);
