@@ -160,6 +160,13 @@ TEST_F(InstanceRefusals, EveryBadInstanceIsRefusedNamingItsFieldAndTheSceneStays
     ExpectRefused(too_many, "plan.instances: 9 instances, over the limit max_plan_objects = 8",
                   grpc::StatusCode::RESOURCE_EXHAUSTED);
 
+    v1::PlanRequest hidden = Good();
+    for (v1::Instance& instance : *hidden.mutable_instances()) {
+        instance.set_casts(false);
+        instance.set_receives(false);
+    }
+    ExpectRefused(hidden, "plan.instances: none casts or receives: nothing bounds the scene");
+
     // The volumes take instances like every filter, and refuse the same bad ones.
     EXPECT_TRUE(View(Good(), v1::FILTER_VOLUMES).ok());
     ExpectRefused(unknown, "plan.instances[3].mesh", grpc::StatusCode::INVALID_ARGUMENT,

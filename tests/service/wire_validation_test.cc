@@ -413,6 +413,63 @@ TEST_F(WireValidation, PackedObjectsPlanAsSentOneByOneOrAreRefusedByName) {
     EXPECT_GT(plan(packed).maps_size(), 0);
 }
 
+// A name past kMaxNameBytes (an object's, one message each or packed, or a plane's) is refused
+// naming it; one of exactly kMaxNameBytes plans. A budget below the default fallback floor names
+// the default the request left out.
+TEST_F(WireValidation, LongNamesAndADefaultFloorOverTheBudgetAreRefusedByName) {
+    v1::PlanRequest plan;
+    *plan.mutable_camera() = testing::SmallSolve().views(0);
+    plan.add_planes()->mutable_plane()->set_y(1.0);
+    service::EncodeVec4(Vec4(4, 9, 3, 1), plan.mutable_light()->mutable_position());
+    for (int i = 0; i < 3; ++i) {
+        v1::ObjectBounds* o = plan.add_objects();
+        service::EncodeVec3(Vec3(i, 0, -1), o->mutable_bounds()->mutable_min());
+        service::EncodeVec3(Vec3(i + 0.5, 1, 0), o->mutable_bounds()->mutable_max());
+    }
+    const std::string longest(service::kMaxNameBytes, 'n');
+    const std::string too_long = longest + "n";
+    const auto decoded = service::DecodePlanRequest(plan, nullptr, "plan");
+    ASSERT_TRUE(decoded.ok()) << decoded.error().Message();
+    v1::PlanRequest packed = plan;
+    packed.clear_objects();
+    service::EncodePackedObjects(decoded->objects, packed.mutable_packed_objects());
+    ASSERT_EQ(packed.packed_objects().names_size(), 3);  // "object i", as decoded
+
+    const auto plans = [&](const v1::PlanRequest& r) {
+        grpc::ClientContext context;
+        WithDeadline(context, 30.0);
+        v1::PlanResponse response;
+        const grpc::Status status = stub_->Plan(&context, r, &response);
+        EXPECT_TRUE(status.ok()) << status.error_message();
+    };
+    const std::string over = ": has 1025 bytes: a name may take at most 1024";
+    v1::PlanRequest r = plan;
+    r.mutable_objects(1)->set_name(longest);
+    r.mutable_planes(0)->set_name(longest);
+    plans(r);
+    r.mutable_objects(1)->set_name(too_long);
+    ExpectPlanRefused(r, "plan.objects[1].name" + over);
+    r = plan;
+    r.mutable_planes(0)->set_name(too_long);
+    ExpectPlanRefused(r, "plan.planes[0].name" + over);
+    r = packed;
+    r.mutable_packed_objects()->set_names(2, longest);
+    plans(r);
+    r.mutable_packed_objects()->set_names(2, too_long);
+    ExpectPlanRefused(r, "plan.packed_objects.names[2]" + over);
+
+    r = plan;
+    r.set_lixel_budget(1000);
+    ExpectPlanRefused(r,
+                      "plan.fallback_floor: the default 16384 (128 x 128) exceeds the lixel "
+                      "budget 1000: give a fallback_floor at most the budget");
+    r.set_fallback_floor(2000);
+    ExpectPlanRefused(r,
+                      "plan.fallback_floor: 2000 exceeds the lixel budget 1000: give a "
+                      "fallback_floor at most the budget");
+    plans(plan);  // the server still plans the good request
+}
+
 // Frame coherence on the wire: each bad field of PlanRequest.coherence is refused by its name
 // from the plan's root; a good one plans, and the plan's maps (twists included) sent back as the
 // previous frame's plan again.

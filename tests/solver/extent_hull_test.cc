@@ -289,6 +289,13 @@ TEST(ExtentHull, BadInputIsRefusedNamingTheField) {
                   .error()
                   .field,
               "bounds");
+    // A flat box far out names its coordinates as they read back, not in 300 digits.
+    EXPECT_EQ(
+        ComputeExtentHull(viewer, Point(Vec3(0, 3, 0)), {Vec3(1e300, 0, 0), Vec3(1e300, 1, 1)})
+            .error()
+            .Message(),
+        "bounds: has no volume: min must be below max on every axis (axis 0: 1e+300 >= "
+        "1e+300)");
     // Bounds beside the frustum.
     const auto missed =
         ComputeExtentHull(viewer, Point(Vec3(0, 3, 0)), {Vec3(2, 2, -1), Vec3(3, 3, 1)});

@@ -26,6 +26,13 @@ std::string DefaultObjectName(std::size_t i) {
     return std::string(text, end);
 }
 
+// A name past kMaxNameBytes, refused naming it; the field is built only then.
+Result<bool> CheckName(const std::string& name, const std::string& field) {
+    if (name.size() <= kMaxNameBytes) return true;
+    return Error{field, "has " + std::to_string(name.size()) + " bytes: a name may take at most " +
+                            std::to_string(kMaxNameBytes)};
+}
+
 Result<bool> Finite(double value, const std::string& field) {
     if (!std::isfinite(value)) return Error{field, "is not finite"};
     return true;
@@ -89,6 +96,9 @@ Result<std::vector<SceneObject>> DecodePackedObjects(const v1::PackedObjects& pa
             }
         }
         const std::string* name = names == 0 ? nullptr : &packed.names(static_cast<int>(i));
+        if (name != nullptr && name->size() > kMaxNameBytes) {
+            return CheckName(*name, Index(field + ".names", i)).error();
+        }
         o.name = name == nullptr || name->empty() ? DefaultObjectName(i) : *name;
         o.closed = closed != 0 && packed.closed(static_cast<int>(i));
     }
@@ -240,6 +250,7 @@ Result<bool> CheckConvexCounterClockwise(const std::vector<Vec3>& polygon, const
 Result<PlaneOfInterest> DecodePlane(const v1::PlaneOfInterest& plane, std::size_t index,
                                     const std::string& field) {
     PlaneOfInterest out;
+    if (auto named = CheckName(plane.name(), field + ".name"); !named) return named.error();
     out.name = plane.name().empty() ? std::to_string(index) : plane.name();
     if (!plane.has_plane()) return Error{field + ".plane", "is required"};
     auto p = DecodeVec4(plane.plane(), field + ".plane");
@@ -394,6 +405,13 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
         if (!placed) return placed.error();
         *instances = std::move(placed).value();
         out.objects = scene::InstanceObjects(scene->meshes, record->mesh_bounds, *instances);
+        // The objects are the instances that cast or receive: none is the instances' doing,
+        // named as such (the solver would name its own "objects").
+        if (out.objects.empty()) {
+            return Error{field + ".instances",
+                         "none casts or receives: nothing bounds the scene (give some instance "
+                         "casts or receives)"};
+        }
     } else if (scene != nullptr) {
         if (instances != nullptr) instances->clear();
         out.objects = scene->Objects();
@@ -419,6 +437,9 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
                 const std::string path = Index(field + ".objects", i) + ".bounds";
                 return DecodeAabb(o.bounds(), o.has_bounds(), path).error();
             }
+            if (o.name().size() > kMaxNameBytes) {
+                return CheckName(o.name(), Index(field + ".objects", i) + ".name").error();
+            }
             SceneObject& object = out.objects.emplace_back();
             object.bounds = *bounds;
             object.name = o.name().empty() ? DefaultObjectName(i) : o.name();
@@ -437,7 +458,13 @@ Result<PlanRequest> DecodePlanRequest(const v1::PlanRequest& message, const Scen
     out.lixel_budget = static_cast<std::int64_t>(budget);
     const std::uint64_t floor = message.fallback_floor() == 0 ? 128 * 128 : message.fallback_floor();
     if (floor > budget) {
-        return Error{field + ".fallback_floor", "exceeds the lixel budget"};
+        // Also when the request leaves the floor at its default and asks for a smaller budget:
+        // say which value it is, so the client knows what to set.
+        return Error{field + ".fallback_floor",
+                     (message.fallback_floor() == 0 ? "the default 16384 (128 x 128)"
+                                                    : std::to_string(floor)) +
+                         " exceeds the lixel budget " + std::to_string(budget) +
+                         ": give a fallback_floor at most the budget"};
     }
     out.fallback_floor = static_cast<std::int64_t>(floor);
     const std::uint32_t max_side =

@@ -29,6 +29,10 @@ inline constexpr std::size_t kMaxBatchAxis = 1024;         // views, planes or l
 inline constexpr std::size_t kMaxBatchTriples = 65536;     // views x planes x lights
 inline constexpr std::size_t kMaxPolygonVertices = 1024;
 inline constexpr std::uint64_t kMaxLixelBudget = 1ull << 28;
+// An object's or a plane's name: the plan copies it and every message about the object names
+// it, so it is bounded like the object itself (the object limit allows 8 KiB of the memory cap an
+// object, and a name is counted in none of it).
+inline constexpr std::size_t kMaxNameBytes = 1024;
 // Smooth silhouettes' defaults when a request leaves them out (Silhouettes, View): volumes'
 // kDefaultSmoothEpsilon and kPaperOffsetPerEpsilon.
 using volumes::kDefaultSmoothEpsilon;
