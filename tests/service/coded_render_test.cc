@@ -208,6 +208,47 @@ TEST_F(CodedRender, ABadEncodingIsRefusedNamingItsFieldAndTheServerServesOn) {
     EXPECT_TRUE(served.ok()) << served.error().Message();
 }
 
+// The memory cap counts what coding an image holds beside the maps (its values, residuals and
+// payload, about seven times the largest image): under a cap the maps alone fit, raw maps are
+// served and coded ones refused, RESOURCE_EXHAUSTED naming both sizes; the server serves on.
+TEST_F(CodedRender, CodingCountsAgainstTheMemoryCap) {
+    auto measured = Client().Render(Request(v1::MAP_CODEC_RAW));
+    ASSERT_TRUE(measured.ok()) << measured.error().Message();
+    std::uint64_t maps = 0, largest = 0;
+    for (const v1::MapImage& image : measured->header.images()) {
+        maps += image.bytes();
+        largest = std::max<std::uint64_t>(largest, image.bytes());
+    }
+    ASSERT_GT(largest, 0u);
+    service::ServerOptions options = SmallServerOptions("coded-cap");
+    options.service.memory_cap_bytes = maps + largest;  // the maps, and one image more
+    SmallSceneServer capped;
+    capped.server = StartServer(options);
+    ASSERT_NE(capped.server, nullptr);
+    capped.client = Connect(Target(*capped.server));
+    auto uploaded = capped.client->UploadScene(SmallScene());
+    ASSERT_TRUE(uploaded.ok()) << uploaded.error().Message();
+    const auto request = [&](v1::MapCodec codec) {
+        v1::RenderRequest r = Request(codec);
+        r.mutable_plan()->set_scene_id(uploaded->scene_id());
+        return r;
+    };
+    auto raw = capped.client->Render(request(v1::MAP_CODEC_RAW));
+    EXPECT_TRUE(raw.ok()) << raw.error().Message();
+    for (const v1::MapCodec codec : {v1::MAP_CODEC_QUANTISED, v1::MAP_CODEC_EXACT}) {
+        auto coded = capped.client->Render(request(codec));
+        ASSERT_FALSE(coded.ok());
+        EXPECT_EQ(coded.error().field, "RESOURCE_EXHAUSTED");
+        EXPECT_EQ(coded.error().reason.rfind("plan: its maps need " + std::to_string(maps) +
+                                                 " bytes and coding its largest image ",
+                                             0),
+                  0u)
+            << coded.error().reason;
+    }
+    raw = capped.client->Render(request(v1::MAP_CODEC_RAW));
+    EXPECT_TRUE(raw.ok()) << raw.error().Message();
+}
+
 TEST_F(CodedRender, ViewCountsTheMethodsMapBytesRawAndCoded) {
     // The report's column: every image of the method's passes, raw and as coded keyframes.
     v1::ViewRequest view;

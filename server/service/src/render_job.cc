@@ -66,6 +66,14 @@ grpc::Status RenderJob(ServiceState& state, GpuWorker& worker, const v1::RenderR
     // and the coded image (codec::MaxCodedBytes).
     const std::uint64_t coded_room =
         coding->has_value() ? 6 * largest + codec::MaxCodedBytes(largest) : 0;
+    // The memory cap counts what coding holds too: a coded call holds its largest image about
+    // seven times over beside the maps.
+    if (coded_room > 0 && bytes + coded_room > state.options.memory_cap_bytes) {
+        return Exhausted("plan: its maps need " + std::to_string(bytes) +
+                         " bytes and coding its largest image " + std::to_string(coded_room) +
+                         " more, over the " + std::to_string(state.options.memory_cap_bytes) +
+                         "-byte memory cap: ask for a smaller lixel budget or raw maps");
+    }
     if (grpc::Status held =
             reserve(header.ByteSizeLong() + largest + coded_room + std::min(chunk, largest));
         !held.ok()) {
