@@ -761,6 +761,29 @@ struct Undo {
 std::uint32_t CameraOf(const v1::PlanRequest& plan) { return plan.camera().width(); }
 double LightOf(const v1::PlanRequest& plan) { return plan.light().position().x(); }
 
+// Which of a frame's job statuses undo it: a refusal of what it holds (its plan refused, or too
+// large for the caps), never the server's own state, whose frames go on as skipped ones.
+TEST(SessionState, OnlyARefusalOfWhatAFrameHoldsUndoesIt) {
+    using grpc::StatusCode;
+    const auto undoes = [](StatusCode code, const std::string& message) {
+        return service::RefusedForWhatItHolds(grpc::Status(code, message));
+    };
+    EXPECT_TRUE(undoes(StatusCode::INVALID_ARGUMENT,
+                       "plan.camera.viewer: view frustum does not meet scene bounds"));
+    EXPECT_TRUE(undoes(StatusCode::INVALID_ARGUMENT, "plan.instances: none casts or receives"));
+    EXPECT_TRUE(undoes(StatusCode::FAILED_PRECONDITION, "plan: ..."));
+    EXPECT_TRUE(undoes(StatusCode::OUT_OF_RANGE, "plan: ..."));
+    EXPECT_TRUE(undoes(StatusCode::RESOURCE_EXHAUSTED,
+                       "plan: its maps need 1073438656 bytes, over the memory cap"));
+    EXPECT_TRUE(undoes(StatusCode::RESOURCE_EXHAUSTED, "plan.camera: 4194304 pixels, over ..."));
+    EXPECT_FALSE(undoes(StatusCode::RESOURCE_EXHAUSTED,
+                        "max_bytes_in_flight_per_client: ... per client; retry later"));
+    EXPECT_FALSE(undoes(StatusCode::RESOURCE_EXHAUSTED, "server busy: the work queue is full"));
+    EXPECT_FALSE(undoes(StatusCode::UNAVAILABLE, "gl: this worker has no GL context"));
+    EXPECT_FALSE(undoes(StatusCode::INTERNAL, "render: ..."));
+    EXPECT_FALSE(undoes(StatusCode::OK, ""));
+}
+
 TEST(SessionState, ARefusedFramesFieldsGoBackToWhatTheyReplacedAndItsOtherFieldsStay) {
     Undo u;
     u.Merge(Changes(1, 101, std::nullopt, "box"));

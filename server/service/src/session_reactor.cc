@@ -294,8 +294,10 @@ class SessionReactor final
                         service_.state().coded_references.Forget(
                             session_.Served(item.report.plan, item.report.coded_frame_ids));
                         session_.Kept(item.frame);
-                    } else if (!EndsSession(s)) {
+                    } else if (RefusedForWhatItHolds(s)) {
                         UndoLocked(item.frame);
+                    } else if (!EndsSession(s)) {
+                        session_.Skipped(item.frame);
                     }
                     deferred = std::exchange(deferred_, std::nullopt);
                 }
@@ -337,12 +339,14 @@ class SessionReactor final
             waiting.push_back({item.frame, &*item.request});
         }
         session_.Refused(frame, waiting);
-        // Their plans may have changed size: session_waiting_bytes counts them anew.
+        // Their plans may have changed size: session_waiting_bytes counts them anew, and the
+        // oldest give way if they hold more now.
         for (Item& item : items_) {
             if (item.request && item.feed == nullptr) {
                 item.request_bytes = item.request->ByteSizeLong();
             }
         }
+        SkipSupersededLocked();
     }
 
     // A session's share of the client's bytes in flight: its largest frame's peak, twice (one

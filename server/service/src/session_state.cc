@@ -44,6 +44,19 @@ void CopyField(Field field, const v1::PlanRequest& from, v1::PlanRequest* to) {
 
 }  // namespace
 
+bool RefusedForWhatItHolds(const grpc::Status& status) {
+    switch (status.error_code()) {
+        case grpc::StatusCode::INVALID_ARGUMENT:
+        case grpc::StatusCode::FAILED_PRECONDITION:
+        case grpc::StatusCode::OUT_OF_RANGE:
+            return true;
+        case grpc::StatusCode::RESOURCE_EXHAUSTED:
+            return status.error_message().rfind("plan", 0) == 0;
+        default:
+            return false;
+    }
+}
+
 grpc::Status SessionState::Open(const v1::SessionOpen& open) {
     if (opened_) return Refusal("open: the session is already open; this open was ignored");
     if (open.plan().scene_id().empty()) {

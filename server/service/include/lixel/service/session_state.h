@@ -21,6 +21,14 @@ namespace lixel::service {
 inline constexpr std::uint32_t kDefaultFramesAhead = 2;
 inline constexpr std::uint32_t kMaxFramesAhead = 64;
 
+// A frame's job status that is a refusal for what the frame holds: its camera, light or
+// instances make a plan the scheduler refuses (INVALID_ARGUMENT, FAILED_PRECONDITION,
+// OUT_OF_RANGE) or one too large for the caps (RESOURCE_EXHAUSTED naming its plan). The session
+// undoes such a frame (SessionState::Refused). Any other status that leaves the session going (no
+// GL context, the client's bytes in flight, an internal fault) is the server's doing, and the
+// frame's changes go on as a skipped frame's (SessionState::Skipped).
+bool RefusedForWhatItHolds(const grpc::Status& status);
+
 class SessionState {
   public:
     bool opened() const noexcept { return opened_; }
@@ -76,9 +84,10 @@ class SessionState {
     // Served: what it set, or took from skipped frames just before it, stands; the refusal of an
     // earlier frame no longer touches those fields.
     void Kept(std::uint64_t number);
-    // Skipped past the bounds on waiting frames, or turned away by a full work queue (for the
-    // server's load, not for what it holds): its changes reach the next frame merged, already
-    // or still to come, and share its outcome.
+    // Skipped past the bounds on waiting frames, turned away by a full work queue, or ended by
+    // the server's own state (no GL context, the client's bytes in flight, an internal fault),
+    // not for what it holds: its changes reach the next frame merged, already or still to come,
+    // and share its outcome.
     void Skipped(std::uint64_t number);
 
   private:
