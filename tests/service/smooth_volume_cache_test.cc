@@ -81,6 +81,50 @@ TEST(SmoothVolumeCache, WhateverItReusesItAnswersTheFreshVolume) {
     ExpectSame(*fewer->volume, *fresh);
 }
 
+// The smooth points' budget (SmoothOptions::max_points) is for every instance together, the
+// parts kept from the last pose included: a pose that rebuilds one early instance under a budget
+// one point short of the whole is refused, and one at exactly the whole is served.
+TEST(SmoothVolumeCache, KeptPartsCountAgainstTheBudgetOfThePartsBuiltAnew) {
+    const Room room;
+    const service::SmoothVolumeCache cache;
+    volumes::SmoothOptions options;
+    options.epsilon = 1e-3;
+    const Vec4 light = room.scene.light;
+    std::vector<MeshInstance> pose = scene::FloorWallAnimated(0.3).instances;
+    // Every part once, unbounded: the parts the next pose keeps.
+    ASSERT_TRUE(cache.Get(room.scene.meshes, room.adjacency, pose, light, options).ok());
+
+    const auto points_of = [&](const MeshInstance& instance) {
+        volumes::SceneVolumeInfo info;
+        EXPECT_TRUE(volumes::ExtrudeInstanceVolume(room.scene.meshes[instance.mesh], instance.mesh,
+                                                   room.adjacency[instance.mesh],
+                                                   instance.object_to_world, light, options, &info)
+                        .ok());
+        return instance.casts ? info.smooth_points : 0;
+    };
+    std::size_t first = pose.size();  // the first instance with smooth points
+    for (std::size_t i = 0; i < pose.size() && first == pose.size(); ++i) {
+        if (points_of(pose[i]) > 0) first = i;
+    }
+    ASSERT_LT(first, pose.size());
+    pose[first].object_to_world(1, 3) += 0.01;  // rebuilt; every other part kept
+    std::size_t total = 0, after = 0;
+    for (std::size_t i = 0; i < pose.size(); ++i) {
+        total += points_of(pose[i]);
+        if (i > first) after += points_of(pose[i]);
+    }
+    ASSERT_GT(after, 0u);  // kept parts after the rebuilt one hold points
+
+    volumes::SmoothOptions bounded = options;
+    bounded.max_points = total - 1;
+    auto refused = cache.Get(room.scene.meshes, room.adjacency, pose, light, bounded);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_TRUE(refused.error().field.ends_with("options.max_points")) << refused.error().Message();
+    bounded.max_points = total;
+    auto served = cache.Get(room.scene.meshes, room.adjacency, pose, light, bounded);
+    ASSERT_TRUE(served.ok()) << served.error().Message();
+}
+
 // A build polls its caller's cancellation between instances: cancelled, it ends naming the
 // request and keeps nothing, so the next call builds the whole volume afresh.
 TEST(SmoothVolumeCache, ACancelledBuildEndsBetweenInstancesAndKeepsNothing) {

@@ -3,7 +3,9 @@
 
 #include <lixel/service/proto_convert.h>
 
+#include <charconv>
 #include <cstdio>
+#include <string>
 
 namespace lixel::service {
 
@@ -24,6 +26,16 @@ grpc::Status NotFound(const std::string& id) {
 
 grpc::Status Exhausted(const std::string& message) {
     return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, message);
+}
+
+std::string SmoothOverCap(const ServiceState& state, double epsilon) {
+    char text[32];
+    const std::string e(text, std::to_chars(text, text + sizeof text, epsilon).ptr);
+    return "the smooth silhouettes at epsilon = " + e + " need more than the " +
+           std::to_string(SmoothPointLimit(state.options)) +
+           " points memory_cap_bytes = " + std::to_string(state.options.memory_cap_bytes) +
+           " allows them (" + std::to_string(kSmoothBytesPerPoint) +
+           " bytes a point): take a larger epsilon";
 }
 
 grpc::Status StalledStatus(double idle_seconds) {

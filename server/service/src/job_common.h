@@ -21,6 +21,10 @@ double Since(Clock::time_point t);  // seconds
 grpc::Status NotFound(const std::string& id);          // NOT_FOUND naming scene_id
 grpc::Status Exhausted(const std::string& message);    // RESOURCE_EXHAUSTED
 grpc::Status CancelledStatus();                        // CANCELLED: cancelled or past its deadline
+// Why smooth silhouettes at the request's `epsilon` were refused: more points than
+// memory_cap_bytes allows them at kSmoothBytesPerPoint (SmoothPointLimit). The caller names the
+// field (View's smooth.epsilon, Silhouettes' epsilon).
+std::string SmoothOverCap(const ServiceState& state, double epsilon);
 // RESOURCE_EXHAUSTED "stream: ...": the client took nothing for `idle_seconds`. The message's
 // "stream:" prefix tells a session's reactor that the call, not the frame, ends.
 grpc::Status StalledStatus(double idle_seconds);

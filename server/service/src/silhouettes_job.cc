@@ -14,20 +14,6 @@
 
 namespace lixel::service {
 
-namespace {
-
-// Smooth silhouettes past what the memory cap allows them (kSmoothBytesPerPoint a point).
-grpc::Status SmoothOverCap(const ServiceState& state, const std::string& why = "") {
-    return grpc::Status(
-        grpc::StatusCode::RESOURCE_EXHAUSTED,
-        "epsilon: " + (why.empty() ? std::string("the meshes' smooth silhouettes") : why) +
-            ", over what memory_cap_bytes = " + std::to_string(state.options.memory_cap_bytes) +
-            " allows at " + std::to_string(kSmoothBytesPerPoint) +
-            " bytes a point: take a larger epsilon");
-}
-
-}  // namespace
-
 using namespace jobs;
 
 grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& request,
@@ -92,11 +78,13 @@ grpc::Status SilhouettesJob(ServiceState& state, const v1::SilhouettesRequest& r
             const std::uint64_t cap = state.options.memory_cap_bytes;
             object.options.max_points =
                 static_cast<std::size_t>((cap - std::min(bytes, cap)) / kSmoothBytesPerPoint);
-            if (object.options.max_points == 0) return SmoothOverCap(state);
+            if (object.options.max_points == 0) {
+                return Exhausted("epsilon: " + SmoothOverCap(state, smooth->epsilon));
+            }
             auto added = EncodeSmoothSilhouette(index, mesh, edges, object.light, object.options,
                                                 request.caps(), response);
             if (!added && added.error().field == "options.max_points") {
-                return SmoothOverCap(state, added.error().reason);
+                return Exhausted("epsilon: " + SmoothOverCap(state, smooth->epsilon));
             }
             if (!added) {
                 return InvalidArgument(Error{"scene.meshes[" + std::to_string(i) + "]." +

@@ -54,16 +54,26 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
     }
     std::vector<std::shared_ptr<const volumes::VolumeMesh>> parts(placed.size());
     std::vector<std::size_t> points(placed.size(), 0);
-    std::size_t used = 0;  // smooth points of the parts so far, against options.max_points
+    // The parts kept from the last pose first: the budget (options.max_points) is for all the
+    // instances' points together, so the parts built anew take what the kept ones leave.
+    std::size_t used = 0;
+    for (std::size_t i = 0; i < placed.size(); ++i) {
+        if (placed[i].casts && i < held_instances.size() && held_parts[i] != nullptr &&
+            SamePlace(held_instances[i], placed[i])) {
+            parts[i] = held_parts[i];
+            points[i] = held_points[i];
+            used += points[i];
+        }
+    }
+    if (options.max_points != 0 && used > options.max_points) {
+        return Error{"options.max_points", "the instances' smooth silhouettes make more than " +
+                                               std::to_string(options.max_points) + " points"};
+    }
     auto whole = std::make_shared<volumes::VolumeMesh>();
     for (std::size_t i = 0; i < placed.size(); ++i) {
         const MeshInstance& instance = placed[i];
         if (!instance.casts) continue;
-        if (i < held_instances.size() && held_parts[i] != nullptr &&
-            SamePlace(held_instances[i], instance)) {
-            parts[i] = held_parts[i];
-            points[i] = held_points[i];
-        } else {
+        if (parts[i] == nullptr) {
             if (cancelled && cancelled()) return Error{"request", "cancelled"};
             // What is left of the budget is this instance's (0 would mean no bound).
             volumes::SmoothOptions budgeted = options;
@@ -82,8 +92,8 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
             if (!part) return part.error();
             parts[i] = std::make_shared<const volumes::VolumeMesh>(std::move(part).value());
             points[i] = info.smooth_points;
+            used += points[i];
         }
-        used += points[i];
         volumes::AppendVolume(*whole, *parts[i]);
     }
     std::shared_ptr<const volumes::VolumeMesh> volume = std::move(whole);

@@ -357,11 +357,7 @@ grpc::Status ViewJob(ServiceState& state, GpuWorker& worker, const v1::ViewReque
         if (mask.error().field == "maps") return Exhausted("plan: " + mask.error().Message());
         // Smooth silhouettes past their share of the memory cap: the epsilon asked for.
         if (mask.error().field.ends_with("options.max_points")) {
-            return Exhausted("smooth.epsilon: " + mask.error().reason + ", over the " +
-                             std::to_string(SmoothPointLimit(state.options)) +
-                             " the memory cap allows (memory_cap_bytes / " +
-                             std::to_string(kSmoothBytesPerPoint) +
-                             " bytes a point): take a larger epsilon");
+            return Exhausted("smooth.epsilon: " + SmoothOverCap(state, job.smooth->epsilon));
         }
         // A mesh the smooth path refuses (not orientable, a zero normal): the upload's fault.
         if (mask.error().field.starts_with("scene.meshes[")) return InvalidArgument(mask.error());
