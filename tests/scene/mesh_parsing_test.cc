@@ -179,6 +179,25 @@ TEST(ParseObj, EverySpellingTheParserReadsExactlyStillParses) {
     EXPECT_EQ(budget.triangles(), 2u);
 }
 
+// A coordinate below the least double is 0 to a float, as tinyobjloader reads it, not refused:
+// only one above the largest float is.
+TEST(ParseObj, ACoordinateThatUnderflowsReadsAsZero) {
+    DecodeBudget budget;
+    auto meshes =
+        ParseObj("v 1e-400 0 0\nv 1 0 0\nv 0 0 -0.000000000001e-400\nf 1 2 3\n", kUpload, budget);
+    ASSERT_TRUE(meshes.ok()) << meshes.error().Message();
+    ASSERT_EQ(meshes->size(), 1u);
+    EXPECT_EQ((*meshes)[0].positions[0].x(), 0.0f);
+    EXPECT_EQ((*meshes)[0].positions[2].z(), 0.0f);
+    budget = DecodeBudget();
+    auto over = ParseObj("v 1e400 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n", kUpload, budget);
+    ASSERT_FALSE(over.ok());
+    EXPECT_NE(over.error().reason.find("line 1: vertex coordinate \"1e400\" is out of a 32-bit "
+                                       "float's range"),
+              std::string::npos)
+        << over.error().Message();
+}
+
 // `mtllib` names a file: an upload that carries one is refused before anything is read, while
 // an operator's local file keeps loading with its materials ignored.
 TEST(ParseObj, MaterialLibrariesAreNeverRead) {

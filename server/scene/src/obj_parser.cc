@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <istream>
 #include <map>
 #include <optional>
@@ -23,7 +24,8 @@ namespace {
 // and `abc` become 0, `1.2.3` becomes 1.2, a missing coordinate takes a default, and face
 // indices go through atoi, so `4294967300` wraps to vertex 4. The numbers the builder keeps are
 // therefore read first, strictly, by the functions below; a token they pass is one tinyobjloader
-// reads whole, to the same value.
+// reads whole (its value may differ in the last bit: tinyobjloader's arithmetic is not correctly
+// rounded, and the builder refuses what it makes non-finite).
 
 bool IsObjSpace(char c) { return c == ' ' || c == '\t'; }
 
@@ -74,7 +76,14 @@ const char* CoordinateProblem(std::string_view token) {
     const char* const end = token.data() + token.size();
     double value = 0;
     const auto [stop, ec] = std::from_chars(token.data(), end, value);
-    if (ec == std::errc::result_out_of_range) return "is out of a 32-bit float's range";
+    if (ec == std::errc::result_out_of_range) {
+        // Below the least double (1e-400) a coordinate is 0 to a float, as tinyobjloader reads
+        // it; above the largest it is refused. strtod reads the same decimal grammar and tells
+        // the two apart (only such tokens are copied).
+        const std::string copy(token);
+        const double read = std::strtod(copy.c_str(), nullptr);
+        return std::abs(read) < 1.0 ? nullptr : "is out of a 32-bit float's range";
+    }
     if (ec != std::errc{} || stop != end || !std::isfinite(value)) {
         return "is not a finite decimal number";
     }
