@@ -147,6 +147,32 @@ TEST_F(HostileUpload, HeaderPlanesArePartOfTheSceneId) {
     EXPECT_TRUE(again->already_present());
 }
 
+// A mesh name past kMaxNameBytes is refused at upload, naming the mesh, in each format: every
+// instance of the mesh would copy it into its plan's objects. One of exactly 1 024 bytes uploads.
+TEST_F(HostileUpload, LongMeshNamesAreRefusedNamingTheMesh) {
+    const std::string longest(service::kMaxNameBytes, 'm');
+    v1::SceneHeader header;
+    header.set_format(v1::SCENE_FORMAT_OBJ);
+    auto kept = client_->UploadContent(header, "o " + longest + "\n" + kQuads);
+    ASSERT_TRUE(kept.ok()) << kept.error().Message();
+    auto refused = client_->UploadContent(header, "o " + longest + "m\n" + kQuads);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "INVALID_ARGUMENT");
+    EXPECT_NE(refused.error().reason.find(
+                  "content: meshes[0].name: has 1025 bytes: a name may take at most 1024"),
+              std::string::npos)
+        << refused.error().reason;
+
+    v1::Scene scene = SmallScene();
+    scene.mutable_meshes(0)->set_name(longest + "m");
+    auto message = client_->UploadScene(scene);
+    ASSERT_FALSE(message.ok());
+    EXPECT_NE(message.error().reason.find("content: meshes[0].name: has 1025 bytes"),
+              std::string::npos)
+        << message.error().reason;
+    ExpectStillServing();
+}
+
 TEST(HostileUploadLimits, DecodedCountsAreResourceExhaustedNamingTheLimit) {
     service::ServerOptions options = SmallServerOptions("decode-limits");
     options.service.max_upload_vertices = 100;

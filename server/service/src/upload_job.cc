@@ -98,6 +98,17 @@ grpc::Status UploadJob(ServiceState& state, const v1::SceneHeader& header,
     }
     if (!record) return InvalidArgument(record.error());
     if (auto s = CheckSceneObjects(state, record->scene.meshes.size()); !s.ok()) return s;
+    // Each placed instance's object copies its mesh's name (and so does every message about
+    // it): bounded as a request's own names are.
+    for (std::size_t i = 0; i < record->scene.meshes.size(); ++i) {
+        const std::string& name = record->scene.meshes[i].name;
+        if (name.size() > kMaxNameBytes) {
+            return InvalidArgument(Error{"content: meshes[" + std::to_string(i) + "].name",
+                                         "has " + std::to_string(name.size()) +
+                                             " bytes: a name may take at most " +
+                                             std::to_string(kMaxNameBytes)});
+        }
+    }
     std::uint64_t triangles = 0;
     for (const Mesh& m : record->scene.meshes) triangles += m.TriangleCount();
     response->set_triangles(triangles);
