@@ -9,7 +9,6 @@
 #include <lixel/solver/polygon.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <string>
 
@@ -41,12 +40,6 @@ Result<Vec4> NormalizeLight(const Vec4& light) {
     return Vec4(light / length);
 }
 
-// A coordinate as the shortest text that reads back as it: 1e+300, not 301 digits.
-std::string Coordinate(double value) {
-    char text[32];
-    return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
-}
-
 Result<bool> ValidateBounds(const Aabb& bounds) {
     if (!bounds.min.allFinite() || !bounds.max.allFinite()) {
         return Error{"bounds", "is not finite"};
@@ -54,8 +47,8 @@ Result<bool> ValidateBounds(const Aabb& bounds) {
     for (int i = 0; i < 3; ++i) {
         if (!(bounds.min(i) < bounds.max(i))) {
             return Error{"bounds", "has no volume: min must be below max on every axis (axis " +
-                                       std::to_string(i) + ": " + Coordinate(bounds.min(i)) +
-                                       " >= " + Coordinate(bounds.max(i)) + ")"};
+                                       std::to_string(i) + ": " + ShortestText(bounds.min(i)) +
+                                       " >= " + ShortestText(bounds.max(i)) + ")"};
         }
     }
     return true;

@@ -3,7 +3,6 @@
 
 #include <lixel/service/proto_convert.h>
 
-#include <charconv>
 #include <cstdio>
 #include <string>
 
@@ -29,9 +28,7 @@ grpc::Status Exhausted(const std::string& message) {
 }
 
 std::string SmoothOverCap(const ServiceState& state, double epsilon) {
-    char text[32];
-    const std::string e(text, std::to_chars(text, text + sizeof text, epsilon).ptr);
-    return "the smooth silhouettes at epsilon = " + e + " need more than the " +
+    return "the smooth silhouettes at epsilon = " + ShortestText(epsilon) + " need more than the " +
            std::to_string(SmoothPointLimit(state.options)) +
            " points memory_cap_bytes = " + std::to_string(state.options.memory_cap_bytes) +
            " allows them (" + std::to_string(kSmoothBytesPerPoint) +

@@ -57,6 +57,10 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
     // The parts kept from the last pose first: the budget (options.max_points) is for all the
     // instances' points together, so the parts built anew take what the kept ones leave.
     std::size_t used = 0;
+    const auto over_budget = [&] {
+        return Error{"options.max_points", "the instances' smooth silhouettes make more than " +
+                                               std::to_string(options.max_points) + " points"};
+    };
     for (std::size_t i = 0; i < placed.size(); ++i) {
         if (placed[i].casts && i < held_instances.size() && held_parts[i] != nullptr &&
             SamePlace(held_instances[i], placed[i])) {
@@ -65,10 +69,7 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
             used += points[i];
         }
     }
-    if (options.max_points != 0 && used > options.max_points) {
-        return Error{"options.max_points", "the instances' smooth silhouettes make more than " +
-                                               std::to_string(options.max_points) + " points"};
-    }
+    if (options.max_points != 0 && used > options.max_points) return over_budget();
     auto whole = std::make_shared<volumes::VolumeMesh>();
     for (std::size_t i = 0; i < placed.size(); ++i) {
         const MeshInstance& instance = placed[i];
@@ -79,9 +80,7 @@ Result<SmoothVolumeCache::Lookup> SmoothVolumeCache::Get(
             volumes::SmoothOptions budgeted = options;
             if (options.max_points != 0) {
                 if (used >= options.max_points && volumes::IsSmoothCaster(meshes[instance.mesh])) {
-                    return Error{"options.max_points",
-                                 "the instances' smooth silhouettes make more than " +
-                                     std::to_string(options.max_points) + " points"};
+                    return over_budget();
                 }
                 budgeted.max_points = options.max_points - std::min(used, options.max_points);
             }

@@ -4,7 +4,6 @@
 #include <lixel/volumes/orientation.h>
 #include <lixel/volumes/smooth_silhouette.h>
 
-#include <charconv>
 #include <cmath>
 #include <string>
 
@@ -41,13 +40,6 @@ std::vector<LoopPoint> LoopPoints(const detail::TracedLoop& loop) {
         }
     }
     return points;
-}
-
-// A double as the shortest text that reads back as it (1e-300, not 0.000000).
-std::string ShortestText(double value) {
-    char text[32];
-    const auto end = std::to_chars(text, text + sizeof text, value).ptr;
-    return std::string(text, end);
 }
 
 // The points emitted so far over all loops, against SmoothOptions::max_points.

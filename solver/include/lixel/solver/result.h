@@ -2,6 +2,7 @@
 // Result<T> with the offending input named, never throws, never yields NaN or Inf.
 #pragma once
 
+#include <charconv>
 #include <string>
 #include <utility>
 #include <variant>
@@ -16,6 +17,13 @@ struct Error {
 
     std::string Message() const { return field + ": " + reason; }
 };
+
+// A number as a refusal quotes it: the shortest text that reads back as the same double
+// (1e-300 and 1e+300, where std::to_string writes 0.000000 and 301 digits).
+inline std::string ShortestText(double value) {
+    char text[32];
+    return std::string(text, std::to_chars(text, text + sizeof text, value).ptr);
+}
 
 template <class T>
 class [[nodiscard]] Result {
